@@ -1,0 +1,36 @@
+//! The crate's error type.
+
+use core::fmt;
+
+/// Why a computation refused its input.
+///
+/// Every public function that can be handed bad data returns this instead of panicking.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum Error {
+    /// A direction (normal, reflection or query vector) is zero, too short to normalise, or has
+    /// a NaN or infinite component.
+    InvalidDirection,
+    /// A Phong exponent is negative, NaN or infinite.
+    InvalidExponent,
+    /// A slice has the wrong length (for example directions and samples differ in length, or
+    /// an empty point set was asked for).
+    LengthMismatch,
+    /// A point-set size is zero, too large, or not allowed for that set (for example not a
+    /// Fibonacci number for the Fibonacci lattice).
+    InvalidSize,
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Error::InvalidDirection => "direction is zero, not finite, or too short to normalise",
+            Error::InvalidExponent => "Phong exponent must be finite and non-negative",
+            Error::LengthMismatch => "slice lengths do not match or a slice is empty",
+            Error::InvalidSize => "point-set size is zero, too large, or not valid for this set",
+        })
+    }
+}
+
+impl core::error::Error for Error {}

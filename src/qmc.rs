@@ -1,0 +1,178 @@
+//! Quasi-Monte Carlo estimators of illumination integrals with spherical Fibonacci points.
+//!
+//! Seed tutorial, "The QMC Estimator for Illumination Integrals": a hemisphere SF set is
+//! morphed onto the lobe `cosᵉ θ` about an axis (the normal `n` for diffuse, the reflection
+//! direction `r` for glossy), then
+//!
+//! `∫ L(ω)·cosᵉ θ dω ≈ 2π/(N(e+1)) · Σⱼ L(ωⱼ′)`.
+//!
+//! The estimators return:
+//! - [`irradiance`]: `E(n) = ∫ L(ω)·max(0, n·ω) dω ≈ π/N · Σ L(ωⱼ′)`;
+//! - [`phong`]: the normalised Phong lobe, `∫ L(ω)·(e+1)/(2π)·max(0, r·ω)ᵉ dω ≈ 1/N · Σ L(ωⱼ′)`
+//!   (the lobe integrates to 1, so a constant radiance `c` gives `c`). For the seed's BRDF
+//!   `ρ = k_s·cosᵉ/cos` multiply by `2π·k_s/(e+1)`. Samples are not clipped at a surface
+//!   horizon; clip in the callback if the lobe crosses one.
+//!
+//! Each comes in a callback form (a closure evaluates radiance in a direction) and a slice
+//! form (write directions with [`LobeSampler::fill`], trace them, sum with
+//! [`LobeSampler::estimate`]). The pole phase (`phase_bits`, a 64-bit fraction of a turn, e.g.
+//! from [`crate::rotation::RotationSequence::next_phase`]) randomly rotates the set about the
+//! axis per estimate, which removes the structured error of a fixed orientation.
+//!
+//! NaN radiance propagates: one NaN sample makes the estimate NaN (per channel).
+
+use crate::error::Error;
+use crate::math;
+use crate::radiance::Radiance;
+use crate::sf::{phase_to_angle, FibonacciPoints};
+use crate::vec3::Vec3;
+use crate::warp::{Frame, Lobe};
+
+/// A hemisphere SF set morphed onto a lobe about an axis: the sample directions of one QMC
+/// estimate, and its weight.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LobeSampler {
+    set: FibonacciPoints,
+    lobe: Lobe,
+    frame: Frame,
+}
+
+impl LobeSampler {
+    /// `n` directions distributed on `lobe` about `axis` (normalised first), rotated about the
+    /// axis by `phase_bits / 2⁶⁴` turn.
+    ///
+    /// # Errors
+    /// [`Error::InvalidDirection`] for a zero or non-finite axis, [`Error::InvalidExponent`]
+    /// for a bad Phong exponent, [`Error::InvalidSize`] for `n = 0` or `n > 2²⁴`.
+    pub fn new(axis: Vec3, lobe: Lobe, n: usize, phase_bits: u64) -> Result<Self, Error> {
+        let frame = Frame::from_normal(axis)?;
+        let lobe = lobe.validate()?;
+        let set = FibonacciPoints::hemisphere(n)?.with_phase_bits(phase_bits);
+        Ok(Self { set, lobe, frame })
+    }
+
+    /// Number of directions.
+    #[must_use]
+    pub const fn len(&self) -> usize {
+        self.set.len()
+    }
+
+    /// Always `false`.
+    #[must_use]
+    pub const fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// The frame about the axis.
+    #[must_use]
+    pub const fn frame(&self) -> &Frame {
+        &self.frame
+    }
+
+    /// The lobe.
+    #[must_use]
+    pub const fn lobe(&self) -> Lobe {
+        self.lobe
+    }
+
+    /// Direction `j` in world space, or `None` when `j ≥ len()`.
+    #[must_use]
+    pub fn direction(&self, j: usize) -> Option<Vec3> {
+        if j >= self.set.len() {
+            return None;
+        }
+        Some(self.direction_unchecked(j))
+    }
+
+    #[inline]
+    fn direction_unchecked(&self, j: usize) -> Vec3 {
+        let (c, s) = self.lobe.morph(self.set.one_minus_z(j));
+        let phi = phase_to_angle(self.set.phase_of(j));
+        self.frame.to_world(Vec3::new(s * math::cos(phi), s * math::sin(phi), c))
+    }
+
+    /// An iterator over the directions.
+    pub fn iter(&self) -> impl ExactSizeIterator<Item = Vec3> + '_ {
+        (0..self.set.len()).map(|j| self.direction_unchecked(j))
+    }
+
+    /// Writes the directions into `out`.
+    ///
+    /// # Errors
+    /// [`Error::LengthMismatch`] when `out.len() != len()`.
+    pub fn fill(&self, out: &mut [Vec3]) -> Result<(), Error> {
+        if out.len() != self.set.len() {
+            return Err(Error::LengthMismatch);
+        }
+        for (j, slot) in out.iter_mut().enumerate() {
+            *slot = self.direction_unchecked(j);
+        }
+        Ok(())
+    }
+
+    /// The weight of every sample in `∫ L·cosᵉ θ dω`: `2π/((e+1)·N)`.
+    #[must_use]
+    pub fn weight(&self) -> f32 {
+        self.lobe.integral() / self.set.len() as f32
+    }
+
+    /// `∫ L(ω)·cosᵉ θ dω` from the radiance in each direction, in order.
+    ///
+    /// # Errors
+    /// [`Error::LengthMismatch`] when `samples.len() != len()`.
+    pub fn estimate<T: Radiance>(&self, samples: &[T]) -> Result<T, Error> {
+        if samples.len() != self.set.len() {
+            return Err(Error::LengthMismatch);
+        }
+        Ok(sum(samples.iter().copied()).scale(self.weight()))
+    }
+
+    /// `∫ L(ω)·cosᵉ θ dω` with radiance from a callback.
+    pub fn integrate<T: Radiance, F: FnMut(Vec3) -> T>(&self, mut radiance: F) -> T {
+        sum(self.iter().map(&mut radiance)).scale(self.weight())
+    }
+}
+
+fn sum<T: Radiance>(values: impl Iterator<Item = T>) -> T {
+    values.fold(T::ZERO, T::add)
+}
+
+/// Irradiance `E(n) = ∫ L(ω)·max(0, n·ω) dω` from `N` cosine-morphed hemisphere SF
+/// directions about `normal`, rotated about it by `phase_bits / 2⁶⁴` turn.
+///
+/// # Errors
+/// [`Error::InvalidDirection`] for a zero or non-finite normal.
+///
+/// ```
+/// use sphere_quadrature::{qmc, Vec3};
+/// let e = qmc::irradiance::<64, f32, _>(Vec3::Z, 0, |_| 1.0).unwrap();
+/// assert!((e - core::f32::consts::PI).abs() < 1e-5);
+/// ```
+pub fn irradiance<const N: usize, T: Radiance, F: FnMut(Vec3) -> T>(
+    normal: Vec3,
+    phase_bits: u64,
+    radiance: F,
+) -> Result<T, Error> {
+    const { assert!(N > 0 && N <= crate::sf::MAX_POINTS, "N must be in 1..=2^24") };
+    Ok(LobeSampler::new(normal, Lobe::Cosine, N, phase_bits)?.integrate(radiance))
+}
+
+/// Normalised Phong glossy radiance `∫ L(ω)·(e+1)/(2π)·max(0, r·ω)ᵉ dω` from `N` morphed
+/// hemisphere SF directions about `reflection`, rotated about it by `phase_bits / 2⁶⁴` turn.
+///
+/// # Errors
+/// [`Error::InvalidDirection`] for a zero or non-finite `reflection`,
+/// [`Error::InvalidExponent`] for a negative, NaN or infinite exponent.
+pub fn phong<const N: usize, T: Radiance, F: FnMut(Vec3) -> T>(
+    reflection: Vec3,
+    exponent: f32,
+    phase_bits: u64,
+    radiance: F,
+) -> Result<T, Error> {
+    const { assert!(N > 0 && N <= crate::sf::MAX_POINTS, "N must be in 1..=2^24") };
+    let lobe = Lobe::phong(exponent)?;
+    let s = LobeSampler::new(reflection, lobe, N, phase_bits)?;
+    // The normalised lobe's weight is 1/N: the 2π/(e+1) of `integrate` cancels.
+    Ok(sum(s.iter().map(radiance)).scale(1.0 / N as f32))
+}

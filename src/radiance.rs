@@ -1,0 +1,47 @@
+//! Sample values the estimators can sum: scalar radiance (`f32`) or RGB (`[f32; 3]`).
+
+/// A radiance value: anything that can be summed and scaled.
+///
+/// Implemented for `f32` (one channel) and `[f32; N]` (`N` channels, e.g. RGB). NaN and
+/// infinities propagate by IEEE rules: one NaN sample makes the estimate NaN (per channel),
+/// which is how bad data shows up instead of being silently dropped.
+pub trait Radiance: Copy {
+    /// The zero value.
+    const ZERO: Self;
+    /// Component-wise sum.
+    #[must_use]
+    fn add(self, other: Self) -> Self;
+    /// Component-wise product with a scalar.
+    #[must_use]
+    fn scale(self, s: f32) -> Self;
+    /// `self + other·s`, the weighted-sum step.
+    #[inline]
+    #[must_use]
+    fn mul_add(self, other: Self, s: f32) -> Self {
+        self.add(other.scale(s))
+    }
+}
+
+impl Radiance for f32 {
+    const ZERO: Self = 0.0;
+    #[inline]
+    fn add(self, other: Self) -> Self {
+        self + other
+    }
+    #[inline]
+    fn scale(self, s: f32) -> Self {
+        self * s
+    }
+}
+
+impl<const C: usize> Radiance for [f32; C] {
+    const ZERO: Self = [0.0; C];
+    #[inline]
+    fn add(self, other: Self) -> Self {
+        core::array::from_fn(|k| self[k] + other[k])
+    }
+    #[inline]
+    fn scale(self, s: f32) -> Self {
+        core::array::from_fn(|k| self[k] * s)
+    }
+}

@@ -1,0 +1,510 @@
+//! Spherical Fibonacci (SF) point sets on the sphere and the hemisphere.
+//!
+//! Seed tutorial, "Spherical Fibonacci Point Sets" (Hannay and Nye 2004, with the offset of
+//! Swinbank and Purser 2006), for `0 ≤ j < N`:
+//!
+//! - sphere: `zⱼ = 1 − (2j+1)/N`, `φⱼ = 2π·frac(j·Φ⁻¹)`, `Φ = (1+√5)/2`;
+//! - hemisphere (`z > 0`): `zⱼ = 1 − (2j+1)/(2N)`, same `φⱼ`; the heights are the midpoints of
+//!   `N` equal strata of `[0, 1]`, which is what the lobe warps in [`crate::warp`] expect;
+//! - Fibonacci-number lattice: `N = Fₘ` and `φⱼ = 2π·frac(j·Fₘ₋₁/Fₘ)`, with the same offset
+//!   heights as the sphere set.
+//!
+//! # Exact phase
+//! `frac(j·Φ⁻¹)` evaluated in `f32` is off by a whole point spacing near `N = 2¹⁶`. Here the
+//! phase is a 64-bit fixed-point fraction of a turn, `j × round(2⁶⁴/Φ)` with wrapping
+//! arithmetic, which is exact up to `j·2⁻⁶⁵` turn; the Fibonacci-number lattice reduces
+//! `j·Fₘ₋₁ mod Fₘ` in integers. Only the final angle is rounded to `f32` (error ≤ 6·10⁻⁷ rad).
+//! Heights are formed from `1 − z = (2j+1)/N` and `1 + z = (2N−2j−1)/N` in integers so that
+//! points near both poles keep their accuracy. Every point is within 2·10⁻⁶ rad of the exact point for all `N ≤`
+//! [`MAX_POINTS`] = 2²⁴ with the `libm` backend (tested against an f64 reference at
+//! N ∈ {1, 2, 3, 16, 1000, 2¹⁶, 2²²}).
+//!
+//! # Rotations
+//! A rotation about the pole is an exact 64-bit phase offset ([`SphericalFibonacci::with_phase_bits`]);
+//! an arbitrary rotation is a [`Mat3`] applied to every point ([`SphericalFibonacci::with_rotation`]).
+//! [`crate::rotation::RotationSequence`] yields seeded random ones.
+
+use core::marker::PhantomData;
+
+mod inverse;
+
+use crate::error::Error;
+use crate::math;
+use crate::rotation::Mat3;
+use crate::vec3::Vec3;
+
+/// `round(2⁶⁴/Φ)`: one step of the golden phase as a 64-bit fraction of a turn.
+///
+/// 2⁶⁴/Φ = 11 400 714 819 323 198 485.9516…, so the rounding error is 0.048 units of 2⁻⁶⁴
+/// turn per step.
+pub const GOLDEN_PHASE: u64 = 0x9E37_79B9_7F4A_7C16;
+
+/// The largest `N` for which the accuracy stated in the module docs is guaranteed.
+pub const MAX_POINTS: usize = 1 << 24;
+
+/// Where a point set lives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Domain {
+    /// The whole unit sphere.
+    Sphere,
+    /// The upper hemisphere `z > 0`.
+    Hemisphere,
+}
+
+/// How the azimuth advances from one point to the next.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+enum Step {
+    /// `φⱼ = 2π·frac(j·Φ⁻¹)`.
+    Golden,
+    /// `φⱼ = 2π·frac(j·prev/N)` with `N = Fₘ`, `prev = Fₘ₋₁`.
+    Fibonacci { prev: u64 },
+}
+
+/// A point in height/azimuth form.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ZPhi {
+    /// Height `z = cos θ`.
+    pub z: f32,
+    /// Azimuth `φ` in `[0, 2π)`, before any arbitrary rotation.
+    pub phi: f32,
+}
+
+/// A Fibonacci point set whose size is known at run time: the engine behind the
+/// const-generic [`SphericalFibonacci`], [`HemisphericalFibonacci`] and [`FibonacciLattice`],
+/// and the form to use when `N` is not a compile-time constant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct FibonacciPoints {
+    n: usize,
+    domain: Domain,
+    step: Step,
+    phase: u64,
+    rotation: Option<Mat3>,
+}
+
+/// Largest Fibonacci number below `n` when `n` is itself a Fibonacci number (`n ≥ 2`), else
+/// `None`. `F₁ = F₂ = 1` is treated as `1` with predecessor `1`.
+#[must_use]
+pub const fn fibonacci_predecessor(n: usize) -> Option<usize> {
+    let (mut a, mut b) = (1usize, 1usize);
+    while b < n {
+        let c = match a.checked_add(b) {
+            Some(c) => c,
+            None => return None,
+        };
+        a = b;
+        b = c;
+    }
+    if b == n {
+        Some(a)
+    } else {
+        None
+    }
+}
+
+impl FibonacciPoints {
+    /// `n` points on the whole sphere (`n ≥ 1`).
+    ///
+    /// # Errors
+    /// [`Error::InvalidSize`] when `n` is 0 or exceeds [`MAX_POINTS`].
+    pub fn sphere(n: usize) -> Result<Self, Error> {
+        Self::build(n, Domain::Sphere, Step::Golden)
+    }
+
+    /// `n` points on the upper hemisphere (`n ≥ 1`).
+    ///
+    /// # Errors
+    /// [`Error::InvalidSize`] when `n` is 0 or exceeds [`MAX_POINTS`].
+    pub fn hemisphere(n: usize) -> Result<Self, Error> {
+        Self::build(n, Domain::Hemisphere, Step::Golden)
+    }
+
+    /// The Fibonacci-number lattice on the sphere, `n = Fₘ` points.
+    ///
+    /// # Errors
+    /// [`Error::InvalidSize`] when `n` is not a Fibonacci number or exceeds [`MAX_POINTS`].
+    pub fn lattice(n: usize) -> Result<Self, Error> {
+        match fibonacci_predecessor(n) {
+            Some(prev) => Self::build(n, Domain::Sphere, Step::Fibonacci { prev: prev as u64 }),
+            None => Err(Error::InvalidSize),
+        }
+    }
+
+    fn build(n: usize, domain: Domain, step: Step) -> Result<Self, Error> {
+        if n == 0 || n > MAX_POINTS {
+            return Err(Error::InvalidSize);
+        }
+        Ok(raw(n, domain, step))
+    }
+
+    /// Number of points.
+    #[must_use]
+    pub const fn len(&self) -> usize {
+        self.n
+    }
+
+    /// Always `false`: a set has at least one point.
+    #[must_use]
+    pub const fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// The domain of the set.
+    #[must_use]
+    pub const fn domain(&self) -> Domain {
+        self.domain
+    }
+
+    /// The same set rotated about the pole by `bits / 2⁶⁴` of a turn (exact).
+    #[must_use]
+    pub const fn with_phase_bits(mut self, bits: u64) -> Self {
+        self.phase = bits;
+        self
+    }
+
+    /// The same set rotated about the pole by `angle` radians (any finite value; NaN or
+    /// infinity gives no rotation).
+    #[must_use]
+    pub fn with_angle(self, angle: f32) -> Self {
+        self.with_phase_bits(angle_to_phase(angle))
+    }
+
+    /// The pole-rotation phase in units of 2⁻⁶⁴ turn.
+    #[must_use]
+    pub const fn phase_bits(&self) -> u64 {
+        self.phase
+    }
+
+    /// The same set followed by an arbitrary rotation `r` (applied after the pole phase).
+    #[must_use]
+    pub const fn with_rotation(mut self, r: Mat3) -> Self {
+        self.rotation = Some(r);
+        self
+    }
+
+    /// The arbitrary rotation, if any.
+    #[must_use]
+    pub const fn rotation(&self) -> Option<Mat3> {
+        self.rotation
+    }
+
+    /// Phase of point `j` as a 64-bit fraction of a turn, including the pole rotation.
+    #[inline]
+    #[must_use]
+    pub(crate) fn phase_of(&self, j: usize) -> u64 {
+        let base = match self.step {
+            Step::Golden => (j as u64).wrapping_mul(GOLDEN_PHASE),
+            Step::Fibonacci { prev } => {
+                let n = self.n as u64;
+                let r = ((j as u64) % n) * prev % n;
+                (((r as u128) << 64) / (n as u128)) as u64
+            }
+        };
+        base.wrapping_add(self.phase)
+    }
+
+    /// Denominator of the heights: `1 − zⱼ = (2j+1)/d`.
+    #[inline]
+    fn height_denominator(&self) -> u64 {
+        match self.domain {
+            Domain::Sphere => self.n as u64,
+            Domain::Hemisphere => 2 * self.n as u64,
+        }
+    }
+
+    /// `1 − zⱼ` of point `j`, formed without cancellation.
+    #[inline]
+    pub(crate) fn one_minus_z(&self, j: usize) -> f32 {
+        (2 * j as u64 + 1) as f32 / self.height_denominator() as f32
+    }
+
+    /// `(zⱼ, sin θⱼ)`, with `1 − z` and `1 + z` each formed from exact integers so that both
+    /// poles keep full relative accuracy.
+    #[inline]
+    fn z_sin(&self, j: usize) -> (f32, f32) {
+        let d = self.height_denominator();
+        let k = 2 * j as u64 + 1;
+        let a = k as f32 / d as f32;
+        let b = (2 * d - k) as f32 / d as f32;
+        let z = if k <= d { 1.0 - a } else { b - 1.0 };
+        (z, math::sqrt(a * b))
+    }
+
+    /// Point `j` in height/azimuth form (before any arbitrary rotation), or `None` when
+    /// `j ≥ len()`.
+    #[must_use]
+    pub fn z_phi(&self, j: usize) -> Option<ZPhi> {
+        if j >= self.n {
+            return None;
+        }
+        Some(ZPhi { z: self.z_sin(j).0, phi: phase_to_angle(self.phase_of(j)) })
+    }
+
+    /// Point `j` as a unit vector, or `None` when `j ≥ len()`.
+    #[must_use]
+    pub fn point(&self, j: usize) -> Option<Vec3> {
+        if j >= self.n {
+            return None;
+        }
+        Some(self.point_unchecked(j))
+    }
+
+    /// Point `j` for `j < len()` (not checked; callers guarantee the range).
+    #[inline]
+    pub(crate) fn point_unchecked(&self, j: usize) -> Vec3 {
+        let (z, sin_theta) = self.z_sin(j);
+        let phi = phase_to_angle(self.phase_of(j));
+        let p = Vec3::new(sin_theta * math::cos(phi), sin_theta * math::sin(phi), z);
+        match &self.rotation {
+            Some(r) => r * p,
+            None => p,
+        }
+    }
+
+    /// An iterator over the points in index order.
+    #[must_use]
+    pub fn iter(&self) -> Points<'_> {
+        Points { set: self, next: 0, end: self.n }
+    }
+
+    /// Writes the first `out.len()` points into `out` and returns how many were written
+    /// (`min(out.len(), len())`).
+    pub fn fill(&self, out: &mut [Vec3]) -> usize {
+        let mut k = 0;
+        for (slot, p) in out.iter_mut().zip(self.iter()) {
+            *slot = p;
+            k += 1;
+        }
+        k
+    }
+}
+
+impl<'a> IntoIterator for &'a FibonacciPoints {
+    type Item = Vec3;
+    type IntoIter = Points<'a>;
+    fn into_iter(self) -> Points<'a> {
+        self.iter()
+    }
+}
+
+/// Iterator over the points of a set, in index order.
+#[derive(Clone, Debug)]
+pub struct Points<'a> {
+    set: &'a FibonacciPoints,
+    next: usize,
+    end: usize,
+}
+
+impl Iterator for Points<'_> {
+    type Item = Vec3;
+    #[inline]
+    fn next(&mut self) -> Option<Vec3> {
+        if self.next >= self.end {
+            return None;
+        }
+        let p = self.set.point_unchecked(self.next);
+        self.next += 1;
+        Some(p)
+    }
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let k = self.end - self.next;
+        (k, Some(k))
+    }
+}
+
+impl DoubleEndedIterator for Points<'_> {
+    fn next_back(&mut self) -> Option<Vec3> {
+        if self.next >= self.end {
+            return None;
+        }
+        self.end -= 1;
+        Some(self.set.point_unchecked(self.end))
+    }
+}
+
+impl ExactSizeIterator for Points<'_> {}
+
+/// Converts a 64-bit fraction of a turn to radians in `[0, 2π)`, rounding to 2⁻²⁴ turn.
+#[inline]
+#[must_use]
+pub(crate) fn phase_to_angle(phase: u64) -> f32 {
+    let k = (((phase >> 39) + 1) >> 1) & 0x00FF_FFFF;
+    k as f32 * (core::f32::consts::TAU / 16_777_216.0)
+}
+
+/// Converts radians to a 64-bit fraction of a turn (wrapping); non-finite angles give 0.
+#[must_use]
+pub(crate) fn angle_to_phase(angle: f32) -> u64 {
+    if !angle.is_finite() {
+        return 0;
+    }
+    let turns = angle as f64 * (1.0 / core::f64::consts::TAU);
+    let frac = turns - math::floor64(turns);
+    // frac in [0, 1]; scale to 2^64 in two halves to stay exact in f64.
+    let hi = (frac * 4_294_967_296.0) as u64;
+    let lo = ((frac * 4_294_967_296.0 - hi as f64) * 4_294_967_296.0) as u64;
+    (hi << 32).wrapping_add(lo)
+}
+
+macro_rules! const_set {
+    ($(#[$doc:meta])* $name:ident, $raw:ident, $check:expr, $rule:literal) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+        pub struct $name<const N: usize> {
+            set: FibonacciPoints,
+            _n: PhantomData<[(); N]>,
+        }
+
+        impl<const N: usize> Default for $name<N> {
+            fn default() -> Self {
+                Self::new()
+            }
+        }
+
+        impl<const N: usize> $name<N> {
+            #[doc = concat!("The set of `N` points; ", $rule, " (checked at compile time).")]
+            #[must_use]
+            pub const fn new() -> Self {
+                const { assert!($check(N), concat!(stringify!($name), ": ", $rule)) };
+                Self { set: $raw(N), _n: PhantomData }
+            }
+
+            /// The run-time form of this set.
+            #[must_use]
+            pub const fn dynamic(&self) -> &FibonacciPoints {
+                &self.set
+            }
+
+            /// The same set rotated about the pole by `bits / 2⁶⁴` of a turn (exact).
+            #[must_use]
+            pub const fn with_phase_bits(self, bits: u64) -> Self {
+                Self { set: self.set.with_phase_bits(bits), _n: PhantomData }
+            }
+
+            /// The same set rotated about the pole by `angle` radians (non-finite: none).
+            #[must_use]
+            pub fn with_angle(self, angle: f32) -> Self {
+                Self { set: self.set.with_angle(angle), _n: PhantomData }
+            }
+
+            /// The same set followed by an arbitrary rotation (after the pole phase).
+            #[must_use]
+            pub const fn with_rotation(self, r: Mat3) -> Self {
+                Self { set: self.set.with_rotation(r), _n: PhantomData }
+            }
+
+            /// Point `j` as a unit vector, or `None` when `j ≥ N`.
+            #[must_use]
+            pub fn point(&self, j: usize) -> Option<Vec3> {
+                self.set.point(j)
+            }
+
+            /// Point `j` in height/azimuth form (before any arbitrary rotation), or `None`
+            /// when `j ≥ N`.
+            #[must_use]
+            pub fn z_phi(&self, j: usize) -> Option<ZPhi> {
+                self.set.z_phi(j)
+            }
+
+            /// All `N` points.
+            #[must_use]
+            pub fn points(&self) -> [Vec3; N] {
+                core::array::from_fn(|j| self.set.point_unchecked(j))
+            }
+
+            /// An iterator over the points in index order.
+            #[must_use]
+            pub fn iter(&self) -> Points<'_> {
+                self.set.iter()
+            }
+        }
+
+        impl<'a, const N: usize> IntoIterator for &'a $name<N> {
+            type Item = Vec3;
+            type IntoIter = Points<'a>;
+            fn into_iter(self) -> Points<'a> {
+                self.iter()
+            }
+        }
+    };
+}
+
+const fn raw(n: usize, domain: Domain, step: Step) -> FibonacciPoints {
+    FibonacciPoints { n, domain, step, phase: 0, rotation: None }
+}
+
+const fn sphere_raw(n: usize) -> FibonacciPoints {
+    raw(n, Domain::Sphere, Step::Golden)
+}
+
+const fn hemisphere_raw(n: usize) -> FibonacciPoints {
+    raw(n, Domain::Hemisphere, Step::Golden)
+}
+
+const fn lattice_raw(n: usize) -> FibonacciPoints {
+    // `valid_lattice` has admitted `n`, so the predecessor exists.
+    let prev = match fibonacci_predecessor(n) {
+        Some(p) => p as u64,
+        None => 0,
+    };
+    raw(n, Domain::Sphere, Step::Fibonacci { prev })
+}
+
+const fn valid_size(n: usize) -> bool {
+    n > 0 && n <= MAX_POINTS
+}
+
+const fn valid_lattice(n: usize) -> bool {
+    valid_size(n) && fibonacci_predecessor(n).is_some()
+}
+
+const_set!(
+    /// `N` spherical Fibonacci points on the whole sphere (Swinbank–Purser offset).
+    ///
+    /// `N` must satisfy `1 ≤ N ≤ 2²⁴`; anything else is a compile-time error.
+    ///
+    /// ```
+    /// use sphere_quadrature::sf::SphericalFibonacci;
+    /// let sf = SphericalFibonacci::<64>::new();
+    /// let p = sf.points();
+    /// assert!((p[0].z - (1.0 - 1.0 / 64.0)).abs() < 1e-7);
+    /// ```
+    ///
+    /// `N = 0` does not compile:
+    /// ```compile_fail
+    /// let _ = sphere_quadrature::sf::SphericalFibonacci::<0>::new();
+    /// ```
+    SphericalFibonacci, sphere_raw, valid_size, "N must be in 1..=2^24"
+);
+
+const_set!(
+    /// `N` spherical Fibonacci points on the upper hemisphere `z > 0`, with heights
+    /// `zⱼ = 1 − (2j+1)/(2N)`.
+    ///
+    /// `N` must satisfy `1 ≤ N ≤ 2²⁴`; anything else is a compile-time error.
+    ///
+    /// ```compile_fail
+    /// let _ = sphere_quadrature::sf::HemisphericalFibonacci::<0>::new();
+    /// ```
+    HemisphericalFibonacci, hemisphere_raw, valid_size, "N must be in 1..=2^24"
+);
+
+const_set!(
+    /// The Fibonacci-number lattice on the sphere: `N = Fₘ` points with
+    /// `φⱼ = 2π·frac(j·Fₘ₋₁/Fₘ)` (exact in integers) and offset heights.
+    ///
+    /// `N` must be a Fibonacci number in `1..=2²⁴`; anything else is a compile-time error.
+    ///
+    /// ```
+    /// let l = sphere_quadrature::sf::FibonacciLattice::<89>::new();
+    /// assert_eq!(l.points().len(), 89);
+    /// ```
+    /// ```compile_fail
+    /// let _ = sphere_quadrature::sf::FibonacciLattice::<90>::new();
+    /// ```
+    FibonacciLattice, lattice_raw, valid_lattice, "N must be a Fibonacci number in 1..=2^24"
+);

@@ -1,0 +1,1 @@
+//! Inverse spherical Fibonacci mapping (in progress).
