@@ -30,6 +30,17 @@
 //!   binary's decision (see [`math`]).
 //! - `defmt`: `defmt::Format` on the public data types.
 //!
+//! # Accuracy
+//! Measured by the tests in `tests/` against the independent f64 reference crate:
+//! - Point sets: every spherical Fibonacci point is within 6.1·10⁻⁷ rad of the exact point for
+//!   all N ≤ 2²⁴ with `libm` (1.1·10⁻³ rad with `micromath`, whose sin/cos dominate).
+//! - QMC irradiance of a constant is π to 2 ulp; of a smooth spherical-Gaussian light the
+//!   relative RMS error falls as N^−1.08 over N = 64…4096 (random points: N^−0.53), reaching
+//!   1.8·10⁻⁴ at N = 4096 (`micromath`: the same rate down to a floor of 7·10⁻⁴).
+//! - On a real map (`apartment`, 64 normals × 16 rotations), relative RMSE of irradiance at
+//!   N = 64: QMC-SF 8.8 %, Sobol-QMC 10.8 %, Monte Carlo 18.4 %; at N = 256: 3.4 %, 3.7 %,
+//!   8.8 % (`cargo run --release --example probe` prints the full tables).
+//!
 //! # Bad input
 //! No function panics on data the caller passes. Zero, NaN or infinite directions give
 //! [`Error::InvalidDirection`]; negative, NaN or infinite Phong exponents give
@@ -50,6 +61,11 @@ pub mod rotation;
 pub mod sf;
 mod vec3;
 pub mod warp;
+
+/// The README's code blocks, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
 
 pub use error::Error;
 pub use radiance::Radiance;

@@ -149,6 +149,12 @@ fn sum<T: Radiance>(values: impl Iterator<Item = T>) -> T {
 /// let e = qmc::irradiance::<64, f32, _>(Vec3::Z, 0, |_| 1.0).unwrap();
 /// assert!((e - core::f32::consts::PI).abs() < 1e-5);
 /// ```
+///
+/// `N = 0` does not compile:
+/// ```compile_fail
+/// # use sphere_quadrature::{qmc, Vec3};
+/// let _ = qmc::irradiance::<0, f32, _>(Vec3::Z, 0, |_| 1.0);
+/// ```
 pub fn irradiance<const N: usize, T: Radiance, F: FnMut(Vec3) -> T>(
     normal: Vec3,
     phase_bits: u64,
