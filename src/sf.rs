@@ -19,6 +19,14 @@
 //! [`MAX_POINTS`] = 2²⁴ with the `libm` backend (tested against an f64 reference at
 //! N ∈ {1, 2, 3, 16, 1000, 2¹⁶, 2²²}).
 //!
+//! # Inverse mapping
+//! [`FibonacciPoints::nearest_index`] (and the same method on the const-generic sets) returns
+//! the index of the point nearest to a direction, after Keinert, Innmann, Sänger and
+//! Stamminger 2015, "Spherical Fibonacci Mapping", but exact by construction: lattice
+//! coordinates in 64-bit integers, never a phase in floating point. Tested against an exact
+//! f64 search on 10⁵ random queries per N for every N up to 2²⁴ (differences only at
+//! near-ties below 1.1·10⁻⁷ chord); typically 1.5–1.7 candidate points evaluated per query.
+//!
 //! # Rotations
 //! A rotation about the pole is an exact 64-bit phase offset ([`SphericalFibonacci::with_phase_bits`]);
 //! an arbitrary rotation is a [`Mat3`] applied to every point ([`SphericalFibonacci::with_rotation`]).
