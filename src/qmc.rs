@@ -24,7 +24,7 @@
 use crate::error::Error;
 use crate::math;
 use crate::radiance::Radiance;
-use crate::sf::{phase_to_angle, FibonacciPoints};
+use crate::sf::FibonacciPoints;
 use crate::vec3::Vec3;
 use crate::warp::{Frame, Lobe};
 
@@ -88,8 +88,8 @@ impl LobeSampler {
     #[inline]
     fn direction_unchecked(&self, j: usize) -> Vec3 {
         let (c, s) = self.lobe.morph(self.set.one_minus_z(j));
-        let phi = phase_to_angle(self.set.phase_of(j));
-        self.frame.to_world(Vec3::new(s * math::cos(phi), s * math::sin(phi), c))
+        let (sin_phi, cos_phi) = math::sin_cos_turns(self.set.phase_of(j));
+        self.frame.to_world(Vec3::new(s * cos_phi, s * sin_phi, c))
     }
 
     /// An iterator over the directions.

@@ -13,7 +13,9 @@
 //! `frac(j·Φ⁻¹)` evaluated in `f32` is off by a whole point spacing near `N = 2¹⁶`. Here the
 //! phase is a 64-bit fixed-point fraction of a turn, `j × round(2⁶⁴/Φ)` with wrapping
 //! arithmetic, which is exact up to `j·2⁻⁶⁵` turn; the Fibonacci-number lattice reduces
-//! `j·Fₘ₋₁ mod Fₘ` in integers. Only the final angle is rounded to `f32` (error ≤ 6·10⁻⁷ rad).
+//! `j·Fₘ₋₁ mod Fₘ` in integers. Its sine and cosine come from [`math::sin_cos_turns`]: exact
+//! integer range reduction to a quarter turn, then short f32 polynomials (no f64, the same
+//! code under both math backends).
 //! Heights are formed from `1 − z = (2j+1)/N` and `1 + z = (2N−2j−1)/N` in integers so that
 //! points near both poles keep their accuracy. Every point is within 2·10⁻⁶ rad of the exact point for all `N ≤`
 //! [`MAX_POINTS`] = 2²⁴ with the `libm` backend (tested against an f64 reference at
@@ -264,8 +266,8 @@ impl FibonacciPoints {
     #[inline]
     pub(crate) fn point_unchecked(&self, j: usize) -> Vec3 {
         let (z, sin_theta) = self.z_sin(j);
-        let phi = phase_to_angle(self.phase_of(j));
-        let p = Vec3::new(sin_theta * math::cos(phi), sin_theta * math::sin(phi), z);
+        let (sin_phi, cos_phi) = math::sin_cos_turns(self.phase_of(j));
+        let p = Vec3::new(sin_theta * cos_phi, sin_theta * sin_phi, z);
         match &self.rotation {
             Some(r) => r * p,
             None => p,

@@ -27,10 +27,8 @@ use sphere_quadrature::{Error, FibonacciPoints, Mat3, RotationSequence, Vec3};
 /// as a tie: a few `f32` roundings of unit vectors.
 const TIE: f64 = 1e-6;
 
-/// Largest excess distance allowed anywhere: `TIE` with `libm`. With `micromath` its `atan2`
-/// (2.8·10⁻³ rad) moves the query and its `sin`/`cos` (1.1·10⁻³) the points compared; the
-/// measured worst excess is 2.9·10⁻³.
-const EXCESS: f64 = if cfg!(feature = "micromath") { 4e-3 } else { TIE };
+/// Largest excess distance allowed anywhere (both math backends give the same answers).
+const EXCESS: f64 = TIE;
 
 type Point = [f64; 3];
 
@@ -347,7 +345,6 @@ fn check_rotated(n: usize, kind: Kind, rotations: usize, per: usize) -> Stats {
     total
 }
 
-#[cfg_attr(feature = "micromath", allow(dead_code))]
 fn assert_clean(s: &Stats, what: &str) {
     assert_eq!(s.exact + s.ties + s.mismatches, s.queries);
     assert_eq!(s.mismatches, 0, "{what}: {s:?}");
@@ -390,7 +387,6 @@ fn fast_search_agrees_with_reference_brute_force() {
     }
 }
 
-#[cfg(not(feature = "micromath"))]
 mod exact {
     use super::*;
 
@@ -468,26 +464,17 @@ fn poles() {
     for n in [1usize, 2, 3, 5, 16, 100, 1000, 4096, 1 << 14, 1 << 16, 1 << 20, 1 << 24] {
         let s = FibonacciPoints::sphere(n).unwrap();
         let h = FibonacciPoints::hemisphere(n).unwrap();
-        let pole = |set: &FibonacciPoints, q: Vec3, want: usize, exact: &ExactSet| {
+        let pole = |set: &FibonacciPoints, q: Vec3, want: usize| {
             let got = set.nearest_index(q).unwrap();
-            if cfg!(feature = "micromath") {
-                // The approximate points do not keep |p| = 1 to better than 10⁻³, more than
-                // the height steps near the hemisphere's equator.
-                let qn = to_f64(q);
-                let excess =
-                    chord(exact.point(got as u64), qn) - chord(exact.point(want as u64), qn);
-                assert!(excess < EXCESS, "n={n} q={q:?}: {got} vs {want}");
-            } else {
-                assert_eq!(got, want, "n={n} q={q:?}");
-            }
+            assert_eq!(got, want, "n={n} q={q:?}");
         };
         let (es, eh) = (ExactSet::new(n, Kind::Sphere), ExactSet::new(n, Kind::Hemisphere));
-        pole(&s, Vec3::Z, 0, &es);
-        pole(&s, -Vec3::Z, n - 1, &es);
-        pole(&s, Vec3::new(0.0, 0.0, 1e-20), 0, &es);
-        pole(&h, Vec3::Z, 0, &eh);
+        pole(&s, Vec3::Z, 0);
+        pole(&s, -Vec3::Z, n - 1);
+        pole(&s, Vec3::new(0.0, 0.0, 1e-20), 0);
+        pole(&h, Vec3::Z, 0);
         // Every point is equally far in azimuth from the south pole; the lowest is nearest.
-        pole(&h, -Vec3::Z, n - 1, &eh);
+        pole(&h, -Vec3::Z, n - 1);
         // Just off the poles, against the exact search.
         let mut rng = Rng::new(n as u64);
         for kind in [Kind::Sphere, Kind::Hemisphere] {
@@ -511,10 +498,7 @@ fn poles() {
 
 #[test]
 fn every_point_maps_to_itself() {
-    // With micromath too (the search compares the points as `point` computes them), as long
-    // as micromath's errors (points 1.1·10⁻³, query phase 2.8·10⁻³) stay well below the
-    // spacing.
-    let max_n = if cfg!(feature = "micromath") { 1 << 16 } else { 1 << 24 };
+    let max_n = 1 << 24;
     let mut seq = RotationSequence::new(3);
     for n in [1usize, 2, 3, 5, 16, 100, 1000, 4096, 1 << 14, 1 << 16, 1 << 20, 1 << 24] {
         if n > max_n {
@@ -635,57 +619,10 @@ fn naive_f32_phase_is_off_by_more_than_the_spacing() {
     );
     assert!(worst > spacing, "{worst} vs spacing {spacing}");
     assert!(beyond_half > (n / 100) as usize);
-    // The crate's exact phase keeps every point far inside its own cell (with `libm`;
-    // micromath's `sin`/`cos` move the points by 1.1·10⁻³).
-    if cfg!(feature = "micromath") {
-        return;
-    }
+    // The crate's exact phase keeps every point far inside its own cell.
     let set = FibonacciPoints::sphere(n as usize).unwrap();
     for j in (0..n).step_by(3) {
         let p = to_f64(set.point(j as usize).unwrap());
         assert!(chord(p, exact.point(j)) < 1e-3 * spacing);
-    }
-}
-
-/// With `micromath` the search compares the points as `point` computes them (`sin`/`cos`
-/// off by 1.1·10⁻³) with a query whose phase comes from micromath's `atan2` (2.8·10⁻³): the
-/// returned point is never more than `EXCESS` farther than the exact nearest, and the share
-/// of queries that get another point than the exact nearest grows like √N (error over
-/// spacing). Measured with 20 000 queries per set (sphere, hemisphere, lattice); the bounds
-/// are the largest of the three, rounded up.
-#[cfg(feature = "micromath")]
-#[test]
-fn micromath_near_nearest() {
-    let rates: [(usize, f64); 8] = [
-        (16, 0.002),
-        (100, 0.003),
-        (1000, 0.01),
-        (4096, 0.02),
-        (1 << 14, 0.035),
-        (1 << 16, 0.07),
-        (1 << 20, 0.3),
-        (1 << 24, 0.8),
-    ];
-    for (n, max_rate) in rates {
-        let mut kinds = vec![check_sphere(n, 20_000), check_hemisphere(n, 20_000)];
-        // The largest Fibonacci number not above N.
-        let (mut a, mut b) = (1usize, 2usize);
-        while a + b <= n {
-            (a, b) = (b, a + b);
-        }
-        kinds.push(check_lattice(b, 20_000));
-        if n == 4096 {
-            kinds.push(check_rotated(n, Kind::Sphere, 5, 2_000));
-            kinds.push(check_rotated(n, Kind::Hemisphere, 5, 2_000));
-        }
-        for s in kinds {
-            let rate = s.mismatches as f64 / s.queries as f64;
-            println!(
-                "micromath N≈{n}: mismatch rate {rate:.4}, worst excess {:.2e}",
-                s.worst_excess
-            );
-            assert!(s.worst_excess < EXCESS, "N={n}: {s:?}");
-            assert!(rate <= max_rate, "N={n}: {s:?}");
-        }
     }
 }

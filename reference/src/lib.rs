@@ -15,7 +15,10 @@
 //! * [`analytic`]: lights with closed-form (or 1-D quadrature) integrals;
 //! * [`peers`]: the Monte Carlo and Sobol-QMC estimators this crate is compared with;
 //! * [`quad`]: Gauss–Legendre, Gauss–Jacobi and adaptive Gauss–Kronrod quadrature;
-//! * [`special`]: the modified Bessel function I₀ (exponentially scaled).
+//! * [`special`]: the modified Bessel function I₀ (exponentially scaled);
+//! * [`sg_reference`]: hemispherical and clamped-cosine integrals of a spherical Gaussian by
+//!   adaptive quadrature;
+//! * [`sg_closed_forms`]: the published closed-form approximations of those integrals.
 //!
 //! Conventions: directions are `[f64; 3]`, z is the pole (up) axis; θ is the polar angle
 //! from +z and φ the azimuth from +x towards +y.
@@ -43,6 +46,8 @@ pub mod peers;
 pub mod quad;
 pub mod rng;
 pub mod sf;
+pub mod sg_closed_forms;
+pub mod sg_reference;
 pub mod special;
 pub mod truth;
 pub mod vec;

@@ -69,26 +69,18 @@
 //! and a division to normalise, one `atan2`, about five square roots and four divisions
 //! for the box, three `floor`s, a few 64×64-bit multiplies (two into `u128`), and per
 //! candidate a 64-bit multiply and two comparisons; per *evaluated* candidate one square
-//! root, one `sin`, one division and about a dozen multiply-adds. Measured over random
+//! root, one [`math::sin_cos_turns`] (a short f32 polynomial on the exact phase difference),
+//! one division and about a dozen multiply-adds. Measured over random
 //! queries (`search_cost`): on the sphere 1.5–1.7 evaluations and 3–3.3 lattice points on
 //! average for `N ≥ 1000` (at most 8 evaluations), for a hemisphere set queried on the
 //! whole sphere 2.3–2.6 (at most 15); small sets (`N ≈ 100`) 2.4, mostly polar caps.
-//! Sets of up to 8 points are scanned whole. Note that `libm`'s `sinf` evaluates its
-//! polynomial in `f64` internally (software floating point on Cortex-M4), so the
-//! evaluations dominate there; `atan2f` and `sqrtf` are `f32` throughout.
+//! Sets of up to 8 points are scanned whole.
 //!
-//! # Approximate math (`micromath`)
-//! With `micromath`, `atan2` (error up to 2.8·10⁻³ rad) gives the query's phase and the
-//! candidates are compared as the points [`FibonacciPoints::point`] computes (its
-//! `sin`/`cos` are off by 1.1·10⁻³), so the result is the nearest of those approximate
-//! points to a slightly displaced query. The tolerances do not cover these errors (that
-//! would multiply the work once they approach the spacing), so the answer is a near-nearest
-//! point: measured, it is never more than 2.9·10⁻³ (chord ≈ rad) farther than the exact
-//! nearest, and it differs from the exact nearest for 0.1 % of queries at `N = 100`, 1 % at
-//! `N = 4096`, 5 % at `N = 2¹⁶` and 20 % at `N = 2²⁰`. Every point still maps to its own
-//! index up to `N = 2¹⁶` (tested). Beyond about `2¹⁸` micromath's errors approach the
-//! spacing and searches get longer (mean 18, worst ≈ 1500 evaluations at `2²⁴`). The index
-//! is always valid.
+//! # Math backends
+//! The result does not depend on the backend: the query's phase always uses `libm`'s
+//! `atan2f` ([`math::atan2_accurate`], f32 arithmetic; micromath's 2.8·10⁻³ rad error would
+//! turn the exact search into a near-nearest one), and the points' sines and cosines come
+//! from [`math::sin_cos_turns`] under both backends.
 
 use super::{Domain, FibonacciPoints, Step, GOLDEN_PHASE};
 use crate::error::Error;
@@ -109,8 +101,7 @@ const QUARTER_TURN: u64 = 1 << 62;
 const REL_TOL: f32 = 4e-6;
 /// Absolute widening of the search radius (chord): how far the query as this module
 /// represents it (normalised, rotated, height and `atan2` phase in `f32`) may be from the
-/// direction passed in, about 10⁻⁶ with `libm`. (`micromath`'s `atan2` moves it by up to
-/// 2.8·10⁻³·sinθ; that is not covered, see the module docs.)
+/// direction passed in, about 10⁻⁶.
 const ABS_TOL: f32 = 2e-6;
 
 /// Relative error allowed for heights `1 ∓ z` when they are turned into indices.
@@ -123,7 +114,7 @@ const START_RADIUS: f32 = 0.6;
 const BRUTE_FORCE_MAX: usize = 8;
 
 /// Passes of the search after which the best point found so far is returned (never
-/// reached with the `libm` backend).
+/// reached in the tests).
 const MAX_PASSES: u32 = 40;
 
 /// Largest Fibonacci index used for a lattice basis.
@@ -187,10 +178,6 @@ struct Query {
     phase: u64,
     /// Continuous index of the query's height (`j` at which `zⱼ = z`).
     u: f32,
-    /// The unit query before the set's rotation (`micromath` compares with the points as
-    /// [`FibonacciPoints::point`] computes them).
-    #[cfg(feature = "micromath")]
-    world: Vec3,
 }
 
 /// Best candidate so far.
@@ -232,9 +219,9 @@ fn phase_of_xy(x: f32, y: f32) -> u64 {
     const SCALE: f32 = TURN / core::f32::consts::TAU;
     let (ax, ay) = (math::abs(x), math::abs(y));
     let in_quadrant = if ay <= ax {
-        (math::atan2(ay, ax) * SCALE) as u64
+        (math::atan2_accurate(ay, ax) * SCALE) as u64
     } else {
-        QUARTER_TURN.saturating_sub((math::atan2(ax, ay) * SCALE) as u64)
+        QUARTER_TURN.saturating_sub((math::atan2_accurate(ax, ay) * SCALE) as u64)
     };
     match (x < 0.0, y < 0.0) {
         (false, false) => in_quadrant,
@@ -275,14 +262,12 @@ impl FibonacciPoints {
     ///   (for directions anywhere on the sphere, including below its horizon),
     ///   Fibonacci-number lattice, with pole phase and arbitrary rotation. Tested with 10⁵
     ///   random directions per `N` up to `2²⁴` against an exact `f64` search.
-    /// - **Cost:** no `f64` in this code; one `atan2`, about seven `f32` square roots, and
-    ///   on average 1.6 (sphere) to 2.6 (hemisphere queried everywhere) candidate
-    ///   evaluations of one `sin` and one square root each, at most about 15; sets of up to
-    ///   8 points are scanned whole. `libm`'s `sinf` itself works in `f64` internally.
-    /// - **`micromath`:** the query phase comes from micromath's `atan2` and candidates are
-    ///   compared as [`Self::point`] computes them, so the answer is a near-nearest point
-    ///   (measured: at most 2.9·10⁻³ farther than the nearest; a different index for 1 % of
-    ///   directions at `N = 4096`, 5 % at `2¹⁶`).
+    /// - **Cost:** no `f64`; one `atan2`, about seven `f32` square roots, and on average
+    ///   1.6 (sphere) to 2.6 (hemisphere queried everywhere) candidate evaluations of one
+    ///   short polynomial sine and one square root each, at most about 15; sets of up to 8
+    ///   points are scanned whole.
+    /// - **Backends:** the same answer under `libm` and `micromath` (the query phase always
+    ///   uses `libm`'s `atan2f`).
     ///
     /// The index is always valid (`< len()`).
     ///
@@ -316,7 +301,7 @@ impl FibonacciPoints {
             best.j = 0;
             return Ok(best);
         }
-        let q = self.query(v, world);
+        let q = self.query(v);
         if self.n <= BRUTE_FORCE_MAX {
             for j in 0..self.n {
                 best.offer(j, self.dist2(&q, j));
@@ -397,9 +382,7 @@ impl FibonacciPoints {
 
     /// The query from its unit direction `v` in the set's frame (`world`: before the
     /// rotation).
-    fn query(&self, v: Vec3, world: Vec3) -> Query {
-        #[cfg(not(feature = "micromath"))]
-        let _ = world;
+    fn query(&self, v: Vec3) -> Query {
         let rho2 = v.x * v.x + v.y * v.y;
         let (a, b) = if v.z >= 0.0 {
             (rho2 / (1.0 + v.z), 1.0 + v.z)
@@ -410,16 +393,7 @@ impl FibonacciPoints {
             Domain::Sphere if a > 1.0 => self.index_of_b(b),
             _ => self.index_of_a(a),
         };
-        Query {
-            z: v.z,
-            a,
-            b,
-            s: math::sqrt(rho2),
-            phase: phase_of_xy(v.x, v.y),
-            u,
-            #[cfg(feature = "micromath")]
-            world,
-        }
+        Query { z: v.z, a, b, s: math::sqrt(rho2), phase: phase_of_xy(v.x, v.y), u }
     }
 
     /// `z_j − z_q` and `sin θⱼ` without cancellation near the poles.
@@ -438,28 +412,17 @@ impl FibonacciPoints {
         (dz, s)
     }
 
-    /// Squared chord distance from the query to point `j` (`j < N`) as
-    /// [`FibonacciPoints::point`] computes it: with `micromath` (`sin`/`cos` off by
-    /// 1.1·10⁻³) the search returns the nearest of those approximate points, so that every
-    /// point maps to its own index.
-    #[cfg(feature = "micromath")]
-    #[inline]
-    fn dist2(&self, q: &Query, j: usize) -> f32 {
-        let d = self.point_unchecked(j) - q.world;
-        d.dot(d)
-    }
-
     /// Squared chord distance from the query to point `j` (`j < N`) in the
     /// cancellation-free form `Δz² + (sinθⱼ − sinθ_q)² + 4·sinθⱼ·sinθ_q·sin²(Δφ/2)` with
     /// the exact phase difference.
-    #[cfg(not(feature = "micromath"))]
     #[inline]
     fn dist2(&self, q: &Query, j: usize) -> f32 {
         let (dz, s) = self.dz_and_sin(q, j);
         let ds = s - q.s;
-        // Half the phase difference in radians, in [−π/2, π/2).
-        let delta = self.phase_of(j).wrapping_sub(q.phase) as i64;
-        let h = math::sin(delta as f32 * (core::f32::consts::PI * INV_TURN));
+        // Sine of half the exact phase difference: a signed half of the difference, as a
+        // fraction of a turn.
+        let half = (self.phase_of(j).wrapping_sub(q.phase) as i64 >> 1) as u64;
+        let h = math::sin_cos_turns(half).0;
         dz * dz + ds * ds + 4.0 * s * q.s * h * h
     }
 
@@ -789,10 +752,7 @@ mod tests {
             worst = worst.max(d.min(1.0 - d) * core::f64::consts::TAU);
         }
         println!("query phase: worst error {worst:.2e} rad");
-        #[cfg(not(feature = "micromath"))]
         assert!(worst < 2e-7, "{worst}");
-        #[cfg(feature = "micromath")]
-        assert!(worst < 3e-3, "{worst}");
     }
 
     /// The cost figures of the module docs: candidate evaluations (one `sin`, one `sqrt`
@@ -825,19 +785,9 @@ mod tests {
                     passes as f64 / count as f64
                 );
                 // Small sets are mostly polar cap.
-                #[cfg(not(feature = "micromath"))]
-                {
-                    let mean_bound = if n < 1000 { 6.0 } else { 3.0 };
-                    assert!(mean < mean_bound && max_evals <= 24 && max_passes <= 2, "N={n}");
-                    assert!(max_visits <= 48, "N={n}");
-                }
-                // micromath's errors (1.1·10⁻³ in the points compared) approach the spacing
-                // beyond N ≈ 2¹⁶, where the searches get longer.
-                #[cfg(feature = "micromath")]
-                if n <= 1 << 16 {
-                    assert!(mean < 4.0 && max_evals <= 24 && max_passes <= 2, "N={n}");
-                    assert!(max_visits <= 48, "N={n}");
-                }
+                let mean_bound = if n < 1000 { 6.0 } else { 3.0 };
+                assert!(mean < mean_bound && max_evals <= 24 && max_passes <= 2, "N={n}");
+                assert!(max_visits <= 48, "N={n}");
             }
         }
     }

@@ -1,0 +1,129 @@
+//! The computation run both on the emulated Cortex-M4 and on the host. Every value is
+//! printed as `key index bits` with the exact f32 bits (NaN as `nan`), so the two outputs
+//! can be compared line by line. Shared with the host through `#[path]`
+//! (`examples/device_scenario.rs`); `no_std`, no allocation.
+
+use core::fmt::Arguments;
+
+use sphere_quadrature::qmc::{self, LobeSampler};
+use sphere_quadrature::{
+    math, Error, HemisphericalFibonacci, Lobe, RotationSequence, SphericalFibonacci, Vec3,
+};
+
+/// Where the lines go: semihosting on the device, stdout on the host.
+pub trait Sink {
+    /// Writes one line.
+    fn line(&mut self, args: Arguments<'_>);
+}
+
+fn value(out: &mut impl Sink, key: &str, index: usize, v: f32) {
+    if v.is_nan() {
+        out.line(format_args!("{key} {index} nan"));
+    } else {
+        out.line(format_args!("{key} {index} {:08x}", v.to_bits()));
+    }
+}
+
+fn vector(out: &mut impl Sink, key: &str, index: usize, v: Vec3) {
+    value(out, key, 3 * index, v.x);
+    value(out, key, 3 * index + 1, v.y);
+    value(out, key, 3 * index + 2, v.z);
+}
+
+fn error(out: &mut impl Sink, key: &str, r: Result<f32, Error>) {
+    match r {
+        Ok(v) => value(out, key, 0, v),
+        Err(e) => out.line(format_args!("{key} 0 error {e:?}")),
+    }
+}
+
+/// A procedural sky: a soft gradient and a spherical-Gaussian sun.
+pub fn sky(d: Vec3) -> f32 {
+    let up = if d.z > 0.0 { d.z } else { 0.0 };
+    let sun = Vec3::new(0.3, 0.2, 0.9).try_normalize().unwrap_or(Vec3::Z);
+    0.4 + 0.6 * up * up + 2.0 * math::exp(8.0 * (d.dot(sun) - 1.0))
+}
+
+/// RGB version of the sky.
+pub fn sky_rgb(d: Vec3) -> [f32; 3] {
+    let l = sky(d);
+    [l, 0.9 * l + 0.05 * d.x, 0.8 * l]
+}
+
+/// Eight fixed normals (not unit: the estimators normalise).
+pub const NORMALS: [Vec3; 8] = [
+    Vec3::new(0.0, 0.0, 1.0),
+    Vec3::new(0.0, 0.0, -1.0),
+    Vec3::new(1.0, 0.0, 0.0),
+    Vec3::new(0.3, -0.4, 0.5),
+    Vec3::new(-0.7, 0.7, 0.1),
+    Vec3::new(0.2, 0.9, -0.3),
+    Vec3::new(-0.5, -0.5, -0.5),
+    Vec3::new(0.01, 0.0, 1.0),
+];
+
+/// Runs the scenario.
+pub fn run(out: &mut impl Sink) {
+    // Point sets.
+    for (j, p) in SphericalFibonacci::<64>::new().iter().enumerate() {
+        vector(out, "sf64", j, p);
+    }
+    for (j, p) in HemisphericalFibonacci::<16>::new().with_angle(0.7).iter().enumerate() {
+        vector(out, "hemi16", j, p);
+    }
+    let mut seq = RotationSequence::new(5);
+    let rot = seq.next_rotation();
+    for (j, p) in SphericalFibonacci::<32>::new().with_rotation(rot).iter().enumerate() {
+        vector(out, "sf32rot", j, p);
+    }
+
+    // QMC estimates of the procedural sky.
+    for (i, &n) in NORMALS.iter().enumerate() {
+        let phase = seq.next_phase();
+        let e16 = qmc::irradiance::<16, f32, _>(n, phase, sky);
+        let e64 = qmc::irradiance::<64, f32, _>(n, phase, sky);
+        let e256 = qmc::irradiance::<256, f32, _>(n, phase, sky);
+        for (key, e) in [("irr16", e16), ("irr64", e64), ("irr256", e256)] {
+            value(out, key, i, e.unwrap_or(f32::NAN));
+        }
+        let rgb = qmc::irradiance::<64, [f32; 3], _>(n, phase, sky_rgb).unwrap_or([f32::NAN; 3]);
+        for (c, v) in rgb.iter().enumerate() {
+            value(out, "irr64rgb", 3 * i + c, *v);
+        }
+        let g = qmc::phong::<64, f32, _>(n, 20.0, phase, sky).unwrap_or(f32::NAN);
+        value(out, "phong64", i, g);
+    }
+
+    // Slice form.
+    let s = LobeSampler::new(Vec3::new(0.3, 0.1, 0.9), Lobe::Cosine, 64, 99);
+    if let Ok(s) = s {
+        let mut dirs = [Vec3::ZERO; 64];
+        if s.fill(&mut dirs).is_ok() {
+            let mut ys = [0.0f32; 64];
+            for (y, d) in ys.iter_mut().zip(&dirs) {
+                *y = sky(*d);
+            }
+            value(out, "slice64", 0, s.estimate(&ys).unwrap_or(f32::NAN));
+            vector(out, "slice64dir", 7, dirs[7]);
+        }
+    }
+
+    // Inverse mapping.
+    let sf256 = SphericalFibonacci::<256>::new();
+    let sf4096 = SphericalFibonacci::<4096>::new();
+    for i in 0..32 {
+        let q = seq.next_rotation() * Vec3::Z;
+        let a = sf256.nearest_index(q).map_or(usize::MAX, |j| j);
+        let b = sf4096.nearest_index(q).map_or(usize::MAX, |j| j);
+        out.line(format_args!("nearest256 {i} {a}"));
+        out.line(format_args!("nearest4096 {i} {b}"));
+    }
+
+    // Bad input: documented results, no panic.
+    error(out, "zero_normal", qmc::irradiance::<16, f32, _>(Vec3::ZERO, 0, sky));
+    error(out, "nan_normal", qmc::irradiance::<16, f32, _>(Vec3::new(f32::NAN, 0.0, 1.0), 0, sky));
+    error(out, "negative_exponent", qmc::phong::<16, f32, _>(Vec3::Z, -1.0, 0, sky));
+    error(out, "nan_radiance", qmc::irradiance::<16, f32, _>(Vec3::Z, 0, |_| f32::NAN));
+    let bad = sf256.nearest_index(Vec3::ZERO);
+    out.line(format_args!("nearest_zero 0 {bad:?}"));
+}

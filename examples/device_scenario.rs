@@ -1,0 +1,21 @@
+//! The host build of the Cortex-M4 scenario (`examples/cortex-m4/src/scenario.rs`): prints
+//! the same `key index bits` lines, so `.ci/run` can compare them with QEMU's output.
+//!
+//! ```text
+//! cargo run --release --example device_scenario
+//! ```
+
+#[path = "cortex-m4/src/scenario.rs"]
+mod scenario;
+
+struct Stdout;
+
+impl scenario::Sink for Stdout {
+    fn line(&mut self, args: std::fmt::Arguments<'_>) {
+        println!("{args}");
+    }
+}
+
+fn main() {
+    scenario::run(&mut Stdout);
+}
