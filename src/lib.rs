@@ -22,6 +22,8 @@
 //! - [`warp`]: orthonormal frames and the lobe morphs (cosine, Phong).
 //! - [`qmc`]: QMC estimators of irradiance and normalised Phong glossy radiance.
 //! - [`rotation`]: rotation matrices and a seeded rotation sequence.
+//! - [`metrics`]: point-set quality (energy, worst-case error, discrepancy, separation,
+//!   covering radius, spectra, design strength) and the circle view.
 //! - [`sg`]: spherical Gaussians (product, integrals, rotation, Phong and cosine fits) and
 //!   their hemispherical and clamped-cosine integrals from build-time tables.
 //! - [`math`]: the f32 math backend (`libm` or `micromath`).
@@ -62,6 +64,7 @@
 
 mod error;
 pub mod math;
+pub mod metrics;
 pub mod qmc;
 pub mod radiance;
 pub mod rotation;

@@ -41,13 +41,16 @@
 #![deny(missing_docs)]
 
 pub mod analytic;
+pub mod discrepancy;
 pub mod envmap;
 pub mod peers;
+pub mod pointsets;
 pub mod quad;
 pub mod rng;
 pub mod sf;
 pub mod sg_closed_forms;
 pub mod sg_reference;
+pub mod sh;
 pub mod special;
 pub mod truth;
 pub mod vec;
