@@ -1,0 +1,77 @@
+//! The scalar API exported by the WebAssembly module: plain numbers in, plain numbers out,
+//! errors as NaN (or −1 for indices). Shared with the host through `#[path]`
+//! (`examples/wasm_scenario.rs`), which calls the same functions natively; the crate root must
+//! declare `mod scenario` (the Cortex-M4 scenario, for its procedural `sky`).
+
+use sphere_quadrature::qmc::{self, LobeSampler};
+use sphere_quadrature::{sg, Lobe, SphericalFibonacci, Vec3};
+
+use crate::scenario;
+
+/// Largest sample count of the probe-style estimator (size of its shared buffers).
+pub const PROBE_MAX: usize = 4096;
+
+/// The 64-bit phase from its two 32-bit halves (JS numbers carry 32-bit integers exactly).
+pub fn phase(lo: u32, hi: u32) -> u64 {
+    (u64::from(hi) << 32) | u64::from(lo)
+}
+
+/// The Cortex-M4 scenario's procedural sky at direction `(x, y, z)` (expected unit).
+pub fn sky(x: f32, y: f32, z: f32) -> f32 {
+    scenario::sky(Vec3::new(x, y, z))
+}
+
+/// QMC irradiance of the procedural sky from 64 directions about `(nx, ny, nz)`; NaN on error.
+pub fn qmc_irradiance_64(nx: f32, ny: f32, nz: f32, lo: u32, hi: u32) -> f32 {
+    qmc::irradiance::<64, f32, _>(Vec3::new(nx, ny, nz), phase(lo, hi), scenario::sky)
+        .unwrap_or(f32::NAN)
+}
+
+/// Normalised Phong glossy radiance of the procedural sky from 64 directions about
+/// `(rx, ry, rz)` with exponent `e`; NaN on error.
+pub fn phong_64(rx: f32, ry: f32, rz: f32, e: f32, lo: u32, hi: u32) -> f32 {
+    qmc::phong::<64, f32, _>(Vec3::new(rx, ry, rz), e, phase(lo, hi), scenario::sky)
+        .unwrap_or(f32::NAN)
+}
+
+/// Component `component` (0 = x, 1 = y, 2 = z) of point `j` of the spherical Fibonacci set
+/// with N = 64, 256, 4096 for `n_kind` = 0, 1, 2; NaN for any other `n_kind`, `j ≥ N` or
+/// `component > 2`.
+pub fn sf_point_component(n_kind: u32, j: u32, component: u32) -> f32 {
+    let j = j as usize;
+    let p = match n_kind {
+        0 => SphericalFibonacci::<64>::new().point(j),
+        1 => SphericalFibonacci::<256>::new().point(j),
+        2 => SphericalFibonacci::<4096>::new().point(j),
+        _ => None,
+    };
+    match (p, component) {
+        (Some(p), 0) => p.x,
+        (Some(p), 1) => p.y,
+        (Some(p), 2) => p.z,
+        _ => f32::NAN,
+    }
+}
+
+/// Index of the point of the 4096-point spherical Fibonacci set nearest to `(x, y, z)`; −1 on
+/// error (zero or non-finite direction).
+pub fn nearest_index_4096(x: f32, y: f32, z: f32) -> i32 {
+    SphericalFibonacci::<4096>::new()
+        .nearest_index(Vec3::new(x, y, z))
+        .map_or(-1, |j| i32::try_from(j).unwrap_or(-1))
+}
+
+/// [`sg::hemispherical_fraction`]; NaN on error.
+pub fn sg_hemispherical_fraction(lambda: f32, t: f32) -> f32 {
+    sg::hemispherical_fraction(lambda, t).unwrap_or(f32::NAN)
+}
+
+/// The cosine-lobe sampler of the probe-style estimator: `n` directions about `(nx, ny, nz)`;
+/// `None` on bad input or `n > PROBE_MAX`.
+pub fn probe_sampler(nx: f32, ny: f32, nz: f32, lo: u32, hi: u32, n: u32) -> Option<LobeSampler> {
+    let n = n as usize;
+    if n > PROBE_MAX {
+        return None;
+    }
+    LobeSampler::new(Vec3::new(nx, ny, nz), Lobe::Cosine, n, phase(lo, hi)).ok()
+}

@@ -1,0 +1,188 @@
+//! sphere-quadrature as a WebAssembly module (`wasm32-unknown-unknown`, `no_std`, no
+//! allocation, no wasm-bindgen): plain `extern "C"` exports taking and returning numbers.
+//!
+//! Arrays cross the boundary through fixed static buffers of atomics: the module exports
+//! their addresses (`*_ptr`) and JavaScript reads or writes them through typed-array views of
+//! the module's memory. Atomics give the interior mutability without any `unsafe` (on
+//! wasm32 without the `atomics` target feature they compile to plain loads and stores).
+//!
+//! `examples/wasm/test.mjs` (Node) calls every export; `.ci/run` compares its output with the
+//! host's (`examples/device_scenario.rs` + `examples/wasm_scenario.rs`) bit for bit.
+//!
+//! ```text
+//! cd examples/wasm && cargo build --release --target wasm32-unknown-unknown
+//! node examples/wasm/test.mjs
+//! ```
+#![no_std]
+// `#[no_mangle]` is the only construct the `unsafe_code` lint flags here (exports need
+// their symbol names); it is allowed on the `exports` module only. No `unsafe` blocks.
+#![deny(unsafe_code)]
+
+mod api;
+#[path = "../../cortex-m4/src/scenario.rs"]
+mod scenario;
+
+use core::fmt::{Arguments, Write};
+use core::sync::atomic::{AtomicU32, AtomicU8, Ordering::Relaxed};
+
+use api::PROBE_MAX;
+
+/// Capacity of the scenario's text buffer in bytes.
+const OUT_CAP: usize = 32 * 1024;
+
+/// The scenario's output text (`key index bits` lines, `\n`-terminated).
+static OUT: [AtomicU8; OUT_CAP] = [const { AtomicU8::new(0) }; OUT_CAP];
+/// Radiance samples written by JavaScript (f32 bits).
+static SAMPLES: [AtomicU32; PROBE_MAX] = [const { AtomicU32::new(0) }; PROBE_MAX];
+/// Directions written by `probe_directions` (x, y, z per sample, f32 bits).
+static DIRS: [AtomicU32; 3 * PROBE_MAX] = [const { AtomicU32::new(0) }; 3 * PROBE_MAX];
+
+/// Writes the scenario's lines into [`OUT`].
+struct Buffer {
+    len: usize,
+    overflow: bool,
+}
+
+impl Write for Buffer {
+    fn write_str(&mut self, s: &str) -> core::fmt::Result {
+        for &b in s.as_bytes() {
+            let Some(slot) = OUT.get(self.len) else {
+                self.overflow = true;
+                return Err(core::fmt::Error);
+            };
+            slot.store(b, Relaxed);
+            self.len += 1;
+        }
+        Ok(())
+    }
+}
+
+impl scenario::Sink for Buffer {
+    fn line(&mut self, args: Arguments<'_>) {
+        if self.write_fmt(args).and_then(|()| self.write_str("\n")).is_err() {
+            self.overflow = true;
+        }
+    }
+}
+
+/// Runs the shared scenario into [`OUT`]; its length in bytes, or −1 if it did not fit.
+fn scenario_text() -> i32 {
+    let mut b = Buffer { len: 0, overflow: false };
+    scenario::run(&mut b);
+    if b.overflow {
+        -1
+    } else {
+        i32::try_from(b.len).unwrap_or(-1)
+    }
+}
+
+/// Fills [`DIRS`] with the probe sampler's directions; their number, or −1 on bad input.
+fn fill_directions(nx: f32, ny: f32, nz: f32, lo: u32, hi: u32, n: u32) -> i32 {
+    let Some(s) = api::probe_sampler(nx, ny, nz, lo, hi, n) else { return -1 };
+    for (d, slot) in s.iter().zip(DIRS.chunks_exact(3)) {
+        slot[0].store(d.x.to_bits(), Relaxed);
+        slot[1].store(d.y.to_bits(), Relaxed);
+        slot[2].store(d.z.to_bits(), Relaxed);
+    }
+    i32::try_from(s.len()).unwrap_or(-1)
+}
+
+/// The probe estimate from the first `n` values of [`SAMPLES`]; NaN on bad input.
+fn estimate_samples(nx: f32, ny: f32, nz: f32, lo: u32, hi: u32, n: u32) -> f32 {
+    let Some(s) = api::probe_sampler(nx, ny, nz, lo, hi, n) else { return f32::NAN };
+    let mut ys = [0.0f32; PROBE_MAX];
+    for (y, a) in ys.iter_mut().zip(&SAMPLES).take(s.len()) {
+        *y = f32::from_bits(a.load(Relaxed));
+    }
+    s.estimate(&ys[..s.len()]).unwrap_or(f32::NAN)
+}
+
+#[allow(unsafe_code)] // `#[no_mangle]` only; every body is one safe call.
+mod exports {
+    use super::{api, DIRS, OUT, SAMPLES};
+
+    /// Runs the Cortex-M4 scenario; the text is at `out_ptr()`, this many bytes (−1: overflow).
+    #[no_mangle]
+    pub extern "C" fn scenario_run() -> i32 {
+        super::scenario_text()
+    }
+
+    /// Address of the scenario's text buffer in the module's memory.
+    #[no_mangle]
+    pub extern "C" fn out_ptr() -> usize {
+        OUT.as_ptr() as usize
+    }
+
+    /// Address of the radiance-sample buffer (`PROBE_MAX` f32), written by JavaScript.
+    #[no_mangle]
+    pub extern "C" fn samples_ptr() -> usize {
+        SAMPLES.as_ptr() as usize
+    }
+
+    /// Address of the direction buffer (`3·PROBE_MAX` f32), filled by `probe_directions`.
+    #[no_mangle]
+    pub extern "C" fn dirs_ptr() -> usize {
+        DIRS.as_ptr() as usize
+    }
+
+    /// Capacity of the sample buffer.
+    #[no_mangle]
+    pub extern "C" fn probe_max() -> u32 {
+        api::PROBE_MAX as u32
+    }
+
+    /// Writes the `n` cosine-lobe directions about `(nx, ny, nz)` to `dirs_ptr()`; returns
+    /// `n`, or −1 on bad input.
+    #[no_mangle]
+    pub extern "C" fn probe_directions(nx: f32, ny: f32, nz: f32, lo: u32, hi: u32, n: u32) -> i32 {
+        super::fill_directions(nx, ny, nz, lo, hi, n)
+    }
+
+    /// Irradiance from the `n` radiance samples at `samples_ptr()` (taken at the directions of
+    /// `probe_directions` with the same arguments); NaN on bad input.
+    #[no_mangle]
+    pub extern "C" fn probe_estimate(nx: f32, ny: f32, nz: f32, lo: u32, hi: u32, n: u32) -> f32 {
+        super::estimate_samples(nx, ny, nz, lo, hi, n)
+    }
+
+    /// The procedural sky of the scenario.
+    #[no_mangle]
+    pub extern "C" fn sky(x: f32, y: f32, z: f32) -> f32 {
+        api::sky(x, y, z)
+    }
+
+    /// See [`api::qmc_irradiance_64`].
+    #[no_mangle]
+    pub extern "C" fn qmc_irradiance_64(nx: f32, ny: f32, nz: f32, lo: u32, hi: u32) -> f32 {
+        api::qmc_irradiance_64(nx, ny, nz, lo, hi)
+    }
+
+    /// See [`api::phong_64`].
+    #[no_mangle]
+    pub extern "C" fn phong_64(rx: f32, ry: f32, rz: f32, e: f32, lo: u32, hi: u32) -> f32 {
+        api::phong_64(rx, ry, rz, e, lo, hi)
+    }
+
+    /// See [`api::sf_point_component`].
+    #[no_mangle]
+    pub extern "C" fn sf_point_component(n_kind: u32, j: u32, component: u32) -> f32 {
+        api::sf_point_component(n_kind, j, component)
+    }
+
+    /// See [`api::nearest_index_4096`].
+    #[no_mangle]
+    pub extern "C" fn nearest_index_4096(x: f32, y: f32, z: f32) -> i32 {
+        api::nearest_index_4096(x, y, z)
+    }
+
+    /// See [`api::sg_hemispherical_fraction`].
+    #[no_mangle]
+    pub extern "C" fn sg_hemispherical_fraction(lambda: f32, t: f32) -> f32 {
+        api::sg_hemispherical_fraction(lambda, t)
+    }
+}
+
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo<'_>) -> ! {
+    core::arch::wasm32::unreachable()
+}

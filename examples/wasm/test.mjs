@@ -1,0 +1,94 @@
+// Runs the sphere-quadrature WebAssembly module under Node (no npm packages) and prints
+// `key index bits` lines: first the shared Cortex-M4 scenario (run inside the module), then
+// every scalar export and the probe-style buffer round trip on fixed inputs. The host twin,
+// examples/wasm_scenario.rs, prints the same lines from native code; .ci/run diffs the two.
+//
+//   (cd examples/wasm && cargo build --release --target wasm32-unknown-unknown)
+//   node examples/wasm/test.mjs > wasm.txt
+//   cargo run --release --example wasm_scenario | diff wasm.txt -
+import { readFileSync } from "node:fs";
+
+const path = new URL(
+  "target/wasm32-unknown-unknown/release/sphere_quadrature_wasm.wasm",
+  import.meta.url,
+);
+const { instance } = await WebAssembly.instantiate(readFileSync(path), {});
+const w = instance.exports;
+const memory = w.memory;
+
+const out = [];
+const f32 = new Float32Array(1);
+const u32 = new Uint32Array(f32.buffer);
+function bits(v) {
+  if (Number.isNaN(v)) return "nan";
+  f32[0] = v;
+  return u32[0].toString(16).padStart(8, "0");
+}
+function value(key, index, v) {
+  out.push(`${key} ${index} ${bits(v)}`);
+}
+
+// 1. The shared scenario, formatted inside the module into its static text buffer.
+const len = w.scenario_run();
+if (len < 0) throw new Error("scenario output overflowed the module's buffer");
+const text = new TextDecoder().decode(new Uint8Array(memory.buffer, w.out_ptr(), len));
+out.push(...text.split("\n").filter((l) => l.length > 0));
+
+// 2. Scalar exports on the inputs of examples/wasm_scenario.rs (same formulas; all inputs
+// are dyadic rationals, exact in both f64 and f32).
+const COUNT = 27;
+function normal(i) {
+  if (i === 24) return [0, 0, 0];
+  if (i === 25) return [NaN, 0, 1];
+  if (i === 26) return [Infinity, 0, 0];
+  return [(((i * 5) % 9) - 4) / 4, (((i * 7) % 11) - 5) / 4, (((i * 3) % 7) - 3) / 2];
+}
+const lo = (i) => Math.imul(i, 0x9e3779b9) >>> 0;
+const hi = (i) => Math.imul(i, 0x85ebca6b) >>> 0;
+const exponent = (i) => (i % 8) * 8 - 4;
+
+for (let i = 0; i < COUNT; i++) {
+  const [x, y, z] = normal(i);
+  value("w_irr64", i, w.qmc_irradiance_64(x, y, z, lo(i), hi(i)));
+  value("w_phong64", i, w.phong_64(x, y, z, exponent(i), lo(i), hi(i)));
+  value("w_sky", i, w.sky(x, y, z));
+  out.push(`w_nearest4096 ${i} ${w.nearest_index_4096(x, y, z)}`);
+}
+
+const JS = [0, 1, 17, 63, 64, 255, 256, 4095, 4096];
+for (let kind = 0; kind < 4; kind++) {
+  JS.forEach((j, jj) => {
+    for (let c = 0; c < 4; c++) value(`w_sf${kind}`, 4 * jj + c, w.sf_point_component(kind, j, c));
+  });
+}
+
+const LAMBDAS = [0, 0.5, 1, 4, 16, 100, 1000, -1, NaN, Infinity];
+const TS = [-1, -0.5, 0, 0.25, 1, 2, NaN];
+LAMBDAS.forEach((l, li) => {
+  TS.forEach((t, ti) => value("w_sghemi", li * TS.length + ti, w.sg_hemispherical_fraction(l, t)));
+});
+
+// 3. Probe style: the module writes the directions into its buffer, JavaScript evaluates the
+// radiance (here the module's own sky, so the host can reproduce it bit for bit) and writes
+// the samples into the module's sample buffer, the module estimates.
+const SIZES = [16, 64, 4096, 0, 5000];
+if (w.probe_max() !== 4096) throw new Error(`probe_max() = ${w.probe_max()}`);
+for (let i = 0; i < 8; i++) {
+  const [x, y, z] = normal(i);
+  SIZES.forEach((n, ni) => {
+    const k = i * SIZES.length + ni;
+    const got = w.probe_directions(x, y, z, lo(i), hi(i), n);
+    if (got < 0) {
+      value("w_probe", k, NaN);
+      return;
+    }
+    if (got !== n) throw new Error(`probe_directions returned ${got}, expected ${n}`);
+    const dirs = new Float32Array(memory.buffer, w.dirs_ptr(), 3 * n);
+    const samples = new Float32Array(memory.buffer, w.samples_ptr(), n);
+    for (let j = 0; j < n; j++) samples[j] = w.sky(dirs[3 * j], dirs[3 * j + 1], dirs[3 * j + 2]);
+    value("w_probe", k, w.probe_estimate(x, y, z, lo(i), hi(i), n));
+    for (let c = 0; c < 3; c++) value("w_probedir", 3 * k + c, dirs[3 * (n - 1) + c]);
+  });
+}
+
+process.stdout.write(out.join("\n") + "\n");

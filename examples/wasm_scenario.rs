@@ -1,0 +1,115 @@
+//! The host twin of the WebAssembly test (`examples/wasm/test.mjs`): prints the Cortex-M4
+//! scenario, then the wasm module's scalar API (`examples/wasm/src/api.rs`, compiled natively
+//! here) and the probe-style estimate on the same inputs, as `key index bits` lines, so
+//! `.ci/run` can compare them with Node's output bit for bit.
+//!
+//! ```text
+//! cargo run --release --example wasm_scenario
+//! ```
+
+#[path = "cortex-m4/src/scenario.rs"]
+mod scenario;
+
+#[path = "wasm/src/api.rs"]
+mod api;
+
+struct Stdout;
+
+impl scenario::Sink for Stdout {
+    fn line(&mut self, args: std::fmt::Arguments<'_>) {
+        println!("{args}");
+    }
+}
+
+fn bits(v: f32) -> String {
+    if v.is_nan() {
+        "nan".into()
+    } else {
+        format!("{:08x}", v.to_bits())
+    }
+}
+
+fn value(key: &str, index: usize, v: f32) {
+    println!("{key} {index} {}", bits(v));
+}
+
+/// Same inputs as `test.mjs` (dyadic rationals: exact in f64 and f32).
+const COUNT: usize = 27;
+
+fn normal(i: usize) -> [f32; 3] {
+    match i {
+        24 => [0.0, 0.0, 0.0],
+        25 => [f32::NAN, 0.0, 1.0],
+        26 => [f32::INFINITY, 0.0, 0.0],
+        _ => [
+            ((i * 5) % 9) as f32 / 4.0 - 1.0,
+            ((i * 7) % 11) as f32 / 4.0 - 1.25,
+            ((i * 3) % 7) as f32 / 2.0 - 1.5,
+        ],
+    }
+}
+
+fn lo(i: usize) -> u32 {
+    (i as u32).wrapping_mul(0x9e37_79b9)
+}
+
+fn hi(i: usize) -> u32 {
+    (i as u32).wrapping_mul(0x85eb_ca6b)
+}
+
+fn exponent(i: usize) -> f32 {
+    ((i % 8) * 8) as f32 - 4.0
+}
+
+fn main() {
+    scenario::run(&mut Stdout);
+
+    for i in 0..COUNT {
+        let [x, y, z] = normal(i);
+        value("w_irr64", i, api::qmc_irradiance_64(x, y, z, lo(i), hi(i)));
+        value("w_phong64", i, api::phong_64(x, y, z, exponent(i), lo(i), hi(i)));
+        value("w_sky", i, api::sky(x, y, z));
+        println!("w_nearest4096 {i} {}", api::nearest_index_4096(x, y, z));
+    }
+
+    let js = [0, 1, 17, 63, 64, 255, 256, 4095, 4096];
+    for kind in 0..4 {
+        for (jj, &j) in js.iter().enumerate() {
+            for c in 0..4 {
+                value(
+                    &format!("w_sf{kind}"),
+                    4 * jj + c as usize,
+                    api::sf_point_component(kind, j, c),
+                );
+            }
+        }
+    }
+
+    let lambdas = [0.0, 0.5, 1.0, 4.0, 16.0, 100.0, 1000.0, -1.0, f32::NAN, f32::INFINITY];
+    let ts = [-1.0, -0.5, 0.0, 0.25, 1.0, 2.0, f32::NAN];
+    for (li, &l) in lambdas.iter().enumerate() {
+        for (ti, &t) in ts.iter().enumerate() {
+            value("w_sghemi", li * ts.len() + ti, api::sg_hemispherical_fraction(l, t));
+        }
+    }
+
+    // The probe style computed directly through the library: directions, sky, estimate.
+    let sizes = [16u32, 64, 4096, 0, 5000];
+    for i in 0..8 {
+        let [x, y, z] = normal(i);
+        for (ni, &n) in sizes.iter().enumerate() {
+            let k = i * sizes.len() + ni;
+            let Some(s) = api::probe_sampler(x, y, z, lo(i), hi(i), n) else {
+                value("w_probe", k, f32::NAN);
+                continue;
+            };
+            let dirs: Vec<_> = s.iter().collect();
+            let ys: Vec<f32> = dirs.iter().map(|&d| scenario::sky(d)).collect();
+            value("w_probe", k, s.estimate(&ys).unwrap_or(f32::NAN));
+            let last = dirs[dirs.len() - 1];
+            for (c, v) in [last.x, last.y, last.z].into_iter().enumerate() {
+                value("w_probedir", 3 * k + c, v);
+            }
+        }
+    }
+}
