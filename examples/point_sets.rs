@@ -13,6 +13,7 @@
 //! cargo run --release --example point_sets -- --out DIR    # writes DIR instead
 //! ```
 
+use reference::fit::loglog_slope;
 use std::error::Error;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -61,17 +62,6 @@ fn measure(points: &[Vec3]) -> Result<Measure, sphere_quadrature::Error> {
         wce175: metrics::wce(points, 1.75)?,
         min_dist: metrics::min_separation(points)?,
     })
-}
-
-/// Least-squares slope of ln y against ln x.
-fn slope(xs: &[f64], ys: &[f64]) -> f64 {
-    let lx: Vec<f64> = xs.iter().map(|x| x.ln()).collect();
-    let ly: Vec<f64> = ys.iter().map(|y| y.ln()).collect();
-    let n = lx.len() as f64;
-    let (mx, my) = (lx.iter().sum::<f64>() / n, ly.iter().sum::<f64>() / n);
-    let sxy: f64 = lx.iter().zip(&ly).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = lx.iter().map(|x| (x - mx) * (x - mx)).sum();
-    sxy / sxx
 }
 
 fn colour(i: usize) -> RGBColor {
@@ -250,7 +240,7 @@ fn report(m: &[Vec<Measure>]) -> String {
         let scaled: Vec<f64> = ns.iter().zip(&es).map(|(n, e)| e * n.powf(0.75)).collect();
         let lo = scaled.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = scaled.iter().copied().fold(0.0, f64::max);
-        let _ = writeln!(s, "| {set} | {:.3} | {lo:.3} … {hi:.3} |", slope(&ns, &es));
+        let _ = writeln!(s, "| {set} | {:.3} | {lo:.3} … {hi:.3} |", loglog_slope(&ns, &es));
     }
     let rms: Vec<f64> = ns.iter().map(|&n| random_rms(n as usize)).collect();
     let scaled: Vec<f64> = ns.iter().zip(&rms).map(|(n, e)| e * (n * 0.75).sqrt()).collect();
@@ -259,7 +249,7 @@ fn report(m: &[Vec<Measure>]) -> String {
     let _ = writeln!(
         s,
         "| random, RMS of {RANDOM_REPEATS} realisations | {:.3} | ((3N/4)^½·RMS: {lo:.3} … {hi:.3}) |",
-        slope(&ns, &rms)
+        loglog_slope(&ns, &rms)
     );
     let _ = writeln!(
         s,

@@ -5,6 +5,7 @@
 
 use std::f64::consts::PI;
 
+use reference::fit::loglog_slope;
 use reference::pointsets;
 use reference::rng::Rng;
 use sphere_quadrature::metrics::{self, SobolevWeights};
@@ -32,17 +33,6 @@ fn random_set(n: usize, seed: u64) -> Vec<Vec3> {
 
 fn sf(n: usize) -> Vec<Vec3> {
     FibonacciPoints::sphere(n).unwrap().iter().collect()
-}
-
-/// Least-squares slope of ln y on ln x.
-fn slope(xs: &[f64], ys: &[f64]) -> f64 {
-    let lx: Vec<f64> = xs.iter().map(|x| x.ln()).collect();
-    let ly: Vec<f64> = ys.iter().map(|y| y.ln()).collect();
-    let n = lx.len() as f64;
-    let (mx, my) = (lx.iter().sum::<f64>() / n, ly.iter().sum::<f64>() / n);
-    let sxy: f64 = lx.iter().zip(&ly).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = lx.iter().map(|x| (x - mx) * (x - mx)).sum();
-    sxy / sxx
 }
 
 /// (1 + √5)/2.
@@ -356,7 +346,7 @@ fn sf_energy_decays_at_the_optimal_rate_and_random_at_root_n() {
     let sf_e: Vec<f64> = CLAIM_SIZES.iter().map(|&n| metrics::energy(&sf(n)).unwrap()).collect();
     let scaled: Vec<f64> = ns.iter().zip(&sf_e).map(|(n, e)| e * n.powf(0.75)).collect();
     let mean = scaled.iter().sum::<f64>() / scaled.len() as f64;
-    let sf_slope = slope(&ns, &sf_e);
+    let sf_slope = loglog_slope(&ns, &sf_e);
     println!("SF: N^(3/4)·E_N = {scaled:.4?}, fitted slope {sf_slope:.4}");
     for (n, v) in CLAIM_SIZES.iter().zip(&scaled) {
         assert!((v / mean - 1.0).abs() < 0.10, "N = {n}: N^(3/4)E_N = {v}, mean {mean}");
@@ -381,7 +371,7 @@ fn sf_energy_decays_at_the_optimal_rate_and_random_at_root_n() {
             ms.sqrt()
         })
         .collect();
-    let random_slope = slope(&ns, &rms);
+    let random_slope = loglog_slope(&ns, &rms);
     let mean_ratio = ratio_sum / CLAIM_SIZES.len() as f64;
     println!(
         "random: RMS E_N = {rms:.4?}, fitted slope {random_slope:.4}, mean of N·E_N²/(4/3) = \

@@ -1,6 +1,7 @@
 //! QMC estimators against closed forms and 1-D f64 quadratures from the reference crate.
 
 use reference::analytic::{Constant, Linear, SgLight};
+use reference::fit::loglog_slope;
 use reference::rng::Rng;
 use sphere_quadrature::qmc::{self, LobeSampler};
 use sphere_quadrature::{Error, Lobe, RotationSequence, Vec3};
@@ -58,17 +59,6 @@ fn linear_radiance_matches_closed_form() {
     assert!(
         ((got as f64 - c.irradiance([1.0, 0.0, 0.0])) / (2.5 * std::f64::consts::PI)).abs() < 3e-7
     );
-}
-
-/// Least-squares slope of log(err) against log(n).
-fn loglog_slope(ns: &[usize], errs: &[f64]) -> f64 {
-    let xs: Vec<f64> = ns.iter().map(|&n| (n as f64).ln()).collect();
-    let ys: Vec<f64> = errs.iter().map(|e| e.ln()).collect();
-    let k = xs.len() as f64;
-    let (mx, my) = (xs.iter().sum::<f64>() / k, ys.iter().sum::<f64>() / k);
-    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
-    sxy / sxx
 }
 
 /// A smooth light above the horizon: an SG light whose axis is within 70° of the normal.
@@ -143,8 +133,9 @@ fn sf_converges_at_least_as_n_to_the_minus_three_quarters_and_random_as_minus_ha
         })
         .collect();
 
-    let sf_slope = loglog_slope(&ns, &sf_rms);
-    let mc_slope = loglog_slope(&ns, &mc_rms);
+    let nsf: Vec<f64> = ns.iter().map(|&n| n as f64).collect();
+    let sf_slope = loglog_slope(&nsf, &sf_rms);
+    let mc_slope = loglog_slope(&nsf, &mc_rms);
     println!("N      SF rel RMS   random rel RMS");
     for ((n, s), m) in ns.iter().zip(&sf_rms).zip(&mc_rms) {
         println!("{n:<6} {s:.3e}    {m:.3e}");

@@ -13,6 +13,7 @@
 //! * [`truth`]: accurate irradiance and Phong integrals of environment maps and of smooth
 //!   functions;
 //! * [`analytic`]: lights with closed-form (or 1-D quadrature) integrals;
+//! * [`fit`]: the least-squares log-log slope used for convergence rates;
 //! * [`peers`]: the Monte Carlo and Sobol-QMC estimators this crate is compared with;
 //! * [`quad`]: Gauss–Legendre, Gauss–Jacobi and adaptive Gauss–Kronrod quadrature;
 //! * [`special`]: the modified Bessel function I₀ (exponentially scaled);
@@ -43,6 +44,7 @@
 pub mod analytic;
 pub mod discrepancy;
 pub mod envmap;
+pub mod fit;
 pub mod peers;
 pub mod pointsets;
 pub mod quad;
