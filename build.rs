@@ -1,8 +1,9 @@
 //! Build script: bakes the spherical-Gaussian integral tables (issue #4) into
-//! `$OUT_DIR/sg_tables.rs`, in f64, from the generator in `gen/` and the sizes in `tables/`.
+//! `$OUT_DIR/sg_tables.rs` and the Bayesian Monte Carlo weights (issue #6) into
+//! `$OUT_DIR/bmc_tables.rs`, in f64, from the generators in `gen/` and the files in `tables/`.
 //! Plain std Rust with no build-dependencies; the output is deterministic (exact f32 bits, no
-//! timestamps or paths). `tests/sg_tables.rs` runs the same generator and checks the baked
-//! tables bit for bit. The Bayesian Monte Carlo weights (issue #6) will be baked here too.
+//! timestamps or paths). `tests/sg_tables.rs` and `tests/bmc.rs` run the same generators and
+//! check the baked tables bit for bit.
 
 // The host tests use more of the generator than the build does.
 #[allow(dead_code)]
@@ -28,15 +29,25 @@ fn main() {
         }
     }
 
+    let out_dir = PathBuf::from(std::env::var_os("OUT_DIR").expect("OUT_DIR is set by cargo"));
+
     let text = std::fs::read_to_string(gen::sg::CONFIG_FILE)
         .unwrap_or_else(|e| panic!("reading {}: {e}", gen::sg::CONFIG_FILE));
     let cfg = gen::sg::parse(&text).unwrap_or_else(|e| panic!("{}: {e}", gen::sg::CONFIG_FILE));
     let tables = gen::sg::tables(&cfg);
-    let out = Path::new(&std::env::var_os("OUT_DIR").expect("OUT_DIR is set by cargo"))
-        .join("sg_tables.rs");
-    let src = gen::sg::render(&cfg, &tables);
-    // Rewrite only on change, so that dependants are not rebuilt needlessly.
-    if std::fs::read_to_string(&out).ok().as_deref() != Some(src.as_str()) {
-        std::fs::write(&out, src).unwrap_or_else(|e| panic!("writing {}: {e}", out.display()));
+    write_if_changed(&out_dir.join("sg_tables.rs"), &gen::sg::render(&cfg, &tables));
+
+    let text = std::fs::read_to_string(gen::bmc::CONFIG_FILE)
+        .unwrap_or_else(|e| panic!("reading {}: {e}", gen::bmc::CONFIG_FILE));
+    let specs = gen::bmc::parse(&text).unwrap_or_else(|e| panic!("{}: {e}", gen::bmc::CONFIG_FILE));
+    let sets =
+        gen::bmc::bake_all(&specs).unwrap_or_else(|e| panic!("{}: {e}", gen::bmc::CONFIG_FILE));
+    write_if_changed(&out_dir.join("bmc_tables.rs"), &gen::bmc::render(&sets));
+}
+
+/// Rewrites `out` only on change, so that dependants are not rebuilt needlessly.
+fn write_if_changed(out: &Path, src: &str) {
+    if std::fs::read_to_string(out).ok().as_deref() != Some(src) {
+        std::fs::write(out, src).unwrap_or_else(|e| panic!("writing {}: {e}", out.display()));
     }
 }

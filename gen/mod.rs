@@ -3,4 +3,5 @@
 //! Plain std Rust with no dependencies: every firmware build of a user runs this code, so it
 //! must compile fast and run fast even in the unoptimised build-script profile.
 
+pub mod bmc;
 pub mod sg;

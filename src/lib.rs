@@ -21,6 +21,7 @@
 //!   `N`, with exact integer phase, rotations, and the inverse mapping.
 //! - [`warp`]: orthonormal frames and the lobe morphs (cosine, Phong).
 //! - [`qmc`]: QMC estimators of irradiance and normalised Phong glossy radiance.
+//! - [`bmc`]: Bayesian Monte Carlo irradiance with build-time weights (renderer form).
 //! - [`rotation`]: rotation matrices and a seeded rotation sequence.
 //! - [`metrics`]: point-set quality (energy, worst-case error, discrepancy, separation,
 //!   covering radius, spectra, design strength) and the circle view.
@@ -62,6 +63,7 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+pub mod bmc;
 mod error;
 pub mod math;
 pub mod metrics;

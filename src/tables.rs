@@ -2,5 +2,11 @@
 //!
 //! - `SG_HEMI`, `SG_CLAMPED`: the spherical-Gaussian hemispherical and clamped-cosine integral
 //!   tables used by [`crate::sg`]; their layout is described in `gen/sg.rs`.
+//! - `BMC_WEIGHTS_<N>`: the Bayesian Monte Carlo weights of [`crate::bmc`], one array per
+//!   baked size, and the sealed `BakedSize` impls that admit exactly those sizes.
 
 include!(concat!(env!("OUT_DIR"), "/sg_tables.rs"));
+
+// `BMC_SIZES`, `BMC_WEIGHTS_<N>` and the `bmc::BakedSize` impls of the baked sizes (generator
+// `gen/bmc.rs`, sets in `tables/bmc.txt`).
+include!(concat!(env!("OUT_DIR"), "/bmc_tables.rs"));

@@ -42,6 +42,7 @@
 #![deny(missing_docs)]
 
 pub mod analytic;
+pub mod bmc;
 pub mod discrepancy;
 pub mod envmap;
 pub mod fit;
