@@ -1,6 +1,7 @@
 //! Build script: bakes the spherical-Gaussian integral tables (issue #4) into
 //! `$OUT_DIR/sg_tables.rs` and the Bayesian Monte Carlo weights (issue #6) into
-//! `$OUT_DIR/bmc_tables.rs`, in f64, from the generators in `gen/` and the files in `tables/`.
+//! `$OUT_DIR/bmc_tables.rs` (and as Q1.31 integers into `$OUT_DIR/bmc_fixed_tables.rs`, for
+//! the `fixed` feature), in f64, from the generators in `gen/` and the files in `tables/`.
 //! Plain std Rust with no build-dependencies; the output is deterministic (exact f32 bits, no
 //! timestamps or paths). `tests/sg_tables.rs` and `tests/bmc.rs` run the same generators and
 //! check the baked tables bit for bit.
@@ -43,6 +44,10 @@ fn main() {
     let sets =
         gen::bmc::bake_all(&specs).unwrap_or_else(|e| panic!("{}: {e}", gen::bmc::CONFIG_FILE));
     write_if_changed(&out_dir.join("bmc_tables.rs"), &gen::bmc::render(&sets));
+    // The same weights as Q1.31 integers for the `fixed` feature (`src/fixed_point.rs`).
+    let fixed = gen::bmc::render_fixed(&sets)
+        .unwrap_or_else(|e| panic!("{}: fixed-point weights: {e}", gen::bmc::CONFIG_FILE));
+    write_if_changed(&out_dir.join("bmc_fixed_tables.rs"), &fixed);
 }
 
 /// Rewrites `out` only on change, so that dependants are not rebuilt needlessly.

@@ -34,6 +34,7 @@
 //! - `micromath`: fast approximate f32 math; wins over `libm` when both are on. The final
 //!   binary's decision (see [`math`]).
 //! - `defmt`: `defmt::Format` on the public data types.
+//! - `fixed`: [`fixed_point`], integer-only BMC weighted sums for cores without an FPU.
 //!
 //! # Accuracy
 //! Measured by the tests in `tests/` against the independent f64 reference crate:
@@ -65,6 +66,8 @@
 
 pub mod bmc;
 mod error;
+#[cfg(feature = "fixed")]
+pub mod fixed_point;
 pub mod math;
 pub mod metrics;
 pub mod qmc;
