@@ -143,11 +143,14 @@ impl Neumaier {
 /// Calls `f(|ωⱼ − ωₖ|²)` for every pair `j < k` of a validated set.
 #[inline]
 fn for_each_pair(points: &[Vec3], mut f: impl FnMut(f64)) {
-    for (j, &pj) in points.iter().enumerate() {
+    // `split_first` walks the rows without slicing, so no bounds-check panic path remains.
+    let mut rest = points;
+    while let Some((&pj, tail)) = rest.split_first() {
         let a = unit64_unchecked(pj);
-        for &pk in &points[j + 1..] {
+        for &pk in tail {
             f(dist2(a, unit64_unchecked(pk)));
         }
+        rest = tail;
     }
 }
 
@@ -155,14 +158,16 @@ fn for_each_pair(points: &[Vec3], mut f: impl FnMut(f64)) {
 /// the rows combined with compensation.
 fn centred_pair_mean(points: &[Vec3], v: f64, g: impl Fn(f64) -> f64) -> f64 {
     let mut total = Neumaier::default();
-    for (j, &pj) in points.iter().enumerate() {
+    let mut rest = points;
+    while let Some((&pj, tail)) = rest.split_first() {
         let a = unit64_unchecked(pj);
         let mut row = 0.0;
-        for &pk in &points[j + 1..] {
+        for &pk in tail {
             row += v - g(dist2(a, unit64_unchecked(pk)));
         }
         // Row j's pairs count twice (j, k) and (k, j); the diagonal term is v − g(0) = v.
         total.add(v + 2.0 * row);
+        rest = tail;
     }
     let n = points.len() as f64;
     total.value() / (n * n)
@@ -230,14 +235,16 @@ pub fn energy_f32(points: &[Vec3]) -> Result<f32, Error> {
         *c = (t - *sum) - y;
         *sum = t;
     };
-    for (j, &pj) in points.iter().enumerate() {
+    let mut rest = points;
+    while let Some((&pj, tail)) = rest.split_first() {
         let a = unit(pj);
         let (mut row, mut row_c) = (0.0f32, 0.0f32);
-        for &pk in &points[j + 1..] {
+        for &pk in tail {
             let d = (a - unit(pk)).length();
             kahan(&mut row, &mut row_c, HEAD - d);
         }
         kahan(&mut total, &mut total_c, HEAD + 2.0 * (row - row_c));
+        rest = tail;
     }
     let nf = points.len() as f32;
     let e2 = (total - total_c) / nf / nf + TAIL;

@@ -208,7 +208,9 @@ impl FibonacciPoints {
         let base = match self.step {
             Step::Golden => (j as u64).wrapping_mul(GOLDEN_PHASE),
             Step::Fibonacci { prev } => {
-                let n = self.n as u64;
+                // `n ≥ 1` for every set that can be built; `max(1)` (a no-op) lets the
+                // optimiser drop the division-by-zero panic paths of `%` and `/`.
+                let n = (self.n as u64).max(1);
                 let r = ((j as u64) % n) * prev % n;
                 (((r as u128) << 64) / (n as u128)) as u64
             }

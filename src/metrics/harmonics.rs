@@ -134,7 +134,13 @@ pub fn real_sh(dir: Vec3, l_max: usize, out: &mut [f64]) -> Result<(), Error> {
         return Err(Error::LengthMismatch);
     }
     let u = unit64(dir).ok_or(Error::InvalidDirection)?;
-    for_each_sh(u, l_max, |i, v| out[i] = v);
+    // Every index is below `(l_max + 1)² ≤ out.len()`; `get_mut` (always `Some`) spares a
+    // bounds-check panic path the optimiser cannot remove.
+    for_each_sh(u, l_max, |i, v| {
+        if let Some(slot) = out.get_mut(i) {
+            *slot = v;
+        }
+    });
     Ok(())
 }
 
@@ -156,7 +162,12 @@ pub fn sh_coefficients(points: &[Vec3], l_max: usize, out: &mut [f64]) -> Result
     out.fill(0.0);
     for &p in points {
         if let Some(u) = unit64(p) {
-            for_each_sh(u, l_max, |i, v| out[i] += v);
+            // As in `real_sh`: `i < count`, so `get_mut` is always `Some`.
+            for_each_sh(u, l_max, |i, v| {
+                if let Some(slot) = out.get_mut(i) {
+                    *slot += v;
+                }
+            });
         }
     }
     let inv = 1.0 / points.len() as f64;

@@ -604,7 +604,11 @@ impl FibonacciPoints {
             return false;
         }
         let k = best_k;
-        let (fk, fk1) = (FIB[k], FIB[k + 1]);
+        // `k < k_limit() ≤ KMAX`, so both exist; the `else` (never taken) falls back to the
+        // band scan and spares a bounds-check panic path the optimiser cannot remove.
+        let (Some(&fk), Some(&fk1)) = (FIB.get(k), FIB.get(k + 1)) else {
+            return false;
+        };
         let (ek, ek1) = (self.step_phase(fk), self.step_phase(fk1));
         let det = ek as i128 * fk1 as i128 - ek1 as i128 * fk as i128;
         let one = 1i128 << 64;
