@@ -7,8 +7,11 @@
 #[path = "../gen/mod.rs"]
 mod gen;
 
+#[macro_use]
+mod common;
+
 use gen::bmc;
-use reference::analytic::SgLight;
+use reference::analytic::sg_queries;
 use reference::rng::Rng;
 use sphere_quadrature::bmc::{Renderer, BAKED_SIZES, TABLE_BYTES};
 use sphere_quadrature::{qmc, Error, Vec3};
@@ -26,32 +29,6 @@ fn v64(v: Vec3) -> [f64; 3] {
 fn specs() -> Vec<bmc::Spec> {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/bmc.txt");
     bmc::parse(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-/// Runs `$body` with `$n` bound to each baked size as a const.
-macro_rules! for_each_size {
-    ($n:ident => $body:block) => {{
-        {
-            const $n: usize = 16;
-            $body
-        }
-        {
-            const $n: usize = 32;
-            $body
-        }
-        {
-            const $n: usize = 64;
-            $body
-        }
-        {
-            const $n: usize = 128;
-            $body
-        }
-        {
-            const $n: usize = 256;
-            $body
-        }
-    }};
 }
 
 /// The baked weights of size `n`, as a slice.
@@ -210,35 +187,9 @@ fn constants_are_integrated_exactly() {
     });
 }
 
-struct Query {
-    normal: [f64; 3],
-    light: SgLight,
-    truth: f64,
-    phase: u64,
-}
-
-/// Seeded SG lights (sharpness 2…20) at least 0.35 in cosine above the normal's horizon, as in
-/// `tests/qmc.rs`.
-fn queries(count: usize, seed: u64) -> Vec<Query> {
-    let mut rng = Rng::new(seed);
-    (0..count)
-        .map(|_| {
-            let normal = rng.uniform_sphere();
-            let axis = loop {
-                let a = rng.uniform_sphere();
-                if reference::vec::dot(a, normal) > 0.35 {
-                    break a;
-                }
-            };
-            let light = SgLight { axis, sharpness: 2.0 + 18.0 * rng.next_f64(), amplitude: 1.0 };
-            Query { normal, truth: light.irradiance(normal), light, phase: rng.next_u64() }
-        })
-        .collect()
-}
-
 #[test]
 fn bmc_against_qmc_on_sg_lights_and_variance_calibration() {
-    let qs = queries(400, 11);
+    let qs = sg_queries(400, 11);
     println!("N     BMC rel RMS  QMC-SF rel RMS  BMC/QMC  σ(E), σ_f = 1  |err| ≤ 2σ  σ_f fit");
     // (N, variance, BMC rel RMS, QMC rel RMS)
     let mut rows: Vec<(usize, f32, f64, f64)> = Vec::new();

@@ -10,6 +10,9 @@
 #[path = "../gen/mod.rs"]
 mod gen;
 
+#[macro_use]
+mod common;
+
 use gen::bmc;
 use sphere_quadrature::bmc::Renderer;
 use sphere_quadrature::fixed_point::{weighted_sum, BmcFixed, U16F16};
@@ -23,32 +26,6 @@ fn sets() -> Vec<bmc::Baked> {
 
 fn f64_weights(sets: &[bmc::Baked], n: usize) -> Vec<f64> {
     sets.iter().find(|b| b.spec.n == n).unwrap().weights_f64.clone()
-}
-
-/// Runs `$body` with `$n` bound to each baked size as a const.
-macro_rules! for_each_size {
-    ($n:ident => $body:block) => {{
-        {
-            const $n: usize = 16;
-            $body
-        }
-        {
-            const $n: usize = 32;
-            $body
-        }
-        {
-            const $n: usize = 64;
-            $body
-        }
-        {
-            const $n: usize = 128;
-            $body
-        }
-        {
-            const $n: usize = 256;
-            $body
-        }
-    }};
 }
 
 /// xorshift64*: deterministic, no dependency.

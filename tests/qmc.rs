@@ -1,6 +1,6 @@
 //! QMC estimators against closed forms and 1-D f64 quadratures from the reference crate.
 
-use reference::analytic::{Constant, Linear, SgLight};
+use reference::analytic::{sg_queries, Constant, Linear, SgLight, SgQuery};
 use reference::fit::loglog_slope;
 use reference::rng::Rng;
 use sphere_quadrature::qmc::{self, LobeSampler};
@@ -61,33 +61,7 @@ fn linear_radiance_matches_closed_form() {
     );
 }
 
-/// A smooth light above the horizon: an SG light whose axis is within 70° of the normal.
-struct Config {
-    normal: [f64; 3],
-    light: SgLight,
-    truth: f64,
-    phase: u64,
-}
-
-fn configs(count: usize, seed: u64) -> Vec<Config> {
-    let mut rng = Rng::new(seed);
-    (0..count)
-        .map(|_| {
-            let normal = rng.uniform_sphere();
-            let axis = loop {
-                let a = rng.uniform_sphere();
-                if reference::vec::dot(a, normal) > 0.35 {
-                    break a;
-                }
-            };
-            let light = SgLight { axis, sharpness: 2.0 + 18.0 * rng.next_f64(), amplitude: 1.0 };
-            let truth = light.irradiance(normal);
-            Config { normal, light, truth, phase: rng.next_u64() }
-        })
-        .collect()
-}
-
-fn dispatch_sf(n: usize, c: &Config) -> f64 {
+fn dispatch_sf(n: usize, c: &SgQuery) -> f64 {
     let s = LobeSampler::new(v32(c.normal), Lobe::Cosine, n, c.phase).unwrap();
     s.integrate(|d| c.light.value(v64(d)) as f32) as f64
 }
@@ -95,7 +69,7 @@ fn dispatch_sf(n: usize, c: &Config) -> f64 {
 #[test]
 fn sf_converges_at_least_as_n_to_the_minus_three_quarters_and_random_as_minus_half() {
     let ns = [64usize, 128, 256, 512, 1024, 2048, 4096];
-    let cs = configs(64, 10);
+    let cs = sg_queries(64, 10);
     let sf_rms: Vec<f64> = ns
         .iter()
         .map(|&n| {
@@ -106,7 +80,7 @@ fn sf_converges_at_least_as_n_to_the_minus_three_quarters_and_random_as_minus_ha
         .collect();
 
     // Random (Monte Carlo) cosine-distributed directions, independent per configuration.
-    let mc_cs = configs(256, 20);
+    let mc_cs = sg_queries(256, 20);
     let mut rng = Rng::new(99);
     let mc_rms: Vec<f64> = ns
         .iter()

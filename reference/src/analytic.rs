@@ -375,3 +375,39 @@ impl_light!(Constant);
 impl_light!(Linear);
 impl_light!(Cap);
 impl_light!(SgLight);
+
+/// One seeded test query: a normal, a spherical-Gaussian light and its exact irradiance.
+#[derive(Clone, Debug)]
+pub struct SgQuery {
+    /// The surface normal (unit).
+    pub normal: [f64; 3],
+    /// The light: unit amplitude, sharpness in [2, 20], axis at least 0.35 in cosine above
+    /// the normal's horizon.
+    pub light: SgLight,
+    /// `light.irradiance(normal)`.
+    pub truth: f64,
+    /// Random 64 bits, e.g. a rotation phase for the estimator under test.
+    pub phase: u64,
+}
+
+/// `count` seeded smooth-light queries (the synthetic tier shared by the QMC and BMC tests):
+/// a uniform random normal, an SG light of sharpness uniform in [2, 20] whose axis is
+/// uniform among directions with cosine > 0.35 to the normal, its exact irradiance, and a
+/// random phase.
+#[must_use]
+pub fn sg_queries(count: usize, seed: u64) -> Vec<SgQuery> {
+    let mut rng = crate::rng::Rng::new(seed);
+    (0..count)
+        .map(|_| {
+            let normal = rng.uniform_sphere();
+            let axis = loop {
+                let a = rng.uniform_sphere();
+                if dot(a, normal) > 0.35 {
+                    break a;
+                }
+            };
+            let light = SgLight { axis, sharpness: 2.0 + 18.0 * rng.next_f64(), amplitude: 1.0 };
+            SgQuery { normal, truth: light.irradiance(normal), light, phase: rng.next_u64() }
+        })
+        .collect()
+}
