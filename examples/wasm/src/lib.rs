@@ -26,6 +26,8 @@ use core::fmt::{Arguments, Write};
 use core::sync::atomic::{AtomicU32, AtomicU8, Ordering::Relaxed};
 
 use api::PROBE_MAX;
+use sphere_quadrature::qmc::LobeSampler;
+use sphere_quadrature::{Lobe, Vec3};
 
 /// Capacity of the scenario's text buffer in bytes.
 const OUT_CAP: usize = 32 * 1024;
@@ -78,7 +80,36 @@ fn scenario_text() -> i32 {
 
 /// Fills [`DIRS`] with the probe sampler's directions; their number, or −1 on bad input.
 fn fill_directions(nx: f32, ny: f32, nz: f32, lo: u32, hi: u32, n: u32) -> i32 {
-    let Some(s) = api::probe_sampler(nx, ny, nz, lo, hi, n) else { return -1 };
+    api::probe_sampler(nx, ny, nz, lo, hi, n).map_or(-1, |s| store_directions(&s))
+}
+
+/// Fills [`DIRS`] with the glossy probe sampler's directions; their number, or −1 on bad input.
+fn fill_directions_phong(rx: f32, ry: f32, rz: f32, e: f32, lo: u32, hi: u32, n: u32) -> i32 {
+    phong_sampler(rx, ry, rz, e, lo, hi, n).map_or(-1, |s| store_directions(&s))
+}
+
+/// The Phong-lobe sampler of the probe-style glossy estimator: `n` directions about the
+/// reflection direction `(rx, ry, rz)` with exponent `e`; `None` on bad input or
+/// `n > PROBE_MAX`.
+fn phong_sampler(
+    rx: f32,
+    ry: f32,
+    rz: f32,
+    e: f32,
+    lo: u32,
+    hi: u32,
+    n: u32,
+) -> Option<LobeSampler> {
+    let n = n as usize;
+    if n > PROBE_MAX {
+        return None;
+    }
+    let lobe = Lobe::phong(e).ok()?;
+    LobeSampler::new(Vec3::new(rx, ry, rz), lobe, n, api::phase(lo, hi)).ok()
+}
+
+/// Writes the sampler's directions into [`DIRS`]; their number.
+fn store_directions(s: &LobeSampler) -> i32 {
     for (d, slot) in s.iter().zip(DIRS.chunks_exact(3)) {
         slot[0].store(d.x.to_bits(), Relaxed);
         slot[1].store(d.y.to_bits(), Relaxed);
@@ -95,6 +126,14 @@ fn estimate_samples(nx: f32, ny: f32, nz: f32, lo: u32, hi: u32, n: u32) -> f32 
         *y = f32::from_bits(a.load(Relaxed));
     }
     s.estimate(&ys[..s.len()]).unwrap_or(f32::NAN)
+}
+
+/// The normalised Phong glossy estimate `∫ L·(e+1)/(2π)·max(0, r·ω)ᵉ dω` from the first `n`
+/// values of [`SAMPLES`]: their mean (the lobe's 2π/(e+1) cancels); NaN on bad input.
+fn estimate_samples_phong(rx: f32, ry: f32, rz: f32, e: f32, lo: u32, hi: u32, n: u32) -> f32 {
+    let Some(s) = phong_sampler(rx, ry, rz, e, lo, hi, n) else { return f32::NAN };
+    let sum: f32 = SAMPLES.iter().take(s.len()).map(|a| f32::from_bits(a.load(Relaxed))).sum();
+    sum / s.len() as f32
 }
 
 #[allow(unsafe_code)] // `#[no_mangle]` only; every body is one safe call.
@@ -143,6 +182,37 @@ mod exports {
     #[no_mangle]
     pub extern "C" fn probe_estimate(nx: f32, ny: f32, nz: f32, lo: u32, hi: u32, n: u32) -> f32 {
         super::estimate_samples(nx, ny, nz, lo, hi, n)
+    }
+
+    /// Writes the `n` normalised-Phong-lobe directions (exponent `e`) about the reflection
+    /// direction `(rx, ry, rz)` to `dirs_ptr()`; returns `n`, or −1 on bad input.
+    #[no_mangle]
+    pub extern "C" fn probe_directions_phong(
+        rx: f32,
+        ry: f32,
+        rz: f32,
+        e: f32,
+        lo: u32,
+        hi: u32,
+        n: u32,
+    ) -> i32 {
+        super::fill_directions_phong(rx, ry, rz, e, lo, hi, n)
+    }
+
+    /// Normalised Phong glossy radiance from the `n` radiance samples at `samples_ptr()`
+    /// (taken at the directions of `probe_directions_phong` with the same arguments): their
+    /// mean; NaN on bad input.
+    #[no_mangle]
+    pub extern "C" fn probe_estimate_phong(
+        rx: f32,
+        ry: f32,
+        rz: f32,
+        e: f32,
+        lo: u32,
+        hi: u32,
+        n: u32,
+    ) -> f32 {
+        super::estimate_samples_phong(rx, ry, rz, e, lo, hi, n)
     }
 
     /// The procedural sky of the scenario.

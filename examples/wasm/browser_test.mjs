@@ -1,0 +1,85 @@
+// Headless browser test of examples/wasm/index.html: serves the repository root on localhost,
+// opens the page in Chromium (Debian `chromium`, through playwright-core), waits for the page's
+// own numeric check, prints its numbers, saves a screenshot to docs/wasm_probe.png and exits
+// non-zero when the check fails.
+//
+//   (cd examples/wasm && npm ci && cargo build --release --target wasm32-unknown-unknown)
+//   node examples/wasm/browser_test.mjs
+//
+// Environment: CHROMIUM (default /usr/bin/chromium), SCREENSHOT (default docs/wasm_probe.png),
+// TIMEOUT_MS (default 120000).
+import { createServer } from "node:http";
+import { readFileSync, statSync } from "node:fs";
+import { extname, join, normalize, resolve, sep } from "node:path";
+import { fileURLToPath } from "node:url";
+import { chromium } from "playwright-core";
+
+const ROOT = resolve(fileURLToPath(new URL("../..", import.meta.url)));
+const SHOT = resolve(ROOT, process.env.SCREENSHOT ?? "docs/wasm_probe.png");
+const EXE = process.env.CHROMIUM ?? "/usr/bin/chromium";
+const TIMEOUT = Number(process.env.TIMEOUT_MS ?? 120000);
+const TYPES = {
+  ".html": "text/html; charset=utf-8",
+  ".mjs": "text/javascript; charset=utf-8",
+  ".js": "text/javascript; charset=utf-8",
+  ".wasm": "application/wasm",
+  ".hdr": "application/octet-stream",
+};
+
+// Static files under ROOT, GET only, no directory listings, no escaping the root.
+const server = createServer((req, res) => {
+  const path = normalize(decodeURIComponent(new URL(req.url, "http://localhost").pathname));
+  const file = join(ROOT, path);
+  if (req.method !== "GET" || !(file === ROOT || file.startsWith(ROOT + sep))) {
+    res.writeHead(403).end();
+    return;
+  }
+  try {
+    if (!statSync(file).isFile()) throw new Error("not a file");
+    const body = readFileSync(file);
+    res.writeHead(200, { "content-type": TYPES[extname(file)] ?? "application/octet-stream" });
+    res.end(body);
+  } catch {
+    res.writeHead(404).end();
+  }
+});
+await new Promise((r) => server.listen(0, "127.0.0.1", r));
+const url = `http://127.0.0.1:${server.address().port}/examples/wasm/index.html`;
+
+// `launch` runs headless with a fresh temporary profile (--user-data-dir) of its own.
+const browser = await chromium.launch({
+  executablePath: EXE,
+  headless: true,
+  args: [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+  ],
+});
+let status = 1;
+try {
+  const page = await browser.newPage({ viewport: { width: 900, height: 900 } });
+  const logs = [];
+  page.on("console", (m) => logs.push(`console.${m.type()}: ${m.text()}`));
+  page.on("pageerror", (e) => logs.push(`pageerror: ${e}`));
+  await page.goto(url);
+  await page.waitForSelector("#check[data-done]", { timeout: TIMEOUT });
+  const r = await page.$eval("#check", (el) => ({ ...el.dataset, text: el.textContent }));
+  const stats = await page.$eval("#status", (el) => el.textContent);
+  await page.screenshot({ path: SHOT, fullPage: true });
+  console.log(r.text);
+  console.log(`timing: ${stats}`);
+  console.log(`screenshot: ${SHOT}`);
+  for (const l of logs) console.log(l);
+  status = r.pass === "true" ? 0 : 1;
+} catch (e) {
+  console.error(`browser test error: ${e}`);
+} finally {
+  await browser.close();
+  server.close();
+}
+process.exit(status);

@@ -1,0 +1,320 @@
+// The browser page of examples/wasm (index.html): shades a sphere from a bundled environment
+// map with the module's probe-style estimators (diffuse + normalised Phong glossy, N
+// selectable) next to a brute-force reference over every map pixel, and runs the page's own
+// numeric check (apartment, N = 64, e = 20: relRMSE of luminance < 20 % for both).
+// Served from the repository root (examples/wasm/browser_test.mjs does that), so the map is at
+// ../envmaps/<name>.hdr and the module at target/… relative to this page.
+
+const WASM = "target/wasm32-unknown-unknown/release/sphere_quadrature_wasm.wasm";
+const MAPS = ["apartment", "bridge", "city", "dawn", "forest", "hall", "lab", "lobby", "night", "park"];
+/** Grid of normals per sphere (the reference sums all 131 072 pixels for each). */
+const G = 32;
+/** The page check: map, N, Phong exponent, thresholds on relative RMSE of luminance. */
+const CHECK = { map: "apartment", n: 64, e: 20, diffuseMax: 0.2, glossyMax: 0.2 };
+
+const $ = (id) => document.getElementById(id);
+const lum = (r, g, b) => 0.2126 * r + 0.7152 * g + 0.0722 * b;
+
+// ---------------------------------------------------------------------------------------------
+// Radiance RGBE (.hdr) decoding: flat or new-style RLE scanlines, `-Y h +X w` only.
+
+function decodeHdr(bytes) {
+  let p = 0;
+  const line = () => {
+    let s = "";
+    while (p < bytes.length && bytes[p] !== 0x0a) s += String.fromCharCode(bytes[p++]);
+    p++;
+    return s;
+  };
+  if (!line().startsWith("#?")) throw new Error("not a Radiance .hdr file");
+  for (let l = line(); l !== ""; l = line()) {
+    if (l.startsWith("FORMAT=") && l !== "FORMAT=32-bit_rle_rgbe") throw new Error(`unsupported ${l}`);
+  }
+  const m = /^-Y (\d+) \+X (\d+)$/.exec(line());
+  if (!m) throw new Error("unsupported .hdr orientation");
+  const h = Number(m[1]);
+  const w = Number(m[2]);
+  const rgb = new Float32Array(w * h * 3);
+  const scan = new Uint8Array(4 * w);
+  for (let y = 0; y < h; y++) {
+    if (w >= 8 && w < 32768 && bytes[p] === 2 && bytes[p + 1] === 2 && (bytes[p + 2] & 0x80) === 0) {
+      if (((bytes[p + 2] << 8) | bytes[p + 3]) !== w) throw new Error("bad RLE scanline width");
+      p += 4;
+      for (let c = 0; c < 4; c++) {
+        for (let x = 0; x < w; ) {
+          let count = bytes[p++];
+          if (count > 128) {
+            count -= 128;
+            if (x + count > w) throw new Error("bad RLE run");
+            const v = bytes[p++];
+            for (let k = 0; k < count; k++) scan[4 * x++ + c] = v;
+          } else {
+            if (count === 0 || x + count > w) throw new Error("bad RLE dump");
+            for (let k = 0; k < count; k++) scan[4 * x++ + c] = bytes[p++];
+          }
+        }
+      }
+    } else {
+      scan.set(bytes.subarray(p, p + 4 * w));
+      p += 4 * w;
+    }
+    if (p > bytes.length) throw new Error("truncated .hdr");
+    for (let x = 0; x < w; x++) {
+      const e = scan[4 * x + 3];
+      const f = e === 0 ? 0 : 2 ** (e - 136);
+      const o = 3 * (y * w + x);
+      rgb[o] = scan[4 * x] * f;
+      rgb[o + 1] = scan[4 * x + 1] * f;
+      rgb[o + 2] = scan[4 * x + 2] * f;
+    }
+  }
+  return { w, h, rgb };
+}
+
+/** The map plus, per pixel, its centre direction and its radiance × solid angle. */
+function prepareMap({ w, h, rgb }) {
+  const n = w * h;
+  const dx = new Float32Array(n), dy = new Float32Array(n), dz = new Float32Array(n);
+  const wr = new Float32Array(n), wg = new Float32Array(n), wb = new Float32Array(n);
+  const dTheta = Math.PI / h, dPhi = (2 * Math.PI) / w;
+  for (let v = 0; v < h; v++) {
+    const theta = (Math.PI * (v + 0.5)) / h;
+    const st = Math.sin(theta), ct = Math.cos(theta);
+    const omega = st * dTheta * dPhi;
+    for (let u = 0; u < w; u++) {
+      const phi = (2 * Math.PI * (u + 0.5)) / w;
+      const i = v * w + u;
+      dx[i] = st * Math.cos(phi);
+      dy[i] = st * Math.sin(phi);
+      dz[i] = ct;
+      wr[i] = rgb[3 * i] * omega;
+      wg[i] = rgb[3 * i + 1] * omega;
+      wb[i] = rgb[3 * i + 2] * omega;
+    }
+  }
+  return { w, h, rgb, dx, dy, dz, wr, wg, wb };
+}
+
+/** Nearest-pixel radiance index (times 3) in direction (x, y, z) (unit). */
+function pixelOf(map, x, y, z) {
+  const theta = Math.acos(Math.min(1, Math.max(-1, z)));
+  let phi = Math.atan2(y, x);
+  if (phi < 0) phi += 2 * Math.PI;
+  const v = Math.min(map.h - 1, Math.floor((theta / Math.PI) * map.h));
+  const u = Math.min(map.w - 1, Math.floor((phi / (2 * Math.PI)) * map.w));
+  return 3 * (v * map.w + u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The sphere: orthographic camera on the −y axis looking along +y, screen up = +z.
+
+/** Per grid cell: normal and mirror direction (about the view vector (0, −1, 0)), or null. */
+function sphereCells() {
+  const cells = [];
+  for (let j = 0; j < G; j++) {
+    for (let i = 0; i < G; i++) {
+      const sx = ((i + 0.5) / G) * 2 - 1;
+      const sy = 1 - ((j + 0.5) / G) * 2;
+      const q = 1 - sx * sx - sy * sy;
+      if (q <= 0) {
+        cells.push(null);
+        continue;
+      }
+      const n = [sx, -Math.sqrt(q), sy];
+      const ndv = -n[1]; // n · (0, −1, 0)
+      const r = [2 * ndv * n[0], 2 * ndv * n[1] + 1, 2 * ndv * n[2]];
+      const rl = Math.hypot(r[0], r[1], r[2]);
+      cells.push({ k: j * G + i, n, r: [r[0] / rl, r[1] / rl, r[2] / rl] });
+    }
+  }
+  return cells;
+}
+
+/** Reference (all pixels): diffuse irradiance / π, or normalised Phong radiance (e ≥ 0). */
+function reference(map, cells, e) {
+  const out = new Float32Array(3 * G * G).fill(NaN);
+  const { dx, dy, dz, wr, wg, wb } = map;
+  const len = dx.length;
+  for (const c of cells) {
+    if (!c) continue;
+    const [ax, ay, az] = e === null ? c.n : c.r;
+    let r = 0, g = 0, b = 0;
+    for (let i = 0; i < len; i++) {
+      const t = ax * dx[i] + ay * dy[i] + az * dz[i];
+      if (t <= 0) continue;
+      const f = e === null ? t : t ** e;
+      r += f * wr[i];
+      g += f * wg[i];
+      b += f * wb[i];
+    }
+    const s = e === null ? 1 / Math.PI : (e + 1) / (2 * Math.PI);
+    out[3 * c.k] = r * s;
+    out[3 * c.k + 1] = g * s;
+    out[3 * c.k + 2] = b * s;
+  }
+  return out;
+}
+
+/** The module's probe: directions from wasm, radiance from JS, the estimate from wasm. */
+function probe(wasm, map, cells, n, e) {
+  const out = new Float32Array(3 * G * G).fill(NaN);
+  const w = wasm;
+  for (const c of cells) {
+    if (!c) continue;
+    // A fixed, distinct rotation phase per cell (as a renderer would randomise per pixel).
+    const lo = Math.imul(c.k + 1, 0x9e3779b9) >>> 0;
+    const hi = Math.imul(c.k + 1 + (e === null ? 0 : 0x5bd1), 0x85ebca6b) >>> 0;
+    const [x, y, z] = e === null ? c.n : c.r;
+    const got = e === null ? w.probe_directions(x, y, z, lo, hi, n) : w.probe_directions_phong(x, y, z, e, lo, hi, n);
+    if (got !== n) throw new Error(`probe directions returned ${got}, expected ${n}`);
+    const dirs = new Float32Array(w.memory.buffer, w.dirs_ptr(), 3 * n);
+    const samples = new Float32Array(w.memory.buffer, w.samples_ptr(), n);
+    const idx = new Int32Array(n);
+    for (let j = 0; j < n; j++) idx[j] = pixelOf(map, dirs[3 * j], dirs[3 * j + 1], dirs[3 * j + 2]);
+    for (let ch = 0; ch < 3; ch++) {
+      for (let j = 0; j < n; j++) samples[j] = map.rgb[idx[j] + ch];
+      const v = e === null ? w.probe_estimate(x, y, z, lo, hi, n) / Math.PI : w.probe_estimate_phong(x, y, z, e, lo, hi, n);
+      out[3 * c.k + ch] = v;
+    }
+  }
+  return out;
+}
+
+/** RMSE of luminance over the sphere's cells / mean |reference luminance|. */
+function relRmse(est, ref) {
+  let se = 0, sa = 0, m = 0;
+  for (let k = 0; k < G * G; k++) {
+    if (Number.isNaN(ref[3 * k])) continue;
+    const a = lum(est[3 * k], est[3 * k + 1], est[3 * k + 2]);
+    const b = lum(ref[3 * k], ref[3 * k + 1], ref[3 * k + 2]);
+    se += (a - b) ** 2;
+    sa += Math.abs(b);
+    m++;
+  }
+  return Math.sqrt(se / m) / (sa / m);
+}
+
+/** Draws a G×G RGB grid (Reinhard tone map at `scale`, sRGB-ish gamma), upsampled. */
+function draw(canvas, img, scale) {
+  const small = document.createElement("canvas");
+  small.width = small.height = G;
+  const ctx = small.getContext("2d");
+  const id = ctx.createImageData(G, G);
+  for (let k = 0; k < G * G; k++) {
+    if (Number.isNaN(img[3 * k])) continue;
+    for (let ch = 0; ch < 3; ch++) {
+      const v = img[3 * k + ch] * scale;
+      id.data[4 * k + ch] = Math.round(255 * Math.pow(v / (1 + v), 1 / 2.2));
+    }
+    id.data[4 * k + 3] = 255;
+  }
+  ctx.putImageData(id, 0, 0);
+  canvas.width = canvas.height = 256;
+  const big = canvas.getContext("2d");
+  big.imageSmoothingEnabled = true;
+  big.imageSmoothingQuality = "high";
+  big.clearRect(0, 0, 256, 256);
+  big.drawImage(small, 0, 0, 256, 256);
+}
+
+function meanLum(img) {
+  let s = 0, m = 0;
+  for (let k = 0; k < G * G; k++) {
+    if (Number.isNaN(img[3 * k])) continue;
+    s += lum(img[3 * k], img[3 * k + 1], img[3 * k + 2]);
+    m++;
+  }
+  return s / m;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+const maps = new Map();
+const refs = new Map();
+const cells = sphereCells();
+
+async function getMap(name) {
+  if (!maps.has(name)) {
+    const res = await fetch(`../envmaps/${name}.hdr`);
+    if (!res.ok) throw new Error(`${name}.hdr: HTTP ${res.status}`);
+    maps.set(name, prepareMap(decodeHdr(new Uint8Array(await res.arrayBuffer()))));
+  }
+  return maps.get(name);
+}
+
+function getRef(name, map, e) {
+  const key = `${name}|${e}`;
+  if (!refs.has(key)) refs.set(key, reference(map, cells, e));
+  return refs.get(key);
+}
+
+async function evaluate(wasm, name, n, e) {
+  const map = await getMap(name);
+  const t0 = performance.now();
+  const dr = getRef(name, map, null);
+  const gr = getRef(name, map, e);
+  const t1 = performance.now();
+  const dp = probe(wasm, map, cells, n, null);
+  const gp = probe(wasm, map, cells, n, e);
+  const t2 = performance.now();
+  return { dr, gr, dp, gp, diffuse: relRmse(dp, dr), glossy: relRmse(gp, gr), refMs: t1 - t0, probeMs: t2 - t1 };
+}
+
+const pct = (x) => `${(100 * x).toFixed(2)} %`;
+
+async function show(wasm) {
+  const name = $("map").value;
+  const n = Number($("n").value);
+  const e = Number($("e").value);
+  $("status").textContent = `computing ${name}, N = ${n}, e = ${e}…`;
+  await new Promise((r) => setTimeout(r, 0));
+  const r = await evaluate(wasm, name, n, e);
+  const sd = 0.5 / meanLum(r.dr);
+  const sg = 0.8 / meanLum(r.gr);
+  draw($("diffuse-probe"), r.dp, sd);
+  draw($("diffuse-ref"), r.dr, sd);
+  draw($("glossy-probe"), r.gp, sg);
+  draw($("glossy-ref"), r.gr, sg);
+  $("stats").innerHTML = `<td>current</td><td>${name}</td><td>${n}</td><td>${e}</td><td>${pct(r.diffuse)}</td><td>${pct(r.glossy)}</td>`;
+  $("status").textContent = `reference ${r.refMs.toFixed(0)} ms (cached after first use), probe ${r.probeMs.toFixed(0)} ms`;
+}
+
+async function check(wasm) {
+  const r = await evaluate(wasm, CHECK.map, CHECK.n, CHECK.e);
+  const pass = r.diffuse < CHECK.diffuseMax && r.glossy < CHECK.glossyMax;
+  const el = $("check");
+  el.dataset.diffuse = String(r.diffuse);
+  el.dataset.glossy = String(r.glossy);
+  el.dataset.pass = String(pass);
+  el.textContent =
+    `check ${pass ? "PASSED" : "FAILED"} (${CHECK.map}, N = ${CHECK.n}, e = ${CHECK.e}, ${G}×${G} grid): ` +
+    `diffuse relRMSE ${pct(r.diffuse)} (< ${pct(CHECK.diffuseMax)}), ` +
+    `glossy relRMSE ${pct(r.glossy)} (< ${pct(CHECK.glossyMax)})`;
+}
+
+async function main() {
+  $("grid-size").textContent = `${G}×${G}`;
+  for (const m of MAPS) $("map").add(new Option(m, m, m === CHECK.map, m === CHECK.map));
+  const res = await fetch(WASM);
+  if (!res.ok) throw new Error(`${WASM}: HTTP ${res.status} (build the module first)`);
+  const { instance } = await WebAssembly.instantiate(await res.arrayBuffer(), {});
+  const wasm = instance.exports;
+  if (wasm.probe_max() < 1024) throw new Error(`probe_max() = ${wasm.probe_max()}`);
+  await show(wasm);
+  await check(wasm);
+  $("check").dataset.done = "true";
+  for (const id of ["map", "n", "e"]) {
+    $(id).addEventListener("change", () => show(wasm).catch(fail));
+  }
+}
+
+function fail(err) {
+  const el = $("check");
+  el.dataset.pass = "false";
+  el.dataset.error = String(err);
+  el.textContent = `check FAILED: ${err}`;
+  el.dataset.done = "true";
+  $("status").textContent = "error";
+}
+
+main().catch(fail);
