@@ -342,7 +342,7 @@ impl ExactSizeIterator for Points<'_> {}
 /// Converts a 64-bit fraction of a turn to radians in `[0, 2π)`, rounding to 2⁻²⁴ turn.
 #[inline]
 #[must_use]
-pub(crate) fn phase_to_angle(phase: u64) -> f32 {
+fn phase_to_angle(phase: u64) -> f32 {
     let k = (((phase >> 39) + 1) >> 1) & 0x00FF_FFFF;
     k as f32 * (core::f32::consts::TAU / 16_777_216.0)
 }
