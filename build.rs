@@ -38,16 +38,41 @@ fn main() {
     let tables = gen::sg::tables(&cfg);
     write_if_changed(&out_dir.join("sg_tables.rs"), &gen::sg::render(&cfg, &tables));
 
-    let text = std::fs::read_to_string(gen::bmc::CONFIG_FILE)
-        .unwrap_or_else(|e| panic!("reading {}: {e}", gen::bmc::CONFIG_FILE));
-    let specs = gen::bmc::parse(&text).unwrap_or_else(|e| panic!("{}: {e}", gen::bmc::CONFIG_FILE));
-    let sets =
-        gen::bmc::bake_all(&specs).unwrap_or_else(|e| panic!("{}: {e}", gen::bmc::CONFIG_FILE));
+    let (bmc_file, text) = config(gen::bmc::CONFIG_FILE, BMC_ENV);
+    let specs = gen::bmc::parse(&text).unwrap_or_else(|e| panic!("{bmc_file}: {e}"));
+    let sets = gen::bmc::bake_all(&specs).unwrap_or_else(|e| panic!("{bmc_file}: {e}"));
     write_if_changed(&out_dir.join("bmc_tables.rs"), &gen::bmc::render(&sets));
     // The same weights as Q1.31 integers for the `fixed` feature (`src/fixed_point.rs`).
     let fixed = gen::bmc::render_fixed(&sets)
-        .unwrap_or_else(|e| panic!("{}: fixed-point weights: {e}", gen::bmc::CONFIG_FILE));
+        .unwrap_or_else(|e| panic!("{bmc_file}: fixed-point weights: {e}"));
     write_if_changed(&out_dir.join("bmc_fixed_tables.rs"), &fixed);
+
+    let (probe_file, text) = config(gen::probe::CONFIG_FILE, PROBE_ENV);
+    let specs = gen::probe::parse(&text).unwrap_or_else(|e| panic!("{probe_file}: {e}"));
+    let families = gen::probe::bake_all(&specs).unwrap_or_else(|e| panic!("{probe_file}: {e}"));
+    write_if_changed(&out_dir.join("probe_tables.rs"), &gen::probe::render(&specs, &families));
+}
+
+/// Environment variable naming a file that replaces `tables/bmc.txt` (renderer weights).
+const BMC_ENV: &str = "SPHERE_QUADRATURE_BMC_TABLE";
+/// Environment variable naming a file that replaces `tables/probe.txt` (probe families).
+const PROBE_ENV: &str = "SPHERE_QUADRATURE_PROBE_TABLE";
+
+/// The config text: from the file named by `env` when it is set (so a user can bake other
+/// sizes or hyperparameters without forking the crate), else the crate's own `default`.
+fn config(default: &str, env: &str) -> (String, String) {
+    println!("cargo::rerun-if-env-changed={env}");
+    let path = match std::env::var_os(env) {
+        Some(p) => {
+            let p = PathBuf::from(p);
+            println!("cargo::rerun-if-changed={}", p.display());
+            p
+        }
+        None => PathBuf::from(default),
+    };
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("reading {} (from {env} or the default): {e}", path.display()));
+    (path.display().to_string(), text)
 }
 
 /// Rewrites `out` only on change, so that dependants are not rebuilt needlessly.

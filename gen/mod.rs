@@ -4,4 +4,5 @@
 //! must compile fast and run fast even in the unoptimised build-script profile.
 
 pub mod bmc;
+pub mod probe;
 pub mod sg;

@@ -24,9 +24,17 @@
 //!
 //! `build.rs` solves in f64 (Cholesky with one step of iterative refinement; generator
 //! `gen/bmc.rs`, sets in `tables/bmc.txt`) and bakes `w` rounded once to f32, one `static`
-//! array per size. Only the baked sizes compile: `N` ∈ {16, 32, 64, 128, 256}, all with the
-//! **placeholder** hyperparameters `l = 0.5` (`λ = 8`) and `σ′ = 0.01`, until they are
-//! learned from environment maps (a later slice of issue #6).
+//! array per size. Only the baked sizes compile: `N` ∈ {16, 32, 64, 128, 256}. The
+//! hyperparameters are **learned** offline by maximum marginal likelihood on synthetic
+//! training fields (mixtures of spherical Gaussians of sharpness 2…20;
+//! `examples/learn_hyperparameters.rs`, report in `docs/hyperparameters.md`). For a probe
+//! that shares its samples among many normals, see [`crate::probe`].
+//!
+//! To bake other sizes or hyperparameters without forking the crate, point the environment
+//! variable `SPHERE_QUADRATURE_BMC_TABLE` at a file in the format of `tables/bmc.txt` (for
+//! example in your `.cargo/config.toml`:
+//! `[env] SPHERE_QUADRATURE_BMC_TABLE = { value = "bmc.txt", relative = true }`); `build.rs`
+//! reruns when it changes.
 //!
 //! ```
 //! use sphere_quadrature::{bmc::Renderer, Vec3};
@@ -50,34 +58,37 @@
 //! ```
 //!
 //! # Weights
-//! Per baked set (all `l = 0.5`, `σ′ = 0.01`; [`Renderer::abs_weight_ratio`],
+//! Per baked set ([`Renderer::hyperparameters`], [`Renderer::abs_weight_ratio`],
 //! [`Renderer::condition_number`], [`Renderer::variance`]). Every weight is positive
-//! (`Σ|w|/Σw = 1`); the nugget `σ′² = 10⁻⁴` bounds the condition number.
+//! (`Σ|w|/Σw = 1`).
 //!
-//! | N | Σ\|w\|/Σw | cond(Q) | σ(E) for σ_f = 1 |
-//! | --- | --- | --- | --- |
-//! | 16 | 1.000 | 3.9 | 0.212 |
-//! | 32 | 1.000 | 33 | 0.042 |
-//! | 64 | 1.000 | 1.5·10³ | 6.0·10⁻³ |
-//! | 128 | 1.000 | 1.2·10⁵ | 3.2·10⁻³ |
-//! | 256 | 1.000 | 2.9·10⁵ | 2.3·10⁻³ |
+//! | N | l | σ′ | Σ\|w\|/Σw | cond(Q) | σ(E) for σ_f = 1 |
+//! | --- | --- | --- | --- | --- | --- |
+//! | 16 | 0.7 | 10⁻⁴ | 1.000 | 23 | 8.7·10⁻² |
+//! | 32 | 0.85 | 0.1 | 1.000 | 7.3·10² | 6.4·10⁻² |
+//! | 64 | 0.7 | 0.01 | 1.000 | 7.1·10⁴ | 4.6·10⁻³ |
+//! | 128 | 0.7 | 10⁻³ | 1.000 | 2.5·10⁷ | 3.2·10⁻⁴ |
+//! | 256 | 0.6 | 10⁻⁴ | 1.000 | 4.0·10⁹ | 2.3·10⁻⁵ |
 //!
 //! 1 984 bytes of weights in all ([`TABLE_BYTES`]).
 //!
 //! # Accuracy
 //! Measured by `tests/bmc.rs`, identical under `libm` and `micromath`:
 //! - The baked f32 weights agree with the independent f64 reference (other point formula,
-//!   `zᵢ` by I₀ₑ quadrature, LU solves) to 3–6·10⁻⁸ of the largest weight (f32 rounding); the
-//!   two f64 solves agree to 2·10⁻¹⁰ at N = 256. `Σw − 1` is below 4·10⁻⁹.
-//! - Relative RMS error of irradiance of spherical-Gaussian lights (sharpness 2…20, 400
-//!   seeded normals, axes and phases), BMC vs the QMC estimator [`crate::qmc::irradiance`]:
-//!   N = 16: 11.0 % vs 11.7 %; 32: 1.9 % vs 3.4 %; 64: 0.17 % vs 1.3 %; 128: 5.6·10⁻⁵ vs
-//!   6.4·10⁻³; 256: 6.7·10⁻⁶ vs 2.1·10⁻³. These lights are as smooth as the kernel (λ = 8),
-//!   the tier where BMC is strongest; real maps are the next slice's benchmark.
-//! - Posterior variance: with σ_f = 1 every one of those errors is within 2σ; the σ_f that
-//!   would match the mean squared error is 0.15, 0.12, 0.07, 0.005 and 0.001 for N = 16…256,
-//!   so σ is not calibrated yet. Choosing σ_f (and `l`, `σ′`) from data is part of the
-//!   hyperparameter-learning slice.
+//!   `zᵢ` by I₀ₑ quadrature, LU solves) to 2.5–5·10⁻⁸ of the largest weight for N ≤ 128 (f32
+//!   rounding) and 1.4·10⁻⁶ at N = 256, where the learned nugget σ′ = 10⁻⁴ makes
+//!   cond(Q) = 4·10⁹ and the two f64 solves themselves differ by that much. `Σw − 1` is
+//!   below 10⁻⁸.
+//! - Relative RMS error of irradiance of single spherical-Gaussian lights (sharpness 2…20,
+//!   400 seeded normals, axes and phases), BMC vs the QMC estimator
+//!   [`crate::qmc::irradiance`]: N = 16: 11.3 % vs 11.7 %; 32: 1.9 % vs 3.4 %; 64: 0.17 % vs
+//!   1.3 %; 128: 7.9·10⁻⁵ vs 6.4·10⁻³; 256: 1.3·10⁻⁶ vs 2.1·10⁻³.
+//! - On the issue's synthetic tier (mixtures of 1–4 SGs plus a constant, 10 held-out
+//!   mixtures; `examples/accuracy.rs`, `docs/accuracy.md`) BMC is 0.048× QMC-SF at N = 64.
+//!   On point-sampled real maps (`clamp` tier) it is *worse* than QMC-SF (29.7 % vs 24.7 % at
+//!   N = 64): these hyperparameters assume smooth light.
+//! - Posterior variance: in units of σ_f² (σ_f = 1 here); the probe form estimates σ_f from
+//!   its samples.
 //!
 //! # Bad input
 //! A zero, NaN or infinite normal gives [`Error::InvalidDirection`]; NaN radiance propagates

@@ -26,6 +26,9 @@ pub enum Error {
     InvalidParameter,
     /// A spherical-Gaussian sharpness is negative, NaN or infinite.
     InvalidSharpness,
+    /// A radiance sample has a NaN or infinite channel (where a computation keeps state, such
+    /// as a probe update, instead of propagating NaN).
+    InvalidRadiance,
 }
 
 impl fmt::Display for Error {
@@ -37,6 +40,7 @@ impl fmt::Display for Error {
             Error::InvalidSize => "point-set size is zero, too large, or not valid for this set",
             Error::InvalidSharpness => "SG sharpness must be finite and non-negative",
             Error::InvalidParameter => "parameter is outside its documented range",
+            Error::InvalidRadiance => "radiance sample is NaN or infinite",
         })
     }
 }

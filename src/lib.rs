@@ -22,6 +22,11 @@
 //! - [`warp`]: orthonormal frames and the lobe morphs (cosine, Phong).
 //! - [`qmc`]: QMC estimators of irradiance and normalised Phong glossy radiance.
 //! - [`bmc`]: Bayesian Monte Carlo irradiance with build-time weights (renderer form).
+//! - [`probe`]: a Bayesian Monte Carlo lighting probe: N samples in, irradiance with a
+//!   posterior variance for any normal out, with per-probe kernel selection by marginal
+//!   likelihood. On the held-out maps of `examples/accuracy.rs` it has 0.76–0.87× the error of
+//!   the cosine-weighted average at N = 16…64 (`clamp` tier) and 0.66–0.73× the best of that
+//!   average and SH L2 (`smooth` tier).
 //! - [`rotation`]: rotation matrices and a seeded rotation sequence.
 //! - [`metrics`]: point-set quality (energy, worst-case error, discrepancy, separation,
 //!   covering radius, spectra, design strength) and the circle view.
@@ -70,6 +75,7 @@ mod error;
 pub mod fixed_point;
 pub mod math;
 pub mod metrics;
+pub mod probe;
 pub mod qmc;
 pub mod radiance;
 pub mod rotation;

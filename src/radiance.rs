@@ -8,6 +8,17 @@
 pub trait Radiance: Copy {
     /// The zero value.
     const ZERO: Self;
+    /// Number of channels (1 for `f32`, `C` for `[f32; C]`).
+    const CHANNELS: usize;
+    /// Channel `k` (0 past the last channel).
+    #[must_use]
+    fn channel(self, k: usize) -> f32;
+    /// Component-wise product.
+    #[must_use]
+    fn mul(self, other: Self) -> Self;
+    /// `f` applied to each channel.
+    #[must_use]
+    fn map<F: Fn(f32) -> f32>(self, f: F) -> Self;
     /// Component-wise sum.
     #[must_use]
     fn add(self, other: Self) -> Self;
@@ -24,6 +35,23 @@ pub trait Radiance: Copy {
 
 impl Radiance for f32 {
     const ZERO: Self = 0.0;
+    const CHANNELS: usize = 1;
+    #[inline]
+    fn channel(self, k: usize) -> f32 {
+        if k == 0 {
+            self
+        } else {
+            0.0
+        }
+    }
+    #[inline]
+    fn mul(self, other: Self) -> Self {
+        self * other
+    }
+    #[inline]
+    fn map<F: Fn(f32) -> f32>(self, f: F) -> Self {
+        f(self)
+    }
     #[inline]
     fn add(self, other: Self) -> Self {
         self + other
@@ -36,6 +64,19 @@ impl Radiance for f32 {
 
 impl<const C: usize> Radiance for [f32; C] {
     const ZERO: Self = [0.0; C];
+    const CHANNELS: usize = C;
+    #[inline]
+    fn channel(self, k: usize) -> f32 {
+        self.get(k).copied().unwrap_or(0.0)
+    }
+    #[inline]
+    fn mul(self, other: Self) -> Self {
+        core::array::from_fn(|k| self[k] * other[k])
+    }
+    #[inline]
+    fn map<F: Fn(f32) -> f32>(self, f: F) -> Self {
+        self.map(f)
+    }
     #[inline]
     fn add(self, other: Self) -> Self {
         core::array::from_fn(|k| self[k] + other[k])

@@ -10,3 +10,7 @@ include!(concat!(env!("OUT_DIR"), "/sg_tables.rs"));
 // `BMC_SIZES`, `BMC_WEIGHTS_<N>` and the `bmc::BakedSize` impls of the baked sizes (generator
 // `gen/bmc.rs`, sets in `tables/bmc.txt`).
 include!(concat!(env!("OUT_DIR"), "/bmc_tables.rs"));
+
+// `PROBE_SIZES`, the probe families and the `probe::ProbeSize` impls of the baked sizes
+// (generator `gen/probe.rs`, families in `tables/probe.txt`).
+include!(concat!(env!("OUT_DIR"), "/probe_tables.rs"));

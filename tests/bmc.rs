@@ -133,11 +133,16 @@ fn generator_and_baked_weights_agree_with_the_independent_reference() {
         let dv = (b.variance - r.variance) / r.variance;
         let s32: f64 = baked(n).iter().map(|&w| f64::from(w)).sum::<f64>() - 1.0;
         println!("{n:<4} {d32:.2e}              {d64:.2e}              {dv:.2e}     {s32:.1e}");
-        // f32 rounding of the weights (2⁻²⁴ relative) plus the f64 solves' disagreement.
-        // Rounding to f32 costs ≤ 2⁻²⁴·|w| ≤ 6.0·10⁻⁸·max|w|.
-        assert!(d32 < 6.5e-8, "N = {n}: {d32:e}");
-        assert!(d64 < 1e-9, "N = {n}: {d64:e}");
-        assert!(dv.abs() < 1e-8, "N = {n}: {dv:e}");
+        // Two backward-stable f64 solves (Cholesky + refinement vs LU) may disagree by about
+        // cond(Q)·ε; allow 100·cond(Q)·ε (and at least 1e-12). The learned nuggets (σ′ down
+        // to 10⁻⁴) make Q far worse conditioned than the placeholders did.
+        let solve_tol = (100.0 * b.condition * f64::EPSILON).max(1e-12);
+        println!("     cond(Q) = {:.2e}, solve tolerance {solve_tol:.1e}", b.condition);
+        assert!(d64 < solve_tol, "N = {n}: {d64:e} (tolerance {solve_tol:e})");
+        // f32 rounding of the weights costs ≤ 2⁻²⁴·|w| ≤ 6.0·10⁻⁸·max|w|, plus the solves'
+        // disagreement.
+        assert!(d32 < 6.5e-8 + solve_tol, "N = {n}: {d32:e}");
+        assert!(dv.abs() < solve_tol.max(1e-8), "N = {n}: {dv:e}");
     }
 }
 

@@ -17,6 +17,7 @@ use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use sphere_quadrature::qmc::{self, LobeSampler};
+use sphere_quadrature::{bmc, probe, sg};
 use sphere_quadrature::{Lobe, SphericalFibonacci, Vec3};
 
 struct Semihosting;
@@ -86,7 +87,50 @@ fn main() -> ! {
     report!("nearest_index", 256, 50, || sf256.nearest_index(black_box(n)));
     report!("nearest_index", 4096, 50, || sf4096.nearest_index(black_box(n)));
 
+    // Issue #6 calls: renderer w·Y, probe update and irradiance against the cosine-weighted
+    // average query, and one SG table lookup.
+    let r16 = bmc::Renderer::<16>::new();
+    let r64 = bmc::Renderer::<64>::new();
+    let r256 = bmc::Renderer::<256>::new();
+    let y16: &[f32; 16] = ys.first_chunk().unwrap_or(&[1.0; 16]);
+    let y64: &[f32; 64] = ys.first_chunk().unwrap_or(&[1.0; 64]);
+    report!("renderer_w_dot_y", 16, 200, || r16.estimate(black_box(y16)));
+    report!("renderer_w_dot_y", 64, 100, || r64.estimate(black_box(y64)));
+    report!("renderer_w_dot_y", 256, 50, || r256.estimate(black_box(&ys)));
+    probe_counts::<16>(20, 200);
+    probe_counts::<64>(4, 100);
+    probe_counts::<256>(1, 50);
+    report!("sg_clamped_cosine_fraction", 1, 200, || {
+        sg::clamped_cosine_fraction(black_box(7.3), black_box(0.41))
+    });
+    report!("sg_hemispherical_fraction", 1, 200, || {
+        sg::hemispherical_fraction(black_box(7.3), black_box(0.41))
+    });
+
     exit(debug::EXIT_SUCCESS)
+}
+
+/// Probe `update` (selection over the family, and one member), `irradiance`, and the
+/// cosine-weighted average query on the same samples.
+fn probe_counts<const N: usize>(update_reps: u32, query_reps: u32)
+where
+    bmc::Size<N>: probe::ProbeSize,
+{
+    let mut p = probe::Probe::<N>::new();
+    let y: [f32; N] = p.directions().map(|d| 1.0 + 0.5 * d.z + 0.25 * d.x * d.y);
+    let n = black_box(Vec3::new(0.3, -0.4, 0.5));
+    let update = count(update_reps, || black_box(&mut p).update(black_box(&y)));
+    let one = count(update_reps, || {
+        black_box(&mut p).update_with(black_box(&y), probe::Selection::Member(1))
+    });
+    let _ = p.update(&y);
+    let query = count(query_reps, || black_box(&p).irradiance(n));
+    let cwa =
+        count(query_reps, || probe::cosine_weighted_average(p.directions(), black_box(&y), n));
+    hprintln!("# count probe_update N={} {} instructions/call", N, update);
+    hprintln!("# count probe_update_one_member N={} {} instructions/call", N, one);
+    hprintln!("# count probe_irradiance N={} {} instructions/call", N, query);
+    hprintln!("# count cosine_weighted_average N={} {} instructions/call", N, cwa);
 }
 
 /// Ends the QEMU run with a status.

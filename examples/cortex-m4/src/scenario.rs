@@ -6,6 +6,7 @@
 use core::fmt::Arguments;
 
 use sphere_quadrature::qmc::{self, LobeSampler};
+use sphere_quadrature::{bmc, probe};
 use sphere_quadrature::{
     math, Error, HemisphericalFibonacci, Lobe, RotationSequence, SphericalFibonacci, Vec3,
 };
@@ -126,4 +127,32 @@ pub fn run(out: &mut impl Sink) {
     error(out, "nan_radiance", qmc::irradiance::<16, f32, _>(Vec3::Z, 0, |_| f32::NAN));
     let bad = sf256.nearest_index(Vec3::ZERO);
     out.line(format_args!("nearest_zero 0 {bad:?}"));
+
+    // BMC probe (issue #6): a rotated probe of the sky, RGB, per-probe selection, queries
+    // with both variances; then bad input.
+    let mut p = probe::Probe::<64, [f32; 3]>::new();
+    if p.set_rotation(seq.next_rotation()).is_ok() {
+        let ys: [[f32; 3]; 64] = p.directions().map(sky_rgb);
+        let ok = p.update(&ys).is_ok();
+        out.line(format_args!("probe_update 0 {ok} {}", p.selected()));
+        for i in 0..8 {
+            let n = seq.next_rotation() * Vec3::Z;
+            if let (Ok(e), Ok(v)) = (p.irradiance(n), p.posterior_variance(n)) {
+                for (c, ((&ev, &var), &exact)) in
+                    e.value.iter().zip(&e.variance).zip(&v).enumerate()
+                {
+                    value(out, "probe_e", 3 * i + c, ev);
+                    value(out, "probe_var", 3 * i + c, var);
+                    value(out, "probe_exact_var", 3 * i + c, exact);
+                }
+            }
+        }
+        let mut bad = ys;
+        bad[5][1] = f32::NAN;
+        out.line(format_args!("probe_nan_sample 0 {:?}", p.update(&bad)));
+        out.line(format_args!("probe_zero_normal 0 {:?}", p.irradiance(Vec3::ZERO).err()));
+        out.line(format_args!("probe_selected_after_bad 0 {}", p.selected()));
+    }
+    let r = bmc::Renderer::<64>::new();
+    error(out, "renderer64", r.irradiance(Vec3::new(0.2, 0.3, 0.9), 77, sky));
 }

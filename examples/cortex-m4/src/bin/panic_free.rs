@@ -23,6 +23,7 @@ use core::hint::black_box;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hio};
 use sphere_quadrature::bmc::Renderer;
+use sphere_quadrature::probe::{cosine_weighted_average, Probe, Selection};
 use sphere_quadrature::qmc::{self, LobeSampler};
 use sphere_quadrature::sg::{self, SphericalGaussian};
 use sphere_quadrature::{metrics, FibonacciPoints, Lobe, Mat3, SphericalFibonacci, Vec3};
@@ -159,6 +160,22 @@ fn bmc_renderer() {
 }
 
 #[inline(never)]
+fn bmc_probe() {
+    let mut p = Probe::<64>::new();
+    keep(p.set_rotation(Mat3::from_axis_angle(dir(), black_box(0.4))));
+    let ys: [f32; 64] = p.directions().map(sky);
+    keep(p.update(black_box(&ys)));
+    keep(p.update_with(black_box(&ys), Selection::Member(black_box(7))));
+    keep(p.irradiance(dir()));
+    keep(p.posterior_variance(dir()));
+    keep(cosine_weighted_average(p.directions(), black_box(&ys[..]), dir()));
+    let mut rgb = Probe::<16, [f32; 3]>::new();
+    keep(rgb.update(black_box(&[[1.0, 2.0, 3.0]; 16])));
+    keep(rgb.irradiance(dir()));
+    keep(rgb.posterior_variance(dir()));
+}
+
+#[inline(never)]
 fn metrics_distance(points: &[Vec3]) {
     keep(metrics::energy(points));
     keep(metrics::energy_f32(points));
@@ -204,6 +221,7 @@ fn main() -> ! {
     sg_fractions();
     spherical_gaussian();
     bmc_renderer();
+    bmc_probe();
     let points = SphericalFibonacci::<32>::new().points();
     let points = black_box(&points[..]);
     metrics_distance(points);

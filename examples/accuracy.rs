@@ -1,0 +1,1093 @@
+//! The accuracy benchmark of issue #6: irradiance `E(n) = ∫ L(ω)·max(0, n·ω) dω` on real
+//! environment maps and synthetic lights, nine estimators, N = 16 … 256, against ground truth
+//! summed over every pixel.
+//!
+//! ```text
+//! cargo run --release --example accuracy                        # ten bundled maps, writes docs/
+//! cargo run --release --example accuracy -- --quick --out target/accuracy   # CI smoke run
+//! cargo run --release --example accuracy -- a.hdr b.hdr         # your own maps
+//! ```
+//!
+//! Options: `--out DIR` (default `docs/`: writes `DIR/accuracy.md` and `DIR/accuracy.png`),
+//! `--quick` (2 maps, 2 synthetic mixtures, 64 normals, 8 rotations, 1 draw), `--fixed-member K`
+//! (the family member of the fixed-hyperparameter BMC probe, default 1), `--threads T`
+//! (default: all cores). The default run takes about a minute on one core (63 s measured with
+//! `--threads 1`), `--quick` a few seconds.
+//!
+//! # Lighting tiers (each of 10 "maps")
+//! - `raw`: the map as loaded.
+//! - `clamp`: luminance clamped at 30× the map's solid-angle mean (`compare::clamped`).
+//! - `smooth`: the clamped map box-downsampled to 128×64 and convolved with the normalised
+//!   spherical Gaussian `exp(10(ω·ω′ − 1))` (a direct sum over all pixel pairs,
+//!   `common/tiers.rs`).
+//! - `synthetic`: ten seeded mixtures of 1–4 spherical Gaussians `a·exp(λ(μ·ω − 1))`
+//!   (λ ∈ [2, 20], a ∈ [0.2, 1], random axes) plus a constant in [0, 0.5]; exact irradiance
+//!   by `reference::analytic::SgLight::irradiance` plus π·c. Seed `0xE7A1_0002`, not the
+//!   training tool's.
+//!
+//! Ground truth of a map is `Σ weight × luminance` over all pixels with the exact per-pixel
+//! cosine weights of `reference::truth::cosine_weights`; samples are nearest-pixel lookups
+//! (`EnvMap::radiance`) in the tier's map, so truth and samples see the same function.
+//!
+//! # Estimators (256 seeded random normals per map; luminance)
+//! Per-query form, each query draws its own N samples (4 draws per normal):
+//! - `MC`: cosine-distributed random directions, `E ≈ π/N·ΣL`;
+//! - `Sobol`: Owen-scrambled Sobol points through the same cosine map (`reference::peers`);
+//! - `QMC-SF`: `sphere_quadrature::qmc::irradiance` (cosine-morphed hemisphere SF set, a new
+//!   random rotation about the normal per query);
+//! - `BMC renderer`: `sphere_quadrature::bmc::Renderer` (uniform hemisphere SF set, baked
+//!   weights, a random phase per query).
+//!
+//! Probe form, the same N samples answer all 256 normals: the crate's sphere SF set under a
+//! random rotation, 32 seeded rotations per map, RMSE pooled over rotations × normals:
+//! - `cos-avg`: `π·Σmax(0, n·xⱼ)Yⱼ / Σmax(0, n·xⱼ)`;
+//! - `SH L2`: projection on real SH up to l = 2 with weights 4π/N, convolved with the
+//!   clamped cosine (Â₀ = π, Â₁ = 2π/3, Â₂ = π/4; Ramamoorthi and Hanrahan 2001);
+//! - `QMC probe`: `(4π/N)·Σmax(0, n·xⱼ)Yⱼ`;
+//! - `BMC fixed` and `BMC select`: `sphere_quadrature::probe::Probe` with a fixed family member
+//!   and with per-probe maximum-likelihood selection (see [`bmc_probe`]).
+//!
+//! Relative RMSE of a map = RMSE / mean |truth|; the tables give the mean over maps and the
+//! worst map. The probe's hyperparameters are trained on apartment, bridge, forest and lab;
+//! the probe-form figures are given over the held-out maps (city, dawn, hall, lobby, night,
+//! park) and over all maps. Error bars: the fraction of queries whose true error is within
+//! 2σ of the posterior.
+
+#[allow(dead_code)]
+#[path = "common/compare.rs"]
+mod compare;
+#[path = "common/tiers.rs"]
+mod tiers;
+
+use std::error::Error;
+use std::f64::consts::PI;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+use plotters::prelude::*;
+use plotters::style::{register_font, FontStyle};
+use reference::envmap::{luminance, EnvMap};
+use reference::peers;
+use reference::rng::Rng;
+use reference::sh::real_sh;
+use reference::vec::dot;
+use sphere_quadrature::bmc::{BakedSize, Renderer, Size};
+use sphere_quadrature::probe::{Probe, ProbeSize, Selection};
+use sphere_quadrature::{qmc, Mat3, RotationSequence, SphericalFibonacci, Vec3};
+
+/// Sample counts.
+const NS: [usize; 5] = [16, 32, 64, 128, 256];
+/// Estimator columns; the first four are per-query, the rest probe form.
+const ESTIMATORS: [&str; 9] = [
+    "MC",
+    "Sobol",
+    "QMC-SF",
+    "BMC renderer",
+    "cos-avg",
+    "SH L2",
+    "QMC probe",
+    "BMC fixed",
+    "BMC select",
+];
+const MC: usize = 0;
+const SOBOL: usize = 1;
+const QMC_SF: usize = 2;
+const BMC_RENDERER: usize = 3;
+const COS_AVG: usize = 4;
+const SH_L2: usize = 5;
+const QMC_PROBE: usize = 6;
+const BMC_FIXED: usize = 7;
+const BMC_SELECT: usize = 8;
+const PER_QUERY: std::ops::Range<usize> = 0..4;
+const PROBE_FORM: std::ops::Range<usize> = 4..9;
+
+const TIERS: [&str; 4] = ["raw", "clamp", "smooth", "synthetic"];
+const CLAMP: usize = 1;
+const SMOOTH: usize = 2;
+const SYNTHETIC: usize = 3;
+
+const ALL_MAPS: [&str; 10] =
+    ["apartment", "bridge", "city", "dawn", "forest", "hall", "lab", "lobby", "night", "park"];
+/// Maps the probe's hyperparameters were trained on; every other map is held out.
+const TRAINING_MAPS: [&str; 4] = ["apartment", "bridge", "forest", "lab"];
+/// `--quick`: one training and one held-out map.
+const QUICK_MAPS: [&str; 2] = ["apartment", "lobby"];
+
+const SEED_NORMALS: u64 = 0xACC0_0001;
+const SEED_MC: u64 = 0xACC0_0002;
+const SEED_PHASES: u64 = 0xACC0_0003;
+const SEED_SOBOL: u32 = 0xACC0_0004;
+const SEED_ROTATIONS: u64 = 0xACC0_0005;
+/// Seed of the synthetic mixtures (the training tool uses another).
+const SEED_SYNTHETIC: u64 = 0xE7A1_0002;
+
+/// Family members counted in the selection histogram (larger indices share the last slot).
+const MAX_FAMILY: usize = 16;
+
+/// Clamped-cosine kernel of SH band l (Ramamoorthi and Hanrahan 2001): π, 2π/3, π/4.
+const A_HAT: [f64; 3] = [PI, 2.0 * PI / 3.0, PI / 4.0];
+
+#[derive(Clone, Debug)]
+struct Params {
+    normals: usize,
+    draws: usize,
+    rotations: usize,
+    mixtures: usize,
+    fixed_member: usize,
+    threads: usize,
+}
+
+/// The radiance function of one "map" of a tier.
+enum Light {
+    Map(EnvMap),
+    Mixture(tiers::Mixture),
+}
+
+struct Scene {
+    name: String,
+    held_out: bool,
+    light: Light,
+    /// Ground-truth irradiance (of luminance) at every normal.
+    truth: Vec<f64>,
+}
+
+impl Scene {
+    fn lum(&self, d: [f64; 3]) -> f64 {
+        match &self.light {
+            Light::Map(m) => luminance(m.radiance(d)),
+            Light::Mixture(x) => x.value(reference::vec::normalize(d)),
+        }
+    }
+}
+
+/// One scene at one N.
+#[derive(Clone, Copy, Debug)]
+struct Outcome {
+    /// Relative RMSE per estimator.
+    rel: [f64; 9],
+    /// BMC select probe queries within 2σ, σ from `irradiance` (O(N) variance).
+    covered_fast: usize,
+    /// The same with σ from `posterior_variance` (exact).
+    covered_exact: usize,
+    probe_queries: usize,
+    /// BMC renderer queries within 2σ, σ² = `Renderer::variance()` (σ_f = 1).
+    covered_renderer: usize,
+    renderer_queries: usize,
+    /// How many rotations chose each family member (maximum likelihood).
+    selected: [usize; MAX_FAMILY],
+}
+
+/// What the BMC probe says about one normal for one rotation of the sample set.
+#[derive(Clone, Copy, Debug)]
+struct BmcQuery {
+    /// Irradiance with the fixed family member.
+    fixed: f64,
+    /// Irradiance with the per-probe maximum-likelihood member.
+    select: f64,
+    /// Variance of `select` from `Probe::irradiance` (baked direction-average, O(N)).
+    var_fast: f64,
+    /// Variance of `select` from `Probe::posterior_variance` (exact, O(N²)).
+    var_exact: f64,
+}
+
+impl BmcQuery {
+    const NAN: Self =
+        Self { fixed: f64::NAN, select: f64::NAN, var_fast: f64::NAN, var_exact: f64::NAN };
+}
+
+/// The two BMC probe columns for one rotation `rot` of the sample set, through
+/// `sphere_quadrature::probe::Probe`: `dirs` are the set's directions under `rot`
+/// (`SphericalFibonacci::<N>::new().with_rotation(rot).points()`, which is what
+/// `Probe::set_rotation` uses) and `samples` the luminance there. Fills `out[k]` for
+/// `normals[k]` and returns the index of the member chosen by maximum likelihood.
+fn bmc_probe<const N: usize>(
+    rot: Mat3,
+    dirs: &[Vec3; N],
+    samples: &[f32; N],
+    normals: &[Vec3],
+    fixed_member: usize,
+    out: &mut [BmcQuery],
+) -> usize
+where
+    Size<N>: ProbeSize,
+{
+    let mut fixed = Probe::<N, f32>::new();
+    fixed.set_rotation(rot).expect("a uniform random rotation is orthonormal");
+    debug_assert!(fixed.directions() == dirs, "probe directions differ from the SF set's");
+    fixed.update_with(samples, Selection::Member(fixed_member)).expect("finite samples");
+    let mut select = fixed.clone();
+    select.update(samples).expect("finite samples");
+    for (o, &n) in out.iter_mut().zip(normals) {
+        let e = select.irradiance(n).expect("unit normal");
+        *o = BmcQuery {
+            fixed: fixed.irradiance(n).expect("unit normal").value as f64,
+            select: e.value as f64,
+            var_fast: e.variance as f64,
+            var_exact: select.posterior_variance(n).expect("unit normal") as f64,
+        };
+    }
+    select.selected()
+}
+
+fn vec32(d: [f64; 3]) -> Vec3 {
+    Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32)
+}
+
+fn vec64(d: Vec3) -> [f64; 3] {
+    [d.x as f64, d.y as f64, d.z as f64]
+}
+
+/// Real SH `Y_{l,m}(d)` for l ≤ 2 at index `l(l+1) + m`.
+fn sh9(d: [f64; 3]) -> [f64; 9] {
+    std::array::from_fn(|i| {
+        let l = band(i);
+        real_sh(l, i as i64 - (l * (l + 1)) as i64, d)
+    })
+}
+
+fn band(i: usize) -> usize {
+    match i {
+        0 => 0,
+        1..=3 => 1,
+        _ => 2,
+    }
+}
+
+/// Every estimator on one scene at one N.
+fn evaluate<const N: usize>(scene: &Scene, normals: &[[f64; 3]], p: &Params) -> Outcome
+where
+    Size<N>: BakedSize + ProbeSize,
+{
+    let truth = &scene.truth;
+    let lum = |d: [f64; 3]| scene.lum(d);
+    let lum32 = |d: Vec3| scene.lum(vec64(d)) as f32;
+    let mean_abs = truth.iter().map(|t| t.abs()).sum::<f64>() / truth.len() as f64;
+    let mut se = [0.0f64; 9];
+    let mut out = Outcome {
+        rel: [0.0; 9],
+        covered_fast: 0,
+        covered_exact: 0,
+        probe_queries: 0,
+        covered_renderer: 0,
+        renderer_queries: 0,
+        selected: [0; MAX_FAMILY],
+    };
+
+    // Per-query form.
+    let renderer = Renderer::<N>::new();
+    let sigma_renderer = f64::from(Renderer::<N>::variance()).sqrt();
+    let mut rng = Rng::new(SEED_MC ^ N as u64);
+    let mut phases = RotationSequence::new(SEED_PHASES.wrapping_add(N as u64));
+    let mut dirs = [Vec3::Z; N];
+    for (q, (&n, &t)) in normals.iter().zip(truth).enumerate() {
+        let n32 = vec32(n);
+        for draw in 0..p.draws {
+            let mc = PI * peers::monte_carlo(lum, n, 1.0, N, &mut rng);
+            let scramble =
+                SEED_SOBOL ^ ((q * p.draws + draw) as u32).wrapping_mul(0x9E37_79B9) ^ N as u32;
+            let sobol = PI * peers::sobol(lum, n, 1.0, N as u32, scramble);
+            let sf = qmc::irradiance::<N, f32, _>(n32, phases.next_phase(), lum32)
+                .expect("normals are unit vectors") as f64;
+            renderer.directions(n32, phases.next_phase(), &mut dirs).expect("unit normal");
+            let bmc = renderer.estimate(&dirs.map(lum32)) as f64;
+            for (s, e) in se.iter_mut().zip([mc, sobol, sf, bmc]) {
+                *s += (e - t).powi(2);
+            }
+            out.covered_renderer += usize::from((bmc - t).abs() <= 2.0 * sigma_renderer);
+            out.renderer_queries += 1;
+        }
+    }
+    let count = (normals.len() * p.draws) as f64;
+    for e in PER_QUERY {
+        out.rel[e] = (se[e] / count).sqrt() / mean_abs;
+    }
+
+    // Probe form.
+    let set = SphericalFibonacci::<N>::new();
+    let normals32: Vec<Vec3> = normals.iter().map(|&n| vec32(n)).collect();
+    let sh_normals: Vec<[f64; 9]> = normals.iter().map(|&n| sh9(n)).collect();
+    let mut rotations = RotationSequence::new(SEED_ROTATIONS ^ N as u64);
+    let mut bmc = vec![BmcQuery::NAN; normals.len()];
+    let w = 4.0 * PI / N as f64;
+    for _ in 0..p.rotations {
+        let rot = rotations.next_rotation();
+        let dirs = set.with_rotation(rot).points();
+        let y = dirs.map(lum32);
+        let x: Vec<[f64; 3]> = dirs.iter().map(|&d| vec64(d)).collect();
+        let mut coef = [0.0f64; 9];
+        for (&xj, &yj) in x.iter().zip(&y) {
+            for (c, s) in coef.iter_mut().zip(sh9(xj)) {
+                *c += yj as f64 * s;
+            }
+        }
+        for (i, c) in coef.iter_mut().enumerate() {
+            *c *= w * A_HAT[band(i)];
+        }
+        let k = bmc_probe::<N>(rot, &dirs, &y, &normals32, p.fixed_member, &mut bmc);
+        out.selected[k.min(MAX_FAMILY - 1)] += 1;
+        for (k, (&n, &t)) in normals.iter().zip(truth).enumerate() {
+            let (mut num, mut den) = (0.0f64, 0.0f64);
+            for (&xj, &yj) in x.iter().zip(&y) {
+                let c = dot(n, xj).max(0.0);
+                num += c * yj as f64;
+                den += c;
+            }
+            let cos_avg = if den > 0.0 { PI * num / den } else { 0.0 };
+            let sh: f64 = coef.iter().zip(&sh_normals[k]).map(|(c, s)| c * s).sum();
+            let b = bmc[k];
+            let estimates =
+                [(COS_AVG, cos_avg), (SH_L2, sh), (QMC_PROBE, w * num), (BMC_FIXED, b.fixed)];
+            for (e, v) in estimates.into_iter().chain([(BMC_SELECT, b.select)]) {
+                se[e] += (v - t).powi(2);
+            }
+            let err = (b.select - t).abs();
+            out.covered_fast += usize::from(err <= 2.0 * b.var_fast.sqrt());
+            out.covered_exact += usize::from(err <= 2.0 * b.var_exact.sqrt());
+            out.probe_queries += 1;
+        }
+    }
+    let count = (normals.len() * p.rotations) as f64;
+    for e in PROBE_FORM {
+        out.rel[e] = (se[e] / count).sqrt() / mean_abs;
+    }
+    out
+}
+
+fn evaluate_scene(scene: &Scene, normals: &[[f64; 3]], p: &Params) -> [Outcome; 5] {
+    [
+        evaluate::<16>(scene, normals, p),
+        evaluate::<32>(scene, normals, p),
+        evaluate::<64>(scene, normals, p),
+        evaluate::<128>(scene, normals, p),
+        evaluate::<256>(scene, normals, p),
+    ]
+}
+
+/// Runs `f` on every item with `threads` workers pulling from a shared counter; results in
+/// item order.
+fn parallel_map<I: Sync, O: Send>(
+    items: &[I],
+    threads: usize,
+    f: impl Fn(&I) -> O + Sync,
+) -> Vec<O> {
+    let next = AtomicUsize::new(0);
+    let mut results: Vec<(usize, O)> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..threads.max(1))
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut mine = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(item) = items.get(i) else { break };
+                        mine.push((i, f(item)));
+                    }
+                    mine
+                })
+            })
+            .collect();
+        handles.into_iter().flat_map(|h| h.join().expect("worker thread")).collect()
+    });
+    results.sort_by_key(|(i, _)| *i);
+    results.into_iter().map(|(_, o)| o).collect()
+}
+
+/// Ground truth of each map (all of one grid size share the pixel weights).
+fn map_truths(maps: &[&EnvMap], normals: &[[f64; 3]]) -> Vec<Vec<f64>> {
+    let mut truths = vec![Vec::new(); maps.len()];
+    let mut done = vec![false; maps.len()];
+    for i in 0..maps.len() {
+        if done[i] {
+            continue;
+        }
+        let size = (maps[i].width, maps[i].height);
+        let weights = compare::weights(compare::Kind::Diffuse, normals, size.0, size.1);
+        for j in i..maps.len() {
+            if (maps[j].width, maps[j].height) == size {
+                truths[j] = compare::truths(maps[j], &weights);
+                done[j] = true;
+            }
+        }
+    }
+    truths
+}
+
+/// Per tier: the scenes (no light kept) and their outcomes.
+struct TierResult {
+    names: Vec<String>,
+    held_out: Vec<bool>,
+    outcomes: Vec<[Outcome; 5]>,
+}
+
+impl TierResult {
+    /// Mean and worst (value, map) of estimator `e` at N index `ni` over the maps in `subset`.
+    fn stat(&self, held_out_only: bool, ni: usize, e: usize) -> (f64, f64, &str) {
+        let mut sum = 0.0;
+        let mut count = 0;
+        let mut worst = (f64::NEG_INFINITY, "");
+        for (k, o) in self.outcomes.iter().enumerate() {
+            if held_out_only && !self.held_out[k] {
+                continue;
+            }
+            let v = o[ni].rel[e];
+            sum += v;
+            count += 1;
+            if v > worst.0 || v.is_nan() {
+                worst = (v, &self.names[k]);
+            }
+        }
+        (sum / count.max(1) as f64, worst.0, worst.1)
+    }
+
+    fn any_held_out(&self) -> bool {
+        self.held_out.iter().any(|&h| h)
+    }
+}
+
+/// A relative error as a percentage with three significant digits.
+fn pct(x: f64) -> String {
+    if !x.is_finite() {
+        return "n/a".into();
+    }
+    let p = 100.0 * x;
+    if p >= 100.0 {
+        format!("{p:.0}%")
+    } else if p >= 10.0 {
+        format!("{p:.1}%")
+    } else if p >= 1.0 {
+        format!("{p:.2}%")
+    } else if p >= 0.1 {
+        format!("{p:.3}%")
+    } else {
+        format!("{p:.2e}%")
+    }
+}
+
+fn ratio(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.3}")
+    } else {
+        "n/a".into()
+    }
+}
+
+fn fraction(hits: usize, total: usize) -> String {
+    if total == 0 {
+        "n/a".into()
+    } else {
+        format!("{:.1}%", 100.0 * hits as f64 / total as f64)
+    }
+}
+
+/// A table of mean (worst map) relative RMSE for the estimators `cols`.
+fn tier_table(md: &mut String, tr: &TierResult, cols: &[usize], held_out_only: bool, fixed: usize) {
+    let header: Vec<String> =
+        cols.iter()
+            .map(|&e| {
+                if e == BMC_FIXED {
+                    format!("BMC fixed (k = {fixed})")
+                } else {
+                    ESTIMATORS[e].into()
+                }
+            })
+            .collect();
+    let _ = writeln!(md, "| N | {} |", header.join(" | "));
+    let _ = writeln!(md, "| ---: |{}", " ---: |".repeat(cols.len()));
+    for (ni, n) in NS.iter().enumerate() {
+        let cells: Vec<String> = cols
+            .iter()
+            .map(|&e| {
+                let (mean, worst, name) = tr.stat(held_out_only, ni, e);
+                if mean.is_finite() {
+                    format!("{} ({} {name})", pct(mean), pct(worst))
+                } else {
+                    "n/a".into()
+                }
+            })
+            .collect();
+        let _ = writeln!(md, "| {n} | {} |", cells.join(" | "));
+    }
+    md.push('\n');
+}
+
+fn held_out_list(tr: &TierResult) -> String {
+    let names: Vec<&str> =
+        tr.names.iter().zip(&tr.held_out).filter(|(_, &h)| h).map(|(n, _)| n.as_str()).collect();
+    names.join(", ")
+}
+
+fn training_list(tr: &TierResult) -> String {
+    let names: Vec<&str> =
+        tr.names.iter().zip(&tr.held_out).filter(|(_, &h)| !h).map(|(n, _)| n.as_str()).collect();
+    if names.is_empty() {
+        "none".into()
+    } else {
+        names.join(", ")
+    }
+}
+
+/// The target ratios of issue #6.
+fn targets(md: &mut String, results: &[TierResult]) {
+    let ni_of = |n: usize| NS.iter().position(|&m| m == n).expect("N is measured");
+    md.push_str("## Targets\n\n");
+
+    // clamp, probe form: BMC select / cos-avg.
+    let tr = &results[CLAMP];
+    let sub = tr.any_held_out();
+    let _ = writeln!(
+        md,
+        "### clamp, probe form: BMC select / cos-avg\n\nMean relative RMSE over the held-out \
+         maps ({}), the ratio of those means, the same over all maps, and the worst held-out \
+         map's own ratio.\n",
+        held_out_list(tr)
+    );
+    md.push_str(
+        "| N | cos-avg | BMC select | ratio (held-out) | ratio (all maps) | worst held-out map |\n",
+    );
+    md.push_str("| ---: | ---: | ---: | ---: | ---: | --- |\n");
+    for n in [16, 32, 64] {
+        let ni = ni_of(n);
+        let (c, _, _) = tr.stat(sub, ni, COS_AVG);
+        let (b, _, _) = tr.stat(sub, ni, BMC_SELECT);
+        let (ca, _, _) = tr.stat(false, ni, COS_AVG);
+        let (ba, _, _) = tr.stat(false, ni, BMC_SELECT);
+        let worst = worst_ratio(tr, &[ni], true, |r| r[BMC_SELECT] / r[COS_AVG]);
+        let _ = writeln!(
+            md,
+            "| {n} | {} | {} | **{}** | {} | {} |",
+            pct(c),
+            pct(b),
+            ratio(b / c),
+            ratio(ba / ca),
+            worst.map_or("n/a".into(), |(v, m, _)| format!("{} ({m})", ratio(v)))
+        );
+    }
+    let all_ni: Vec<usize> = (0..NS.len()).collect();
+    let show = |w: Option<(f64, String, usize)>| {
+        w.map_or("n/a".into(), |(v, m, n)| format!("**{}** ({m}, N = {n})", ratio(v)))
+    };
+    let _ = writeln!(
+        md,
+        "\nWorst single-map ratio over all N ∈ {NS:?}: {} over the held-out maps, {} over all \
+         maps.\n",
+        show(worst_ratio(tr, &all_ni, true, |r| r[BMC_SELECT] / r[COS_AVG])),
+        show(worst_ratio(tr, &all_ni, false, |r| r[BMC_SELECT] / r[COS_AVG]))
+    );
+
+    // smooth, probe form: BMC select / min(cos-avg, SH L2).
+    let tr = &results[SMOOTH];
+    let sub = tr.any_held_out();
+    let _ = writeln!(
+        md,
+        "### smooth, probe form: BMC select / min(cos-avg, SH L2)\n\nMeans over the held-out \
+         maps ({}); the minimum is of the two means; the worst map's ratio uses that map's own \
+         minimum.\n",
+        held_out_list(tr)
+    );
+    md.push_str(
+        "| N | cos-avg | SH L2 | BMC select | ratio (held-out) | ratio (all maps) | worst held-out map |\n",
+    );
+    md.push_str("| ---: | ---: | ---: | ---: | ---: | ---: | --- |\n");
+    for n in [32, 64] {
+        let ni = ni_of(n);
+        let (c, _, _) = tr.stat(sub, ni, COS_AVG);
+        let (s, _, _) = tr.stat(sub, ni, SH_L2);
+        let (b, _, _) = tr.stat(sub, ni, BMC_SELECT);
+        let (ca, _, _) = tr.stat(false, ni, COS_AVG);
+        let (sa, _, _) = tr.stat(false, ni, SH_L2);
+        let (ba, _, _) = tr.stat(false, ni, BMC_SELECT);
+        let worst = worst_ratio(tr, &[ni], true, |r| r[BMC_SELECT] / r[COS_AVG].min(r[SH_L2]));
+        let _ = writeln!(
+            md,
+            "| {n} | {} | {} | {} | **{}** | {} | {} |",
+            pct(c),
+            pct(s),
+            pct(b),
+            ratio(b / c.min(s)),
+            ratio(ba / ca.min(sa)),
+            worst.map_or("n/a".into(), |(v, m, _)| format!("{} ({m})", ratio(v)))
+        );
+    }
+    md.push('\n');
+
+    // synthetic, renderer form at N = 64.
+    let tr = &results[SYNTHETIC];
+    let ni = ni_of(64);
+    let (q, _, _) = tr.stat(false, ni, QMC_SF);
+    let (b, _, _) = tr.stat(false, ni, BMC_RENDERER);
+    let worst = worst_ratio(tr, &[ni], false, |r| r[BMC_RENDERER] / r[QMC_SF]);
+    let _ = writeln!(
+        md,
+        "### synthetic, renderer form at N = 64: BMC renderer / QMC-SF\n\nMean over {} \
+         mixtures: QMC-SF {}, BMC renderer {}, ratio **{}**; worst mixture's ratio {}.\n",
+        tr.names.len(),
+        pct(q),
+        pct(b),
+        ratio(b / q),
+        worst.map_or("n/a".into(), |(v, m, _)| format!("{} ({m})", ratio(v)))
+    );
+
+    // Ordering QMC-SF < Sobol < MC, per-query form, N ≥ 64, clamp and smooth.
+    md.push_str("### Ordering QMC-SF < Sobol < MC (per-query form, N ≥ 64, every map)\n\n");
+    for t in [CLAMP, SMOOTH] {
+        let tr = &results[t];
+        let mut exceptions = Vec::new();
+        let mut checked = 0;
+        for (k, o) in tr.outcomes.iter().enumerate() {
+            for (ni, &n) in NS.iter().enumerate().filter(|(_, &n)| n >= 64) {
+                let r = &o[ni].rel;
+                checked += 1;
+                if !(r[QMC_SF] < r[SOBOL] && r[SOBOL] < r[MC]) {
+                    exceptions.push(format!(
+                        "{} N = {n} (QMC-SF {}, Sobol {}, MC {})",
+                        tr.names[k],
+                        pct(r[QMC_SF]),
+                        pct(r[SOBOL]),
+                        pct(r[MC])
+                    ));
+                }
+            }
+        }
+        let _ = writeln!(
+            md,
+            "- {}: holds in {} of {checked} (map, N) cases{}",
+            TIERS[t],
+            checked - exceptions.len(),
+            if exceptions.is_empty() { ".".into() } else { "; exceptions:".to_string() }
+        );
+        for e in exceptions {
+            let _ = writeln!(md, "  - {e}");
+        }
+    }
+    md.push('\n');
+}
+
+/// The largest per-map value of `f` over maps (held-out only or all) and N indices:
+/// (value, map, N).
+fn worst_ratio(
+    tr: &TierResult,
+    nis: &[usize],
+    held_out_only: bool,
+    f: impl Fn(&[f64; 9]) -> f64,
+) -> Option<(f64, String, usize)> {
+    let sub = held_out_only && tr.any_held_out();
+    let mut worst: Option<(f64, String, usize)> = None;
+    for (k, o) in tr.outcomes.iter().enumerate() {
+        if sub && !tr.held_out[k] {
+            continue;
+        }
+        for &ni in nis {
+            let v = f(&o[ni].rel);
+            if !v.is_finite() {
+                return None;
+            }
+            if worst.as_ref().is_none_or(|w| v > w.0) {
+                worst = Some((v, tr.names[k].clone(), NS[ni]));
+            }
+        }
+    }
+    worst
+}
+
+fn coverage(md: &mut String, results: &[TierResult]) {
+    md.push_str(
+        "## Error bars: fraction of queries with |error| ≤ 2σ\n\nProbe: BMC select, σ² from \
+         `Probe::irradiance` (O(N), baked direction-average) and from \
+         `Probe::posterior_variance` (exact), pooled over maps × rotations × normals. \
+         Renderer: σ² = `Renderer::<N>::variance()`, which is for σ_f = 1 (reported as is; the \
+         maps' luminance scale is arbitrary), pooled over maps × normals × draws.\n\n",
+    );
+    md.push_str("| tier | N | probe, O(N) σ | probe, exact σ | renderer, σ_f = 1 |\n");
+    md.push_str("| --- | ---: | ---: | ---: | ---: |\n");
+    for (t, tr) in results.iter().enumerate() {
+        for (ni, n) in NS.iter().enumerate() {
+            let sum =
+                |f: fn(&Outcome) -> usize| tr.outcomes.iter().map(|o| f(&o[ni])).sum::<usize>();
+            let _ = writeln!(
+                md,
+                "| {} | {n} | {} | {} | {} |",
+                TIERS[t],
+                fraction(sum(|o| o.covered_fast), sum(|o| o.probe_queries)),
+                fraction(sum(|o| o.covered_exact), sum(|o| o.probe_queries)),
+                fraction(sum(|o| o.covered_renderer), sum(|o| o.renderer_queries)),
+            );
+        }
+    }
+    md.push('\n');
+}
+
+/// The baked probe family of size `N`: `(λ, σ′)` per member.
+fn members<const N: usize>() -> Vec<(f32, f32)>
+where
+    Size<N>: ProbeSize,
+{
+    Probe::<N, f32>::family().map(|m| (m.lambda, m.sigma)).collect()
+}
+
+fn families() -> [Vec<(f32, f32)>; 5] {
+    [members::<16>(), members::<32>(), members::<64>(), members::<128>(), members::<256>()]
+}
+
+fn renderer_hyperparameters() -> String {
+    let all = [
+        Renderer::<16>::hyperparameters(),
+        Renderer::<32>::hyperparameters(),
+        Renderer::<64>::hyperparameters(),
+        Renderer::<128>::hyperparameters(),
+        Renderer::<256>::hyperparameters(),
+    ];
+    let list: Vec<String> =
+        NS.iter().zip(all).map(|(n, (l, s))| format!("N = {n}: ({l}, {s})")).collect();
+    list.join("; ")
+}
+
+fn family(md: &mut String, fixed_member: usize) {
+    md.push_str("- Probe families (`tables/probe.txt`), member k: λ (σ′):\n");
+    for (n, f) in NS.iter().zip(families()) {
+        let list: Vec<String> = f
+            .iter()
+            .enumerate()
+            .map(|(k, (l, s))| {
+                let mark = if k == fixed_member { " ← fixed" } else { "" };
+                format!("{k}: {l} ({s}){mark}")
+            })
+            .collect();
+        let _ = writeln!(md, "  - N = {n}: {}", list.join(", "));
+    }
+}
+
+fn selection(md: &mut String, results: &[TierResult]) {
+    md.push_str(
+        "## Members chosen by maximum likelihood\n\nFraction of probe updates (maps × \
+         rotations) that chose each family member.\n\n",
+    );
+    let size = families().iter().map(Vec::len).max().unwrap_or(0).min(MAX_FAMILY);
+    let header: Vec<String> = (0..size).map(|k| format!("k = {k}")).collect();
+    let _ = writeln!(md, "| tier | N | {} |", header.join(" | "));
+    let _ = writeln!(md, "| --- | ---: |{}", " ---: |".repeat(size));
+    for (t, tr) in results.iter().enumerate() {
+        for (ni, n) in NS.iter().enumerate() {
+            let counts: Vec<usize> =
+                (0..size).map(|k| tr.outcomes.iter().map(|o| o[ni].selected[k]).sum()).collect();
+            let total: usize = counts.iter().sum();
+            let cells: Vec<String> = counts.iter().map(|&c| fraction(c, total)).collect();
+            let _ = writeln!(md, "| {} | {n} | {} |", TIERS[t], cells.join(" | "));
+        }
+    }
+    md.push('\n');
+}
+
+fn per_map(md: &mut String, results: &[TierResult], n: usize) {
+    let ni = NS.iter().position(|&m| m == n).expect("N is measured");
+    let _ = writeln!(
+        md,
+        "## Per map at N = {n}\n\n(*): a map the probe hyperparameters were trained on.\n"
+    );
+    for (t, tr) in results.iter().enumerate() {
+        let _ = writeln!(md, "### {}\n", TIERS[t]);
+        let _ = writeln!(md, "| map | {} |", ESTIMATORS.join(" | "));
+        let _ = writeln!(md, "| --- |{}", " ---: |".repeat(ESTIMATORS.len()));
+        for (k, o) in tr.outcomes.iter().enumerate() {
+            let cells: Vec<String> = o[ni].rel.iter().map(|&v| pct(v)).collect();
+            let mark = if tr.held_out[k] { "" } else { " (*)" };
+            let _ = writeln!(md, "| {}{mark} | {} |", tr.names[k], cells.join(" | "));
+        }
+        md.push('\n');
+    }
+}
+
+fn colour(e: usize) -> RGBColor {
+    [
+        RGBColor(150, 150, 150),
+        RGBColor(200, 130, 0),
+        RGBColor(30, 90, 200),
+        RGBColor(200, 30, 30),
+        RGBColor(30, 150, 60),
+        RGBColor(140, 60, 170),
+        RGBColor(0, 160, 170),
+        RGBColor(120, 40, 40),
+        RGBColor(0, 0, 0),
+    ][e % 9]
+}
+
+/// Log-log relative RMSE (mean over all maps) against N, one panel per tier; solid lines
+/// with dots: per-query form, dashed lines with triangles: probe form.
+fn plot(results: &[TierResult], path: &Path) -> Result<(), Box<dyn Error>> {
+    let root = BitMapBackend::new(path, (1400, 1100)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let panels = root.split_evenly((2, 2));
+    for (t, (tr, area)) in results.iter().zip(&panels).enumerate() {
+        let series: Vec<(usize, Vec<(f64, f64)>)> = (0..ESTIMATORS.len())
+            .map(|e| {
+                let pts = (0..NS.len())
+                    .map(|ni| ((NS[ni] as f64).log2(), tr.stat(false, ni, e).0))
+                    .filter(|(_, v)| v.is_finite() && *v > 0.0)
+                    .collect();
+                (e, pts)
+            })
+            .collect();
+        let values = series.iter().flat_map(|(_, p)| p.iter().map(|&(_, v)| v));
+        let (lo, hi) = values.fold((f64::INFINITY, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)));
+        let (lo, hi) = if lo.is_finite() { (lo / 1.5, hi * 6.0) } else { (1e-4, 1.0) };
+        let mut chart = ChartBuilder::on(area)
+            .caption(
+                format!(
+                    "{}: relative RMSE, mean over {} maps (dashed: probe form)",
+                    TIERS[t],
+                    tr.names.len()
+                ),
+                ("sans-serif", 24),
+            )
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(75)
+            .build_cartesian_2d(3.8f64..8.2f64, (lo..hi).log_scale())?;
+        chart
+            .configure_mesh()
+            .x_desc("N (log scale)")
+            .y_desc("relative RMSE")
+            .x_labels(5)
+            .x_label_formatter(&|x| {
+                if (x - x.round()).abs() < 1e-6 {
+                    format!("{}", 2f64.powf(x.round()))
+                } else {
+                    String::new()
+                }
+            })
+            .y_label_formatter(&|y| format!("{y:.0e}"))
+            .label_style(("sans-serif", 15))
+            .axis_desc_style(("sans-serif", 17))
+            .draw()?;
+        for (e, pts) in series {
+            if pts.is_empty() {
+                continue;
+            }
+            let c = colour(e);
+            let label = if e < PROBE_FORM.start || ESTIMATORS[e].contains("probe") {
+                ESTIMATORS[e].to_string()
+            } else {
+                format!("{} (probe)", ESTIMATORS[e])
+            };
+            if PER_QUERY.contains(&e) {
+                chart
+                    .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))?
+                    .label(label)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                    });
+                chart.draw_series(pts.iter().map(|&p| Circle::new(p, 4, c.filled())))?;
+            } else {
+                chart
+                    .draw_series(DashedLineSeries::new(pts.clone(), 8, 5, c.stroke_width(2)))?
+                    .label(label)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                    });
+                chart.draw_series(pts.iter().map(|&p| TriangleMarker::new(p, 5, c.filled())))?;
+            }
+        }
+        chart
+            .configure_series_labels()
+            .label_font(("sans-serif", 13))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+fn name_of(path: &Path) -> String {
+    path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
+}
+
+fn main() -> Result<(), Box<dyn Error>> {
+    let start = Instant::now();
+    let raw_args: Vec<String> = std::env::args().skip(1).collect();
+    let mut out = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs");
+    let mut quick = false;
+    let mut fixed_member = 1;
+    let mut threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut paths: Vec<PathBuf> = Vec::new();
+    let mut args = raw_args.iter();
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "--out" => out = PathBuf::from(args.next().ok_or("--out needs a directory")?),
+            "--quick" => quick = true,
+            "--fixed-member" => {
+                fixed_member = args.next().ok_or("--fixed-member needs an index")?.parse()?;
+            }
+            "--threads" => threads = args.next().ok_or("--threads needs a count")?.parse()?,
+            s if s.starts_with("--") => return Err(format!("unknown option {s}").into()),
+            s => paths.push(PathBuf::from(s)),
+        }
+    }
+    let p = Params {
+        normals: if quick { 64 } else { 256 },
+        draws: if quick { 1 } else { 4 },
+        rotations: if quick { 8 } else { 32 },
+        mixtures: if quick { 2 } else { 10 },
+        fixed_member,
+        threads: threads.max(1),
+    };
+    if paths.is_empty() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/envmaps");
+        let names: &[&str] = if quick { &QUICK_MAPS } else { &ALL_MAPS };
+        paths = names.iter().map(|n| dir.join(format!("{n}.hdr"))).collect();
+    }
+    if families().iter().any(|f| fixed_member >= f.len()) {
+        return Err(format!("--fixed-member {fixed_member} is outside a baked probe family").into());
+    }
+    std::fs::create_dir_all(&out)?;
+    register_font("sans-serif", FontStyle::Normal, ttf_noto_sans::REGULAR)
+        .map_err(|_| "the embedded font did not parse")?;
+
+    let mut rng = Rng::new(SEED_NORMALS);
+    let normals: Vec<[f64; 3]> = (0..p.normals).map(|_| rng.uniform_sphere()).collect();
+
+    // Tiers.
+    let names: Vec<String> = paths.iter().map(|p| name_of(p)).collect();
+    let held_out: Vec<bool> = names.iter().map(|n| !TRAINING_MAPS.contains(&n.as_str())).collect();
+    let raw: Vec<EnvMap> = paths
+        .iter()
+        .map(EnvMap::load)
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("cannot load a map: {e}"))?;
+    let clamped: Vec<EnvMap> = raw.iter().map(compare::clamped).collect();
+    let smooth: Vec<EnvMap> = parallel_map(&clamped, p.threads, tiers::smooth);
+    eprintln!("tiers built ({:.1} s)", start.elapsed().as_secs_f64());
+    let grid_maps: Vec<&EnvMap> = raw.iter().chain(&clamped).chain(&smooth).collect();
+    let mut truths = map_truths(&grid_maps, &normals).into_iter();
+    eprintln!("map ground truth ({:.1} s)", start.elapsed().as_secs_f64());
+    let mixtures = tiers::mixtures(p.mixtures, SEED_SYNTHETIC);
+    let mixture_truths =
+        parallel_map(&mixtures, p.threads, |m| normals.iter().map(|&n| m.irradiance(n)).collect());
+    eprintln!("synthetic ground truth ({:.1} s)", start.elapsed().as_secs_f64());
+
+    let mut scenes: Vec<(usize, Scene)> = Vec::new();
+    for (t, tier_maps) in [raw, clamped, smooth].into_iter().enumerate() {
+        for (k, map) in tier_maps.into_iter().enumerate() {
+            let truth = truths.next().expect("one truth per map");
+            let s = Scene {
+                name: names[k].clone(),
+                held_out: held_out[k],
+                light: Light::Map(map),
+                truth,
+            };
+            scenes.push((t, s));
+        }
+    }
+    for (k, (m, truth)) in mixtures.into_iter().zip(mixture_truths).enumerate() {
+        let s = Scene { name: format!("sg{k}"), held_out: true, light: Light::Mixture(m), truth };
+        scenes.push((SYNTHETIC, s));
+    }
+
+    let done = AtomicUsize::new(0);
+    let outcomes = parallel_map(&scenes, p.threads, |(t, s)| {
+        let o = evaluate_scene(s, &normals, &p);
+        let d = done.fetch_add(1, Ordering::Relaxed) + 1;
+        eprintln!(
+            "[{d}/{}] {} {} ({:.1} s)",
+            scenes.len(),
+            TIERS[*t],
+            s.name,
+            start.elapsed().as_secs_f64()
+        );
+        o
+    });
+    let mut results: Vec<TierResult> = (0..TIERS.len())
+        .map(|_| TierResult { names: Vec::new(), held_out: Vec::new(), outcomes: Vec::new() })
+        .collect();
+    for ((t, s), o) in scenes.iter().zip(outcomes) {
+        results[*t].names.push(s.name.clone());
+        results[*t].held_out.push(s.held_out);
+        results[*t].outcomes.push(o);
+    }
+    let seconds = start.elapsed().as_secs_f64();
+
+    // Report.
+    let mut md = String::new();
+    md.push_str("# Accuracy benchmark: irradiance on environment maps\n\n");
+    md.push_str(
+        "@generated by `examples/accuracy.rs` (issue #6, item 3); do not edit by hand. Relative \
+         RMSE of the luminance irradiance E(n) = ∫ L(ω)·max(0, n·ω) dω = RMSE / mean |truth| \
+         per map; ground truth summed over every pixel with exact per-pixel cosine weights.\n\n",
+    );
+    let command = if raw_args.is_empty() {
+        "cargo run --release --example accuracy".to_string()
+    } else {
+        format!("cargo run --release --example accuracy -- {}", raw_args.join(" "))
+    };
+    let _ = writeln!(
+        md,
+        "## Run\n\n- Command: `{command}` ({seconds:.0} s wall, {} threads).",
+        p.threads
+    );
+    let _ = writeln!(
+        md,
+        "- Maps: {} (`raw`, `clamp` at {}× the solid-angle mean, `smooth` = clamp → 128×64 box \
+         → normalised SG convolution of sharpness {}); training maps of the probe's \
+         hyperparameters: {}; held-out: {}.",
+        names.join(", "),
+        compare::CLAMP,
+        tiers::SMOOTH_SHARPNESS,
+        training_list(&results[CLAMP]),
+        held_out_list(&results[CLAMP])
+    );
+    let _ = writeln!(
+        md,
+        "- Synthetic: {} mixtures of 1–4 SGs (λ ∈ [2, 20], a ∈ [0.2, 1]) plus a constant in \
+         [0, 0.5], seed {SEED_SYNTHETIC:#X}.",
+        p.mixtures
+    );
+    let _ = writeln!(
+        md,
+        "- {} seeded random normals per map (seed {SEED_NORMALS:#X}); per-query form: {} \
+         independent draws per normal; probe form: {} seeded random rotations of the sphere SF \
+         set per map, RMSE pooled over rotations × normals.",
+        p.normals, p.draws, p.rotations
+    );
+    let _ = writeln!(
+        md,
+        "- N ∈ {NS:?}. BMC fixed uses family member k = {}. BMC renderer: baked `bmc::Renderer` \
+         weights (`tables/bmc.txt`), (l, σ′) = {}.",
+        p.fixed_member,
+        renderer_hyperparameters()
+    );
+    family(&mut md, p.fixed_member);
+    md.push('\n');
+    targets(&mut md, &results);
+    coverage(&mut md, &results);
+    selection(&mut md, &results);
+
+    md.push_str(
+        "## Relative RMSE per tier\n\nEach cell: mean over maps (worst map). Per-query form: \
+         every query draws its own N samples; probe form: N shared samples answer every \
+         normal. The `smooth` tier is sampled by nearest-pixel lookup in its 128×64 map, a \
+         staircase of 2.8° steps that the ground truth integrates exactly: it is smooth only \
+         down to that scale, which floors every estimator at large N.\n\n",
+    );
+    let per_query: Vec<usize> = PER_QUERY.collect();
+    let probe: Vec<usize> = PROBE_FORM.collect();
+    for (t, tr) in results.iter().enumerate() {
+        let _ = writeln!(md, "### {}\n", TIERS[t]);
+        let _ = writeln!(md, "Per-query form, all {} maps:\n", tr.names.len());
+        tier_table(&mut md, tr, &per_query, false, p.fixed_member);
+        if t != SYNTHETIC && tr.any_held_out() && tr.held_out.iter().any(|&h| !h) {
+            let _ = writeln!(md, "Probe form, held-out maps ({}):\n", held_out_list(tr));
+            tier_table(&mut md, tr, &probe, true, p.fixed_member);
+        }
+        let _ = writeln!(md, "Probe form, all {} maps:\n", tr.names.len());
+        tier_table(&mut md, tr, &probe, false, p.fixed_member);
+    }
+    per_map(&mut md, &results, 64);
+    md.push_str("![relative RMSE against N](accuracy.png)\n");
+
+    print!("{md}");
+    std::fs::write(out.join("accuracy.md"), &md)?;
+    plot(&results, &out.join("accuracy.png"))?;
+    eprintln!("wrote {} ({seconds:.1} s)", out.join("accuracy.md").display());
+    Ok(())
+}

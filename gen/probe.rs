@@ -1,0 +1,577 @@
+//! Generator of the Bayesian Monte Carlo *probe* tables (issue #6), in f64.
+//!
+//! A probe holds `N` radiance samples in the directions of the `N`-point spherical Fibonacci
+//! sphere set `xⱼ` (`zⱼ = 1 − (2j + 1)/N`, `φⱼ = 2π·frac(j/Φ)`, optionally rotated as a whole)
+//! and answers irradiance queries for any normal. Kernel `exp(λ(x·x′ − 1)) + σ′²δ` as in
+//! [`super::bmc`]; the probe bakes a *family* of sharpnesses `λ₁ < λ₂ < …` with one `σ′`, and
+//! picks per update the member of highest marginal likelihood.
+//!
+//! # The antipodal symmetry
+//! Point `N − 1 − j` of the set is point `j` turned by π about a horizontal axis:
+//! `z ↦ −z` exactly, and `φ ↦ 2π·frac((N − 1)/Φ) − φ`. Write `J` for the index map
+//! `j ↦ N − 1 − j`. Dot products are invariant under the rotation, so `Q_{Ji,Jj} = Qᵢⱼ`, and
+//! for even `N` (pairs `p < m = N/2` with `Jp`) `Q` splits into two `m × m` blocks:
+//! `E_pq = Q_pq + Q_{p,Jq}` acting on sums `s_p = y_p + y_{Jp}`, and `F_pq = Q_pq − Q_{p,Jq}`
+//! on differences `d_p = y_p − y_{Jp}`. With `a = E⁻¹s`, `b = F⁻¹d`:
+//! `(Q⁻¹y)_p = (a_p + b_p)/2`, `(Q⁻¹y)_{Jp} = (a_p − b_p)/2`.
+//! So the probe stores the Cholesky factors of `E` and `F` (packed lower triangles,
+//! `m(m + 1)` numbers instead of `N²`), and `Q⁻¹y` costs `N²/2` multiply-adds instead of
+//! `N²`. Factors, not inverses: a factor rounded to f32 is the exact factor of a matrix within
+//! f32 rounding of `Q` (backward error ε), while a rounded inverse is the inverse of a matrix
+//! up to `cond(Q)·ε` away from `Q`, and the learned nuggets make `cond(Q)` reach 10⁴–10⁵.
+//!
+//! # What is baked per member
+//! - the Cholesky factors of `E` and `F` (packed rows of the lower triangle, each diagonal
+//!   entry stored as its reciprocal so the device never divides);
+//! - `g = E⁻¹1` (`m` numbers): `Q⁻¹1 = (g, Jg)`, and `s₁ = 1ᵀQ⁻¹1 = 2Σg`;
+//! - the likelihood constant `−½·log det Q − ½·log s₁` (`log det Q = log det E + log det F`);
+//! - `π²V̄` (`V̄ = ∫∫ k p p` for the clamped cosine `p = max(0, n·x)/π`);
+//! - the posterior variance of `E(n)` for σ_f = 1, averaged over 256 spherical Fibonacci
+//!   query normals (it varies little with `n` for a near-uniform set; the exact value is an
+//!   O(N²) query).
+//!
+//! Shared by every `N` with the same `λ`: the table `π·z(t)` of the kernel mean
+//! `z(t) = ∫ exp(λ(μ·x − 1))·max(0, n·x)/π dx` at `μ·n = t`: [`Z_NODES`] equally spaced nodes
+//! over `t ∈ [−1, 1]`, each with the quadratic that interpolates `π·z` over the half-spacing
+//! either side (the library evaluates the nearest node's quadratic; no float-to-integer
+//! conversion is needed to find it).
+
+use std::f64::consts::PI;
+use std::fmt::Write as _;
+
+/// The file in `tables/` that says what to bake.
+pub const CONFIG_FILE: &str = "tables/probe.txt";
+
+/// The largest N a config may ask for.
+pub const MAX_N: usize = 1024;
+
+/// The most members one family may have.
+pub const MAX_MEMBERS: usize = 8;
+
+/// Nodes of the `π·z(t)` table over `t ∈ [−1, 1]`.
+pub const Z_NODES: usize = 129;
+
+/// Query normals for the direction-averaged posterior variance.
+pub const VARIANCE_NORMALS: usize = 256;
+
+/// `round(2⁶⁴/Φ)`: the crate's golden phase step (`sf::GOLDEN_PHASE`).
+const GOLDEN_PHASE: u64 = 0x9E37_79B9_7F4A_7C16;
+
+/// One probe size to bake: `N`, `σ′` and the family of sharpnesses.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spec {
+    /// Number of samples (even).
+    pub n: usize,
+    /// Noise ratio `σ′` (rounded to f32 first).
+    pub sigma: f32,
+    /// Sharpnesses `λ` of the family, strictly increasing (rounded to f32 first).
+    pub lambdas: Vec<f32>,
+}
+
+/// Parses `probe = N sigma lambda1 lambda2 …` lines; `#` starts a comment.
+///
+/// `N` even, in 2..=[`MAX_N`], strictly increasing over the lines; `σ′` finite and
+/// positive; 1..=[`MAX_MEMBERS`] sharpnesses, finite, in (0, 10⁴], strictly increasing.
+pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
+    let mut specs: Vec<Spec> = Vec::new();
+    for (no, raw) in text.lines().enumerate() {
+        let line = raw.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let at = |msg: String| format!("line {}: {msg}", no + 1);
+        let rest = line
+            .strip_prefix("probe")
+            .and_then(|r| r.trim_start().strip_prefix('='))
+            .ok_or_else(|| at(format!("expected `probe = N sigma lambda…`, found `{line}`")))?;
+        let fields: Vec<&str> = rest.split_whitespace().collect();
+        if fields.len() < 3 {
+            return Err(at("expected N, sigma and at least one lambda".into()));
+        }
+        let n: usize = fields[0].parse().map_err(|e| at(format!("N `{}`: {e}", fields[0])))?;
+        if !(2..=MAX_N).contains(&n) || n % 2 != 0 {
+            return Err(at(format!("N = {n} must be even and in 2..={MAX_N}")));
+        }
+        if let Some(last) = specs.last() {
+            if n <= last.n {
+                return Err(at(format!("N = {n} must exceed the previous line's {}", last.n)));
+            }
+        }
+        let number = |s: &str, what: &str| -> Result<f32, String> {
+            let x: f32 = s.parse().map_err(|e| at(format!("{what} `{s}`: {e}")))?;
+            if x.is_finite() && x > 0.0 {
+                Ok(x)
+            } else {
+                Err(at(format!("{what} = {s} must be finite and positive")))
+            }
+        };
+        let sigma = number(fields[1], "sigma")?;
+        let mut lambdas = Vec::new();
+        for f in &fields[2..] {
+            let l = number(f, "lambda")?;
+            if l > 1e4 {
+                return Err(at(format!("lambda = {f} exceeds 10⁴")));
+            }
+            if lambdas.last().is_some_and(|&p| l <= p) {
+                return Err(at(format!("lambdas must increase strictly (`{f}`)")));
+            }
+            lambdas.push(l);
+        }
+        if lambdas.len() > MAX_MEMBERS {
+            return Err(at(format!("at most {MAX_MEMBERS} lambdas per size")));
+        }
+        specs.push(Spec { n, sigma, lambdas });
+    }
+    if specs.is_empty() {
+        return Err("no `probe = …` line".into());
+    }
+    Ok(specs)
+}
+
+/// Direction j of the N-point sphere spherical Fibonacci set (the crate's
+/// `SphericalFibonacci::<N>` order): `z = 1 − (2j + 1)/N`, `φ = 2π·frac(j·round(2⁶⁴/Φ)/2⁶⁴)`.
+pub fn sphere_direction(j: usize, n: usize) -> [f64; 3] {
+    let a = (2 * j + 1) as f64 / n as f64; // 1 − z
+    let z = 1.0 - a;
+    let s = (a * (2.0 - a)).max(0.0).sqrt();
+    let turns = (j as u64).wrapping_mul(GOLDEN_PHASE) as f64 / 18_446_744_073_709_551_616.0;
+    let (sp, cp) = (2.0 * PI * turns).sin_cos();
+    [s * cp, s * sp, z]
+}
+
+/// The kernel mean `z(t) = ∫ exp(λ(μ·x − 1))·max(0, n·x)/π dx` for `μ·n = t`.
+pub fn kernel_mean(lambda: f64, t: f64) -> f64 {
+    super::bmc::kernel_mean(lambda, t.clamp(-1.0, 1.0))
+}
+
+/// Node spacing of the `π·z` table in `t`.
+pub fn z_step() -> f64 {
+    2.0 / (Z_NODES - 1) as f64
+}
+
+/// The `π·z` table: per node `tₖ = −1 + k·h` the coefficients `[v, s, c]` of the quadratic
+/// `v + f·s + f²·c` in `f = (t − tₖ)/h` that interpolates `π·z` at the two ends and the
+/// middle of the stretch of `t` the node serves (`|f| ≤ ½`, inside [−1, 1]).
+pub fn z_table(lambda: f64) -> Vec<[f64; 3]> {
+    let h = z_step();
+    let z = |f: f64, tk: f64| PI * kernel_mean(lambda, tk + f * h);
+    (0..Z_NODES)
+        .map(|k| {
+            let tk = -1.0 + k as f64 * h;
+            // Served offsets: [−½, ½], cut to [0, ½] at t = −1 and [−½, 0] at t = 1.
+            let (lo, hi) = if k == 0 {
+                (0.0, 0.5)
+            } else if k == Z_NODES - 1 {
+                (-0.5, 0.0)
+            } else {
+                (-0.5, 0.5)
+            };
+            let mid = 0.5 * (lo + hi);
+            let (f0, f1, f2) = (lo, mid, hi);
+            let (y0, y1, y2) = (z(f0, tk), z(f1, tk), z(f2, tk));
+            // Newton form, then expanded in powers of f.
+            let d01 = (y1 - y0) / (f1 - f0);
+            let d12 = (y2 - y1) / (f2 - f1);
+            let c = (d12 - d01) / (f2 - f0);
+            let s = d01 - c * (f0 + f1);
+            let v = y0 - s * f0 - c * f0 * f0;
+            [v, s, c]
+        })
+        .collect()
+}
+
+/// The library's lookup, in f64: the nearest node's quadratic, `k = round(u)`,
+/// `u = (t + 1)/h`, `f = u − k`.
+pub fn z_interpolate(table: &[[f64; 3]], t: f64) -> f64 {
+    let u = (t.clamp(-1.0, 1.0) + 1.0) / z_step();
+    let k = (u.round() as usize).min(Z_NODES - 1);
+    let f = u - k as f64;
+    let [v, s, c] = table[k];
+    v + f * (s + f * c)
+}
+
+/// One baked family member.
+#[derive(Clone, Debug)]
+pub struct Member {
+    /// `N`.
+    pub n: usize,
+    /// Sharpness `λ` (f32-exact).
+    pub lambda: f64,
+    /// `σ′` (f32-exact).
+    pub sigma: f64,
+    /// `E⁻¹/2`, packed rows of the lower triangle (`m(m + 1)/2`; f64 only, not baked).
+    pub inv_even: Vec<f64>,
+    /// `F⁻¹/2`, packed likewise.
+    pub inv_odd: Vec<f64>,
+    /// The Cholesky factor `L` of `E = LLᵀ`, packed rows of the lower triangle with the
+    /// diagonal stored as its reciprocal `1/Lᵢᵢ` (what is baked, as f32).
+    pub chol_even: Vec<f64>,
+    /// The factor of `F`, packed likewise.
+    pub chol_odd: Vec<f64>,
+    /// `g = E⁻¹1` (`m`); `Q⁻¹1 = (g, Jg)`.
+    pub g: Vec<f64>,
+    /// `s₁ = 1ᵀQ⁻¹1`.
+    pub s1: f64,
+    /// `log det Q`.
+    pub log_det: f64,
+    /// `π²V̄`.
+    pub vbar: f64,
+    /// Posterior variance of `E(n)` (σ_f = 1), mean over [`VARIANCE_NORMALS`] normals.
+    pub mean_variance: f64,
+    /// Its maximum over the same normals.
+    pub max_variance: f64,
+    /// `λ_max/λ_min` of `Q` (from the blocks' extreme eigenvalues).
+    pub condition: f64,
+}
+
+impl Member {
+    /// The likelihood constant `−½·log det Q − ½·log s₁`.
+    pub fn likelihood_constant(&self) -> f64 {
+        -0.5 * self.log_det - 0.5 * self.s1.ln()
+    }
+
+    /// `Q⁻¹y` through the blocks, in f64 (the library's algorithm).
+    pub fn solve(&self, y: &[f64]) -> Vec<f64> {
+        let n = self.n;
+        let m = n / 2;
+        let s: Vec<f64> = (0..m).map(|p| y[p] + y[n - 1 - p]).collect();
+        let d: Vec<f64> = (0..m).map(|p| y[p] - y[n - 1 - p]).collect();
+        let a = packed_mul(&self.inv_even, m, &s);
+        let b = packed_mul(&self.inv_odd, m, &d);
+        let mut x = vec![0.0; n];
+        for p in 0..m {
+            x[p] = a[p] + b[p];
+            x[n - 1 - p] = a[p] - b[p];
+        }
+        x
+    }
+}
+
+/// `A·x` for a symmetric `A` stored as packed lower-triangle rows.
+pub fn packed_mul(a: &[f64], m: usize, x: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; m];
+    let mut k = 0;
+    for i in 0..m {
+        for j in 0..=i {
+            out[i] += a[k] * x[j];
+            if i != j {
+                out[j] += a[k] * x[i];
+            }
+            k += 1;
+        }
+    }
+    out
+}
+
+/// The symmetric inverse of the SPD `a` (`m × m`, row-major) by Cholesky with one step of
+/// iterative refinement per column, its Cholesky factor (row-major), and `log det a`.
+fn spd_inverse(a: &[f64], m: usize) -> Result<(Vec<f64>, Vec<f64>, f64), String> {
+    let l = super::bmc::cholesky(a, m)?;
+    let log_det = 2.0 * (0..m).map(|i| l[i * m + i].ln()).sum::<f64>();
+    let mut inv = vec![0.0; m * m];
+    for c in 0..m {
+        let e: Vec<f64> = (0..m).map(|i| if i == c { 1.0 } else { 0.0 }).collect();
+        let mut x = chol_solve(&l, m, &e);
+        let r: Vec<f64> =
+            (0..m).map(|i| e[i] - (0..m).map(|j| a[i * m + j] * x[j]).sum::<f64>()).collect();
+        for (x, d) in x.iter_mut().zip(chol_solve(&l, m, &r)) {
+            *x += d;
+        }
+        for i in 0..m {
+            inv[i * m + c] = x[i];
+        }
+    }
+    // Symmetrise the rounding.
+    for i in 0..m {
+        for j in 0..i {
+            let v = 0.5 * (inv[i * m + j] + inv[j * m + i]);
+            inv[i * m + j] = v;
+            inv[j * m + i] = v;
+        }
+    }
+    Ok((inv, l, log_det))
+}
+
+/// A row-major lower factor packed by rows, the diagonal replaced by its reciprocal.
+fn pack_factor(l: &[f64], m: usize) -> Vec<f64> {
+    let mut out = Vec::with_capacity(m * (m + 1) / 2);
+    for i in 0..m {
+        for j in 0..i {
+            out.push(l[i * m + j]);
+        }
+        out.push(1.0 / l[i * m + i]);
+    }
+    out
+}
+
+/// `x = (LLᵀ)⁻¹b` from a [`pack_factor`] layout, in f64: the library's algorithm (forward
+/// substitution by rows, back substitution by columns through the same rows).
+pub fn packed_cholesky_solve(packed: &[f64], m: usize, b: &[f64]) -> Vec<f64> {
+    let mut x = b.to_vec();
+    let row = |i: usize| &packed[i * (i + 1) / 2..(i + 1) * (i + 2) / 2];
+    for i in 0..m {
+        let r = row(i);
+        let acc: f64 = (0..i).map(|j| r[j] * x[j]).sum();
+        x[i] = (x[i] - acc) * r[i];
+    }
+    for i in (0..m).rev() {
+        let r = row(i);
+        x[i] *= r[i];
+        for j in 0..i {
+            x[j] -= r[j] * x[i];
+        }
+    }
+    x
+}
+
+fn chol_solve(l: &[f64], n: usize, b: &[f64]) -> Vec<f64> {
+    let mut y = b.to_vec();
+    for i in 0..n {
+        let mut s = y[i];
+        for k in 0..i {
+            s -= l[i * n + k] * y[k];
+        }
+        y[i] = s / l[i * n + i];
+    }
+    for i in (0..n).rev() {
+        let mut s = y[i];
+        for k in i + 1..n {
+            s -= l[k * n + i] * y[k];
+        }
+        y[i] = s / l[i * n + i];
+    }
+    y
+}
+
+/// Largest eigenvalue of the symmetric `a` by power iteration.
+fn largest_eigenvalue(a: &[f64], m: usize) -> f64 {
+    let mut v: Vec<f64> = (0..m).map(|i| 1.0 + 0.37 * (i as f64).sin()).collect();
+    let mut est = 0.0;
+    for _ in 0..200 {
+        let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        v.iter_mut().for_each(|x| *x /= norm);
+        let w: Vec<f64> = (0..m).map(|i| (0..m).map(|j| a[i * m + j] * v[j]).sum()).collect();
+        est = v.iter().zip(&w).map(|(a, b)| a * b).sum::<f64>();
+        v = w;
+    }
+    est
+}
+
+/// The posterior variance of `E(n)` for σ_f = 1 given `ζ = π·z(n)` at each sample:
+/// `π²V̄ − ζᵀQ⁻¹ζ + (π − 1ᵀQ⁻¹ζ)²/s₁`.
+pub fn posterior_variance(member: &Member, zeta: &[f64]) -> f64 {
+    let u = member.solve(zeta);
+    let quad: f64 = zeta.iter().zip(&u).map(|(a, b)| a * b).sum();
+    let one: f64 = u.iter().sum();
+    member.vbar - quad + (PI - one).powi(2) / member.s1
+}
+
+/// Bakes one member: `N` samples, sharpness `λ`, noise ratio `σ′`.
+pub fn bake_member(n: usize, lambda: f32, sigma: f32) -> Result<Member, String> {
+    if n < 2 || n % 2 != 0 {
+        return Err(format!("probe N = {n} must be even and at least 2"));
+    }
+    let m = n / 2;
+    let (lambda, sigma) = (f64::from(lambda), f64::from(sigma));
+    let xs: Vec<[f64; 3]> = (0..n).map(|j| sphere_direction(j, n)).collect();
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let k = |i: usize, j: usize| {
+        // |xᵢ − xⱼ|² = 2 − 2xᵢ·xⱼ, from the difference for accuracy near 0.
+        let d2: f64 = (0..3).map(|c| (xs[i][c] - xs[j][c]).powi(2)).sum();
+        (-0.5 * lambda * d2).exp() + if i == j { sigma * sigma } else { 0.0 }
+    };
+    let mut e = vec![0.0; m * m];
+    let mut f = vec![0.0; m * m];
+    for p in 0..m {
+        for q in 0..m {
+            let direct = k(p, q);
+            let mirrored = k(p, n - 1 - q);
+            e[p * m + q] = direct + mirrored;
+            f[p * m + q] = direct - mirrored;
+        }
+    }
+    // Symmetrise (the mirrored terms agree only to rounding).
+    for p in 0..m {
+        for q in 0..p {
+            let (a, b) = (0.5 * (e[p * m + q] + e[q * m + p]), 0.5 * (f[p * m + q] + f[q * m + p]));
+            e[p * m + q] = a;
+            e[q * m + p] = a;
+            f[p * m + q] = b;
+            f[q * m + p] = b;
+        }
+    }
+    let (e_inv, e_chol, log_det_e) = spd_inverse(&e, m).map_err(|s| format!("E block: {s}"))?;
+    let (f_inv, f_chol, log_det_f) = spd_inverse(&f, m).map_err(|s| format!("F block: {s}"))?;
+    let pack = |a: &[f64]| -> Vec<f64> {
+        let mut out = Vec::with_capacity(m * (m + 1) / 2);
+        for i in 0..m {
+            for j in 0..=i {
+                out.push(0.5 * a[i * m + j]);
+            }
+        }
+        out
+    };
+    let chol_even = pack_factor(&e_chol, m);
+    // g = E⁻¹1 through the f32-rounded factor the library stores (in f64 arithmetic), so that
+    // `Q⁻¹1` is the one the library's solves imply.
+    let rounded: Vec<f64> = chol_even.iter().map(|&x| f64::from(x as f32)).collect();
+    let g = packed_cholesky_solve(&rounded, m, &vec![1.0; m]);
+    let s1 = 2.0 * g.iter().sum::<f64>();
+    // Extreme eigenvalues of Q are those of E and F.
+    let max_eig = largest_eigenvalue(&e, m).max(largest_eigenvalue(&f, m));
+    let min_eig = 1.0 / largest_eigenvalue(&e_inv, m).max(largest_eigenvalue(&f_inv, m));
+    let mut member = Member {
+        n,
+        lambda,
+        sigma,
+        inv_even: pack(&e_inv),
+        inv_odd: pack(&f_inv),
+        chol_even,
+        chol_odd: pack_factor(&f_chol, m),
+        g,
+        s1,
+        log_det: log_det_e + log_det_f,
+        vbar: PI * PI * super::bmc::kernel_mean_mean(lambda),
+        mean_variance: 0.0,
+        max_variance: 0.0,
+        condition: max_eig / min_eig,
+    };
+    let table = z_table(lambda);
+    let (mut sum, mut max) = (0.0f64, 0.0f64);
+    for q in 0..VARIANCE_NORMALS {
+        let nq = sphere_direction(q, VARIANCE_NORMALS);
+        let zeta: Vec<f64> = xs.iter().map(|&x| z_interpolate(&table, dot(x, nq))).collect();
+        let v = posterior_variance(&member, &zeta);
+        sum += v;
+        max = max.max(v);
+    }
+    member.mean_variance = sum / VARIANCE_NORMALS as f64;
+    member.max_variance = max;
+    Ok(member)
+}
+
+/// Every member of every spec, in order.
+pub fn bake_all(specs: &[Spec]) -> Result<Vec<Vec<Member>>, String> {
+    specs
+        .iter()
+        .map(|s| {
+            s.lambdas
+                .iter()
+                .map(|&l| bake_member(s.n, l, s.sigma).map_err(|e| format!("N = {}: {e}", s.n)))
+                .collect()
+        })
+        .collect()
+}
+
+/// The distinct sharpnesses over all specs, ascending (one `π·z` table each).
+pub fn distinct_lambdas(specs: &[Spec]) -> Vec<f32> {
+    let mut all: Vec<f32> = specs.iter().flat_map(|s| s.lambdas.iter().copied()).collect();
+    all.sort_by(f32::total_cmp);
+    all.dedup();
+    all
+}
+
+/// Flash bytes of one size's family: per member the two packed blocks, `g`, and six
+/// scalars; plus a quadratic `π·z` table per member (shared with other sizes of the same
+/// `λ`).
+pub fn family_bytes(n: usize, members: usize) -> usize {
+    let m = n / 2;
+    members * 4 * (m * (m + 1) + m + 8 + 3 * Z_NODES)
+}
+
+/// The Rust source that `build.rs` writes to `$OUT_DIR/probe_tables.rs`.
+pub fn render(specs: &[Spec], baked: &[Vec<Member>]) -> String {
+    let mut s = String::new();
+    s.push_str("// @generated by build.rs; do not edit\n");
+    let _ = writeln!(s, "// From gen/probe.rs and {CONFIG_FILE}.");
+    let sizes: Vec<String> = specs.iter().map(|b| b.n.to_string()).collect();
+    let _ = writeln!(s, "\n/// The sizes N with a baked probe family.");
+    let _ = writeln!(
+        s,
+        "pub(crate) const PROBE_SIZES: [usize; {}] = [{}];",
+        specs.len(),
+        sizes.join(", ")
+    );
+    let lambdas = distinct_lambdas(specs);
+    let z_name = |l: f32| format!("PROBE_Z_{:08X}", l.to_bits());
+    for &l in &lambdas {
+        let _ = writeln!(
+            s,
+            "\n/// π·z(t) ≈ v + f·(s + f·c) about t = −1 + 2k/{} for λ = {l:?}.",
+            Z_NODES - 1
+        );
+        let _ = writeln!(s, "static {}: [[f32; 3]; {Z_NODES}] = [", z_name(l));
+        for [v, d, c] in z_table(f64::from(l)) {
+            let _ = writeln!(
+                s,
+                "    [{}, {}, {}], // {:?}",
+                bits(v as f32),
+                bits(d as f32),
+                bits(c as f32),
+                v as f32
+            );
+        }
+        s.push_str("];\n");
+    }
+    for (spec, members) in specs.iter().zip(baked) {
+        let n = spec.n;
+        let m = n / 2;
+        for (k, mb) in members.iter().enumerate() {
+            for (name, data) in [("EVEN", &mb.chol_even), ("ODD", &mb.chol_odd), ("G", &mb.g)] {
+                let _ = writeln!(s, "\nstatic PROBE_{n}_{k}_{name}: [f32; {}] = [", data.len());
+                for &x in data.iter() {
+                    let _ = writeln!(s, "    {},", bits(x as f32));
+                }
+                s.push_str("];\n");
+            }
+        }
+        let _ = writeln!(
+            s,
+            "\n/// Family for N = {n}, σ′ = {:?}: {} member(s).",
+            spec.sigma,
+            members.len()
+        );
+        let _ = writeln!(
+            s,
+            "static PROBE_{n}_FAMILY: [crate::probe::sealed::Baked; {}] = [",
+            members.len()
+        );
+        for (k, mb) in members.iter().enumerate() {
+            let l = spec.lambdas[k];
+            s.push_str("    crate::probe::sealed::Baked {\n");
+            let _ = writeln!(s, "        chol_even: &PROBE_{n}_{k}_EVEN,");
+            let _ = writeln!(s, "        chol_odd: &PROBE_{n}_{k}_ODD,");
+            let _ = writeln!(s, "        g: &PROBE_{n}_{k}_G,");
+            let _ = writeln!(s, "        z: &{},", z_name(l));
+            for (name, x) in [
+                ("lambda", l),
+                ("sigma", spec.sigma),
+                ("s1", mb.s1 as f32),
+                ("likelihood_constant", mb.likelihood_constant() as f32),
+                ("vbar", mb.vbar as f32),
+                ("mean_variance", mb.mean_variance as f32),
+                ("max_variance", mb.max_variance as f32),
+                ("condition", mb.condition as f32),
+            ] {
+                let _ = writeln!(s, "        {name}: {}, // {x:?}", bits(x));
+            }
+            s.push_str("    },\n");
+        }
+        s.push_str("];\n");
+        let _ = writeln!(s, "impl crate::probe::sealed::Sealed for crate::bmc::Size<{n}> {{");
+        let _ = writeln!(s, "    const HALF: usize = {m};");
+        let _ = writeln!(
+            s,
+            "    const FAMILY: &'static [crate::probe::sealed::Baked] = &PROBE_{n}_FAMILY;"
+        );
+        s.push_str("}\n");
+        let _ = writeln!(s, "impl crate::probe::ProbeSize for crate::bmc::Size<{n}> {{}}");
+    }
+    s
+}
+
+/// `f32::from_bits(0x3f80_0000)`-style text: the exact bits.
+fn bits(x: f32) -> String {
+    let b = x.to_bits();
+    format!("f32::from_bits(0x{:04x}_{:04x})", b >> 16, b & 0xffff)
+}

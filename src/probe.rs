@@ -1,0 +1,545 @@
+//! A lighting probe: `N` radiance samples in, irradiance with an error bar for any normal out,
+//! by Bayesian Monte Carlo with per-probe hyperparameter selection.
+//!
+//! The probe samples radiance in the `N` directions of the spherical Fibonacci sphere set
+//! (optionally rotated as a whole, for example anew at every update), then answers any number
+//! of irradiance queries `E(n) = ∫ L(x)·max(0, n·x) dx`.
+//!
+//! # Model
+//! The Gaussian-process model of [`crate::bmc`] (Rasmussen and Ghahramani 2002): kernel
+//! `k(x, x′) = σ_f²·(exp(λ(x·x′ − 1)) + σ′²δ)`, constant prior mean `β` by generalised least
+//! squares, `Q = K + σ′²I`. With an isotropic kernel `Q` depends only on the set's dot
+//! products, so one baked `Q⁻¹` serves every rotation of the set.
+//! - [`Probe::update`]: `β = 1ᵀQ⁻¹Y/1ᵀQ⁻¹1` and `α = Q⁻¹(Y − β1)`, O(N²) (`N²/2`
+//!   multiply-adds per family member: the set is symmetric under a half-turn, which splits
+//!   `Q` into two `N/2` blocks, each solved with its baked f32 Cholesky factor; see
+//!   `gen/probe.rs`).
+//! - [`Probe::irradiance`]: `E(n) = π·β + Σᵢ π·z(xᵢ·n)·αᵢ`, O(N), where
+//!   `z(t) = ∫ exp(λ(μ·x − 1))·max(0, n·x)/π dx` at `μ·n = t` comes from a baked
+//!   129-node table of local quadratics.
+//! - **Per-probe selection** (local adaptation): `build.rs` bakes a small *family* of
+//!   sharpnesses `λ` (one `σ′`); each update computes, for every member, the restricted
+//!   (REML) log marginal likelihood with `σ_f` profiled out,
+//!   `ℓ = −½·log det Q − ½·log 1ᵀQ⁻¹1 − ((N − 1)/2)·log(rᵀQ⁻¹r)`, `r = Y − β1`
+//!   (per channel, summed over channels for RGB), and keeps the member with the highest `ℓ`.
+//! - **Error bar**: `σ̂_f² = rᵀQ⁻¹r/(N − 1)` per channel (the REML estimate) times the unit
+//!   posterior variance `π²(V̄ − zᵀQ⁻¹z + (1 − 1ᵀQ⁻¹z)²/1ᵀQ⁻¹1)` (Rasmussen and Williams
+//!   2006, eq. 2.42). [`Probe::irradiance`] uses the unit variance averaged over directions
+//!   (baked; O(1)); [`Probe::posterior_variance`] computes it exactly for `n` in O(N²).
+//!
+//! ```
+//! use sphere_quadrature::{probe::Probe, Vec3};
+//!
+//! let mut probe = Probe::<64>::new();
+//! // Measure the radiance in each direction; here a sky brighter towards +z.
+//! let samples = probe.directions().map(|d| 1.0 + 0.5 * d.z);
+//! probe.update(&samples)?;
+//! let e = probe.irradiance(Vec3::Z)?;
+//! // Exact: π·(1 + 0.5·2/3) = 4.18879; the nugget σ′ smooths a little.
+//! assert!((e.value - 4.18879).abs() < 0.02);
+//! assert!(e.variance >= 0.0);
+//! // A constant is exact, with zero variance.
+//! probe.update(&[2.0; 64])?;
+//! let e = probe.irradiance(Vec3::new(0.3, -0.4, 0.2))?;
+//! assert!((e.value - 2.0 * core::f32::consts::PI).abs() < 1e-5 && e.variance == 0.0);
+//! # Ok::<(), sphere_quadrature::Error>(())
+//! ```
+//!
+//! A size without a baked family does not compile:
+//! ```compile_fail,E0277
+//! let _ = sphere_quadrature::probe::Probe::<18>::new();
+//! ```
+//!
+//! # Bad input
+//! - A NaN or infinite sample: [`Probe::update`] returns [`Error::InvalidRadiance`] and the
+//!   probe keeps its previous data.
+//! - A zero, NaN or infinite normal: [`Error::InvalidDirection`].
+//! - A rotation that is not a finite orthonormal matrix: [`Error::InvalidParameter`].
+//! - A [`Selection::Member`] index outside the family: [`Error::InvalidParameter`].
+//! - Before the first update every query returns zero irradiance and zero variance.
+
+use crate::bmc::Size;
+use crate::error::Error;
+use crate::radiance::Radiance;
+use crate::rotation::Mat3;
+use crate::sf::SphericalFibonacci;
+use crate::vec3::Vec3;
+use core::f32::consts::PI;
+
+/// Nodes of each baked `π·z(t)` table over `t ∈ [−1, 1]` (`gen/probe.rs` emits arrays of
+/// this length; a mismatch does not compile).
+pub const Z_NODES: usize = 129;
+
+/// Implemented for exactly the sizes `N` with a baked probe family (`Size<16>`, `Size<32>`,
+/// `Size<64>`, `Size<128>`, `Size<256>` by default); sealed.
+#[diagnostic::on_unimplemented(
+    message = "no Bayesian Monte Carlo probe family is baked for `{Self}`",
+    label = "this sample count has no baked probe tables",
+    note = "the baked sizes are N = 16, 32, 64, 128, 256 (tables/probe.txt; even N only)"
+)]
+pub trait ProbeSize: sealed::Sealed {}
+
+pub(crate) mod sealed {
+    /// One baked family member (see `gen/probe.rs`).
+    #[derive(Debug)]
+    pub struct Baked {
+        /// Cholesky factor of `E`, packed lower-triangle rows, reciprocal diagonal.
+        pub chol_even: &'static [f32],
+        /// Cholesky factor of `F`, likewise.
+        pub chol_odd: &'static [f32],
+        /// `g = E⁻¹1`.
+        pub g: &'static [f32],
+        /// `[v, s, c]` per node: `π·z ≈ v + f·(s + f·c)`.
+        pub z: &'static [[f32; 3]; super::Z_NODES],
+        pub lambda: f32,
+        pub sigma: f32,
+        pub s1: f32,
+        pub likelihood_constant: f32,
+        pub vbar: f32,
+        pub mean_variance: f32,
+        pub max_variance: f32,
+        pub condition: f32,
+    }
+
+    pub trait Sealed {
+        const HALF: usize;
+        const FAMILY: &'static [Baked];
+    }
+}
+
+/// The sizes with a baked probe family, ascending.
+pub const BAKED_SIZES: &[usize] = &crate::tables::PROBE_SIZES;
+
+/// One member of a baked family: the kernel hyperparameters and figures of its `Q`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Member {
+    /// Kernel sharpness `λ = 2/l²`.
+    pub lambda: f32,
+    /// Length scale `l = √(2/λ)`.
+    pub length_scale: f32,
+    /// Noise ratio `σ′ = σ_n/σ_f`.
+    pub sigma: f32,
+    /// 2-norm condition number of `Q = K + σ′²I`.
+    pub condition: f32,
+    /// Posterior variance of `E(n)` for σ_f = 1, averaged over 256 normals.
+    pub mean_variance: f32,
+    /// Its maximum over the same normals.
+    pub max_variance: f32,
+}
+
+/// How [`Probe::update_with`] picks the family member.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Selection {
+    /// The member of highest marginal likelihood for these samples (what [`Probe::update`]
+    /// does).
+    MaxLikelihood,
+    /// Always this member (index into [`Probe::family`]).
+    Member(usize),
+}
+
+/// An estimate and its posterior variance (per channel for RGB).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Estimate<T> {
+    /// The posterior mean.
+    pub value: T,
+    /// The posterior variance (σ̂_f² from the samples times the unit variance).
+    pub variance: T,
+}
+
+/// A Bayesian Monte Carlo lighting probe of `N` samples (`f32` or RGB `[f32; 3]`).
+///
+/// Holds its sample directions, `α` and `β`: `12N + 4CN` bytes plus a few words (1 KiB for
+/// `N = 64`, one channel). The baked tables are in flash ([`Probe::table_bytes`]).
+#[derive(Clone, Debug)]
+pub struct Probe<const N: usize, T: Radiance = f32>
+where
+    Size<N>: ProbeSize,
+{
+    directions: [Vec3; N],
+    alpha: [T; N],
+    pi_beta: T,
+    signal_variance: T,
+    selected: usize,
+    log_likelihood: f32,
+}
+
+impl<const N: usize, T: Radiance> Default for Probe<N, T>
+where
+    Size<N>: ProbeSize,
+{
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize, T: Radiance> Probe<N, T>
+where
+    Size<N>: ProbeSize,
+{
+    const FAMILY: &'static [sealed::Baked] = <Size<N> as sealed::Sealed>::FAMILY;
+    const HALF: usize = {
+        assert!(2 * <Size<N> as sealed::Sealed>::HALF == N, "baked block size differs from N/2");
+        <Size<N> as sealed::Sealed>::HALF
+    };
+
+    /// A probe on the unrotated spherical Fibonacci sphere set, with no data yet.
+    #[must_use]
+    pub fn new() -> Self {
+        Self {
+            directions: SphericalFibonacci::<N>::new().points(),
+            alpha: [T::ZERO; N],
+            pi_beta: T::ZERO,
+            signal_variance: T::ZERO,
+            selected: 0,
+            log_likelihood: 0.0,
+        }
+    }
+
+    /// Rotates the sample set as a whole (from the unrotated set, not cumulatively) and
+    /// clears the data: take the next samples in the new [`Probe::directions`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] unless `m` is finite and orthonormal to 10⁻³ (the probe is
+    /// then left unchanged).
+    pub fn set_rotation(&mut self, m: Mat3) -> Result<(), Error> {
+        let r = m.rows;
+        let ok = r.iter().all(|v| v.is_finite())
+            && (0..3).all(|i| {
+                (0..3).all(|j| {
+                    let want = if i == j { 1.0 } else { 0.0 };
+                    let got = r[i].dot(r[j]);
+                    (got - want).abs() <= 1e-3
+                })
+            });
+        if !ok {
+            return Err(Error::InvalidParameter);
+        }
+        *self = Self {
+            directions: SphericalFibonacci::<N>::new().with_rotation(m).points(),
+            ..Self::new()
+        };
+        Ok(())
+    }
+
+    /// The `N` unit directions in which to sample radiance, in the order [`Probe::update`]
+    /// expects.
+    #[must_use]
+    pub const fn directions(&self) -> &[Vec3; N] {
+        &self.directions
+    }
+
+    /// The baked family, in order of increasing `λ`.
+    pub fn family() -> impl ExactSizeIterator<Item = Member> + Clone {
+        Self::FAMILY.iter().map(member_of)
+    }
+
+    /// Family member `k`, or `None` past the end.
+    #[must_use]
+    pub fn member(k: usize) -> Option<Member> {
+        Self::FAMILY.get(k).map(member_of)
+    }
+
+    /// Flash bytes of this size's baked tables: per member two packed `N/2` factors, `g` and
+    /// eight scalars, plus its quadratic `π·z` table (shared with other sizes of the same `λ`).
+    #[must_use]
+    pub const fn table_bytes() -> usize {
+        let m = N / 2;
+        Self::FAMILY.len() * 4 * (m * (m + 1) + m + 8 + 3 * Z_NODES)
+    }
+
+    /// Takes new samples (radiance in [`Probe::directions`], in order) and picks the family
+    /// member of highest marginal likelihood.
+    ///
+    /// # Errors
+    /// [`Error::InvalidRadiance`] if a sample has a NaN or infinite channel; the probe keeps
+    /// its previous data.
+    pub fn update(&mut self, samples: &[T; N]) -> Result<(), Error> {
+        self.update_with(samples, Selection::MaxLikelihood)
+    }
+
+    /// [`Probe::update`] with a chosen [`Selection`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidRadiance`] for a non-finite sample; [`Error::InvalidParameter`] for a
+    /// member index outside the family. Either way the probe keeps its previous data.
+    pub fn update_with(&mut self, samples: &[T; N], selection: Selection) -> Result<(), Error> {
+        if !samples.iter().all(|y| (0..T::CHANNELS).all(|c| y.channel(c).is_finite())) {
+            return Err(Error::InvalidRadiance);
+        }
+        let range = match selection {
+            Selection::MaxLikelihood => 0..Self::FAMILY.len(),
+            Selection::Member(k) if k < Self::FAMILY.len() => k..k + 1,
+            Selection::Member(_) => return Err(Error::InvalidParameter),
+        };
+        let m = Self::HALF;
+        // Work with Y − c·1, c = Y₀: α and ℓ are unchanged (β shifts by c), but the
+        // ill-conditioned products then see only the samples' spread, not their mean, and a
+        // constant gives exactly α = 0.
+        let c = samples.first().copied().unwrap_or(T::ZERO);
+        let centred: [T; N] = samples.map(|y| y.add(c.scale(-1.0)));
+        // Half sums (y_p + y_{N−1−p})/2 in the first half, half differences in the second.
+        let mut sd = [T::ZERO; N];
+        {
+            let (lo, hi) = centred.split_at(m);
+            let (s, d) = sd.split_at_mut(m);
+            for (((ya, yb), sp), dp) in lo.iter().zip(hi.iter().rev()).zip(s).zip(d) {
+                *sp = ya.add(*yb).scale(0.5);
+                *dp = ya.add(yb.scale(-1.0)).scale(0.5);
+            }
+        }
+        let mut best: Option<(usize, f32)> = None;
+        let mut work = [T::ZERO; N];
+        for k in range {
+            let Some(f) = Self::FAMILY.get(k) else { break };
+            let (alpha, pi_beta, q) = Self::solve(f, &centred, &sd, &mut work);
+            let mut ll = T::CHANNELS as f32 * f.likelihood_constant;
+            for c in 0..T::CHANNELS {
+                let qc = q.channel(c).max(f32::MIN_POSITIVE);
+                ll -= 0.5 * (N as f32 - 1.0) * crate::math::ln(qc);
+            }
+            if best.is_none_or(|(_, b)| ll > b) {
+                best = Some((k, ll));
+                self.alpha = *alpha;
+                self.pi_beta = pi_beta.add(c.scale(PI));
+                // rᵀQ⁻¹r ≥ 0; rounding can leave −10⁻¹⁰ for constant samples.
+                self.signal_variance = q.map(|x| x.max(0.0) / (N as f32 - 1.0));
+            }
+        }
+        if let Some((k, ll)) = best {
+            self.selected = k;
+            self.log_likelihood = ll;
+        }
+        Ok(())
+    }
+
+    /// `α = Q⁻¹(Y − β1)` (in `work`), `π·β` and `rᵀQ⁻¹r = Σ Yᵢ ⊙ αᵢ` for member `f`, from
+    /// the half sums and differences `sd` of `samples`.
+    fn solve<'w>(
+        f: &sealed::Baked,
+        samples: &[T; N],
+        sd: &[T; N],
+        work: &'w mut [T; N],
+    ) -> (&'w [T; N], T, T) {
+        let m = Self::HALF;
+        // a = E⁻¹(s/2), b = F⁻¹(d/2): (Q⁻¹Y)_p = a_p + b_p, (Q⁻¹Y)_{N−1−p} = a_p − b_p.
+        let mut ab = *sd;
+        {
+            let (a, b) = ab.split_at_mut(m);
+            cholesky_solve(f.chol_even, a);
+            cholesky_solve(f.chol_odd, b);
+        }
+        let (a, b) = ab.split_at(m);
+        // 1ᵀQ⁻¹Y = 2·Σa; β = that / s₁.
+        let beta = a.iter().fold(T::ZERO, |acc, &x| acc.add(x)).scale(2.0 / f.s1);
+        let mut q = T::ZERO;
+        {
+            let (lo, hi) = work.split_at_mut(m);
+            let (ylo, yhi) = samples.split_at(m);
+            for ((((&ap, &bp), &g), (out_lo, out_hi)), (yp, yq)) in a
+                .iter()
+                .zip(b)
+                .zip(f.g)
+                .zip(lo.iter_mut().zip(hi.iter_mut().rev()))
+                .zip(ylo.iter().zip(yhi.iter().rev()))
+            {
+                let even = ap.mul_add(beta, -g);
+                *out_lo = even.add(bp);
+                *out_hi = even.add(bp.scale(-1.0));
+                q = q.add(yp.mul(*out_lo)).add(yq.mul(*out_hi));
+            }
+        }
+        (work, beta.scale(PI), q)
+    }
+
+    /// Irradiance `E(n)` with the direction-averaged posterior variance, O(N).
+    ///
+    /// # Errors
+    /// [`Error::InvalidDirection`] for a zero or non-finite normal.
+    pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
+        let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
+        let Some(f) = Self::FAMILY.get(self.selected) else {
+            return Err(Error::InvalidParameter);
+        };
+        // Two passes: node indices and offsets for every sample (branch-free arithmetic the
+        // compiler vectorises), then the table reads and the weighted sum.
+        const SCALE: f32 = (Z_NODES - 1) as f32 * 0.5;
+        // Adding 1.5·2²³ rounds u ∈ [0, 128] to the nearest integer, which lands in the low
+        // mantissa bits: no float-to-integer conversion.
+        const ROUND: f32 = 12_582_912.0;
+        let mut node = [0u32; N];
+        let mut offset = [0.0f32; N];
+        for ((x, k), t) in self.directions.iter().zip(&mut node).zip(&mut offset) {
+            let u = (x.dot(n).clamp(-1.0, 1.0) + 1.0) * SCALE;
+            let r = u + ROUND;
+            *k = r.to_bits() & 0xff;
+            *t = u - (r - ROUND);
+        }
+        let mut acc = self.pi_beta;
+        for ((&k, &t), &a) in node.iter().zip(&offset).zip(&self.alpha) {
+            let [v, s, c] = f.z[(k as usize).min(Z_NODES - 1)];
+            acc = acc.mul_add(a, v + t * (s + t * c));
+        }
+        Ok(Estimate { value: acc, variance: self.signal_variance.scale(f.mean_variance) })
+    }
+
+    /// The exact posterior variance of `E(n)` (σ̂_f² times the unit variance at `n`), O(N²).
+    ///
+    /// # Errors
+    /// [`Error::InvalidDirection`] for a zero or non-finite normal.
+    pub fn posterior_variance(&self, normal: Vec3) -> Result<T, Error> {
+        let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
+        let Some(f) = Self::FAMILY.get(self.selected) else {
+            return Err(Error::InvalidParameter);
+        };
+        let m = Self::HALF;
+        // In f64: the variance is a small difference of large terms when σ′ is small.
+        let zeta: [f64; N] = core::array::from_fn(|i| match self.directions.get(i) {
+            Some(x) => f64::from(z_lookup(f.z, x.dot(n))),
+            None => 0.0,
+        });
+        // With s, d the sums and differences of mirrored ζ and E = LLᵀ, F = MMᵀ:
+        // ζᵀQ⁻¹ζ = ½‖L⁻¹s‖² + ½‖M⁻¹d‖² and 1ᵀQ⁻¹ζ = gᵀs. Forward substitutions only.
+        let (lo, hi) = zeta.split_at(m);
+        let mut s = [0.0f64; N];
+        {
+            let (sv, dv) = s.split_at_mut(m);
+            for (((a, b), sp), dp) in lo.iter().zip(hi.iter().rev()).zip(sv).zip(dv) {
+                *sp = a + b;
+                *dp = a - b;
+            }
+        }
+        let (sv, dv) = s.split_at_mut(m);
+        let one: f64 = sv.iter().zip(f.g).map(|(x, &g)| x * f64::from(g)).sum();
+        forward_substitution(f.chol_even, sv);
+        forward_substitution(f.chol_odd, dv);
+        let quad =
+            0.5 * (sv.iter().map(|x| x * x).sum::<f64>() + dv.iter().map(|x| x * x).sum::<f64>());
+        let pi = core::f64::consts::PI;
+        let v = f64::from(f.vbar) - quad + (pi - one) * (pi - one) / f64::from(f.s1);
+        Ok(self.signal_variance.scale(v.max(0.0) as f32))
+    }
+
+    /// The family member in use (index into [`Probe::family`]).
+    #[must_use]
+    pub const fn selected(&self) -> usize {
+        self.selected
+    }
+
+    /// The restricted log marginal likelihood of the last update's samples under the
+    /// selected member (up to a constant shared by the family).
+    #[must_use]
+    pub const fn log_likelihood(&self) -> f32 {
+        self.log_likelihood
+    }
+
+    /// `σ̂_f² = rᵀQ⁻¹r/(N − 1)` of the last update, per channel.
+    #[must_use]
+    pub const fn signal_variance(&self) -> T {
+        self.signal_variance
+    }
+
+    /// `π·β`: the irradiance of the fitted constant mean (`β` is the GLS mean radiance).
+    #[must_use]
+    pub const fn mean_irradiance(&self) -> T {
+        self.pi_beta
+    }
+}
+
+fn member_of(b: &sealed::Baked) -> Member {
+    Member {
+        lambda: b.lambda,
+        length_scale: crate::math::sqrt(2.0 / b.lambda),
+        sigma: b.sigma,
+        condition: b.condition,
+        mean_variance: b.mean_variance,
+        max_variance: b.max_variance,
+    }
+}
+
+/// `π·z(t)` from the 129-node table: the nearest node's quadratic in the offset `f`,
+/// `|f| ≤ ½`. `t` is clamped to [−1, 1].
+#[inline]
+fn z_lookup(z: &[[f32; 3]; Z_NODES], t: f32) -> f32 {
+    const SCALE: f32 = (Z_NODES - 1) as f32 * 0.5;
+    // Adding 1.5·2²³ rounds u ∈ [0, 128] to the nearest integer, which lands in the low
+    // mantissa bits: no float-to-integer conversion (NaN gives node 0 and a NaN offset).
+    const ROUND: f32 = 12_582_912.0;
+    let u = (t.clamp(-1.0, 1.0) + 1.0) * SCALE;
+    let r = u + ROUND;
+    let k = ((r.to_bits() & 0xff) as usize).min(Z_NODES - 1);
+    let f = u - (r - ROUND);
+    let [v, s, c] = z[k];
+    v + f * (s + f * c)
+}
+
+/// `x ← (LLᵀ)⁻¹x` for `L` stored as packed lower-triangle rows with a reciprocal diagonal:
+/// forward substitution by rows, then back substitution by columns through the same rows.
+fn cholesky_solve<T: Radiance>(packed: &[f32], x: &mut [T]) {
+    let mut rest = packed;
+    for i in 0..x.len() {
+        let Some((row, r)) = rest.split_at_checked(i + 1) else { return };
+        rest = r;
+        let Some((&inv, off)) = row.split_last() else { return };
+        let (head, tail) = x.split_at_mut(i);
+        let Some(xi) = tail.first_mut() else { return };
+        let acc = off.iter().zip(head.iter()).fold(*xi, |acc, (&l, &xj)| acc.mul_add(xj, -l));
+        *xi = acc.scale(inv);
+    }
+    let mut end = packed.len();
+    for i in (0..x.len()).rev() {
+        let start = end.saturating_sub(i + 1);
+        let Some(row) = packed.get(start..end) else { return };
+        end = start;
+        let Some((&inv, off)) = row.split_last() else { return };
+        let (head, tail) = x.split_at_mut(i);
+        let Some(xi) = tail.first_mut() else { return };
+        *xi = xi.scale(inv);
+        let v = *xi;
+        for (&l, xj) in off.iter().zip(head.iter_mut()) {
+            *xj = xj.mul_add(v, -l);
+        }
+    }
+}
+
+/// `x ← L⁻¹x` (forward substitution only), in f64, for the packed factor as above.
+fn forward_substitution(packed: &[f32], x: &mut [f64]) {
+    let mut rest = packed;
+    for i in 0..x.len() {
+        let Some((row, r)) = rest.split_at_checked(i + 1) else { return };
+        rest = r;
+        let Some((&inv, off)) = row.split_last() else { return };
+        let (head, tail) = x.split_at_mut(i);
+        let Some(xi) = tail.first_mut() else { return };
+        let acc: f64 = off.iter().zip(head.iter()).map(|(&l, &xj)| f64::from(l) * xj).sum();
+        *xi = (*xi - acc) * f64::from(inv);
+    }
+}
+
+/// The normalised cosine-weighted average used by ray-traced irradiance-field probes, the
+/// cheapest peer of [`Probe::irradiance`]:
+/// `E ≈ π·Σ max(0, n·xⱼ)·Yⱼ / Σ max(0, n·xⱼ)` (zero when no direction is above the horizon).
+///
+/// # Errors
+/// [`Error::InvalidDirection`] for a zero or non-finite normal; [`Error::LengthMismatch`] when
+/// the slices differ in length.
+pub fn cosine_weighted_average<T: Radiance>(
+    directions: &[Vec3],
+    samples: &[T],
+    normal: Vec3,
+) -> Result<T, Error> {
+    if directions.len() != samples.len() {
+        return Err(Error::LengthMismatch);
+    }
+    let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
+    let mut acc = T::ZERO;
+    let mut weight = 0.0f32;
+    for (x, &y) in directions.iter().zip(samples) {
+        let c = x.dot(n).max(0.0);
+        acc = acc.mul_add(y, c);
+        weight += c;
+    }
+    Ok(if weight > 0.0 { acc.scale(PI / weight) } else { T::ZERO })
+}
