@@ -43,8 +43,7 @@ fn main() {
     let sets = gen::bmc::bake_all(&specs).unwrap_or_else(|e| panic!("{bmc_file}: {e}"));
     write_if_changed(&out_dir.join("bmc_tables.rs"), &gen::bmc::render(&sets));
     // The same weights as Q1.31 integers for the `fixed` feature (`src/fixed_point.rs`).
-    let fixed = gen::bmc::render_fixed(&sets)
-        .unwrap_or_else(|e| panic!("{bmc_file}: fixed-point weights: {e}"));
+    let fixed = gen::bmc::render_fixed(&sets);
     write_if_changed(&out_dir.join("bmc_fixed_tables.rs"), &fixed);
 
     let (probe_file, text) = config(gen::probe::CONFIG_FILE, PROBE_ENV);

@@ -53,12 +53,13 @@ mod compare;
 #[path = "common/tiers.rs"]
 mod tiers;
 
+use tiers::Mixture;
+
 use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use reference::analytic::SgLight;
 use reference::envmap::{luminance, EnvMap};
 use reference::rng::Rng;
 use reference::sf::{hemisphere_point, sphere_point};
@@ -363,38 +364,8 @@ fn probe_samples(maps: &[EnvMap], rotations: &[Vec<[[f64; 3]; 3]>], n: usize) ->
     out
 }
 
-/// A synthetic radiance field: a constant plus 1–4 spherical Gaussians.
-struct Field {
-    constant: f64,
-    lobes: Vec<SgLight>,
-}
-
-impl Field {
-    fn random(rng: &mut Rng) -> Field {
-        let count = 1 + (rng.next_u64() % 4) as usize;
-        let lobes = (0..count)
-            .map(|_| {
-                let axis = rng.uniform_sphere();
-                let sharpness = 2.0 + 18.0 * rng.next_f64();
-                let amplitude = 0.2 + 0.8 * rng.next_f64();
-                SgLight { axis, sharpness, amplitude }
-            })
-            .collect();
-        Field { constant: 0.5 * rng.next_f64(), lobes }
-    }
-
-    fn value(&self, d: [f64; 3]) -> f64 {
-        self.constant + self.lobes.iter().map(|g| g.value(d)).sum::<f64>()
-    }
-
-    /// Exact irradiance about +z.
-    fn irradiance(&self) -> f64 {
-        PI * self.constant + self.lobes.iter().map(|g| g.irradiance([0.0, 0.0, 1.0])).sum::<f64>()
-    }
-}
-
 /// QMC-SF irradiance about +z from the crate (cosine-morphed hemisphere SF, phase 0).
-fn qmc_sf_n<const N: usize>(fields: &[Field]) -> Vec<f64> {
+fn qmc_sf_n<const N: usize>(fields: &[Mixture]) -> Vec<f64> {
     fields
         .iter()
         .map(|f| {
@@ -406,7 +377,7 @@ fn qmc_sf_n<const N: usize>(fields: &[Field]) -> Vec<f64> {
         .collect()
 }
 
-fn qmc_sf(n: usize, fields: &[Field]) -> Vec<f64> {
+fn qmc_sf(n: usize, fields: &[Mixture]) -> Vec<f64> {
     match n {
         16 => qmc_sf_n::<16>(fields),
         32 => qmc_sf_n::<32>(fields),
@@ -900,9 +871,9 @@ fn main() {
 
     // ---- Renderer form on synthetic fields ----
     let t = Instant::now();
-    let mut rng = Rng::new(SYNTH_SEED);
-    let fields: Vec<Field> = (0..DRAWS).map(|_| Field::random(&mut rng)).collect();
-    let truth: Vec<f64> = fields.iter().map(Field::irradiance).collect();
+    // The benchmark's `synthetic` tier generator, with this tool's own seed.
+    let fields: Vec<Mixture> = tiers::mixtures(DRAWS, SYNTH_SEED);
+    let truth: Vec<f64> = fields.iter().map(|f| f.irradiance([0.0, 0.0, 1.0])).collect();
     let mut render_results = Vec::new();
     for &n in &NS {
         let points: Vec<[f64; 3]> = (0..n as u64).map(|j| hemisphere_point(j, n as u64)).collect();

@@ -112,4 +112,54 @@ fn main() {
             }
         }
     }
+    // The Bayesian Monte Carlo probe, kept as one value here (the module rebuilds it from its
+    // seed and stored samples in every call): directions, RGB sky, update, irradiance.
+    let seeds = [0u32, 1, 0xdead_beef];
+    let normals = [0, 1, 2, 3, 4, 5, 6, 7, 24, 25, 26];
+    for (s, &seed) in seeds.iter().enumerate() {
+        let (mut probe, code) = match api::bmc_probe(seed) {
+            Ok(p) => (p, 0),
+            Err(e) => (api::BmcProbe::new(), api::error_code(e)),
+        };
+        println!("w_bmc_reset {s} {code}");
+        println!("w_bmc_selected {} {}", 3 * s, probe.selected());
+        bmc_irradiance(&probe, "w_bmc_empty", s, normal(0));
+        let dirs = *probe.directions();
+        for (j, d) in dirs.iter().enumerate() {
+            for (c, v) in [d.x, d.y, d.z].into_iter().enumerate() {
+                value("w_bmc_dir", 3 * api::BMC_N * s + 3 * j + c, v);
+            }
+        }
+        let mut samples = dirs.map(scenario::sky_rgb);
+        println!("w_bmc_update {} {}", 3 * s, update_code(probe.update(&samples)));
+        println!("w_bmc_selected {} {}", 3 * s + 1, probe.selected());
+        for (ni, &i) in normals.iter().enumerate() {
+            bmc_irradiance(&probe, "w_bmc_irr", normals.len() * s + ni, normal(i));
+        }
+        let good = samples[17][1];
+        samples[17][1] = f32::NAN;
+        println!("w_bmc_update {} {}", 3 * s + 1, update_code(probe.update(&samples)));
+        samples[17][1] = good;
+        samples[40][2] = f32::NEG_INFINITY;
+        println!("w_bmc_update {} {}", 3 * s + 2, update_code(probe.update(&samples)));
+        println!("w_bmc_selected {} {}", 3 * s + 2, probe.selected());
+        bmc_irradiance(&probe, "w_bmc_kept", s, normal(3));
+    }
+}
+
+fn update_code(r: Result<(), sphere_quadrature::Error>) -> i32 {
+    r.map_or_else(api::error_code, |()| 0)
+}
+
+/// `key_code k code`, then on success the six values `[r, g, b, var_r, var_g, var_b]`.
+fn bmc_irradiance(probe: &api::BmcProbe, key: &str, k: usize, [x, y, z]: [f32; 3]) {
+    match probe.irradiance(sphere_quadrature::Vec3::new(x, y, z)) {
+        Ok(e) => {
+            println!("{key}_code {k} 0");
+            for (c, v) in e.value.into_iter().chain(e.variance).enumerate() {
+                value(key, 6 * k + c, v);
+            }
+        }
+        Err(e) => println!("{key}_code {k} {}", api::error_code(e)),
+    }
 }

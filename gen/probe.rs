@@ -271,10 +271,10 @@ fn spd_inverse(a: &[f64], m: usize) -> Result<(Vec<f64>, Vec<f64>, f64), String>
     let mut inv = vec![0.0; m * m];
     for c in 0..m {
         let e: Vec<f64> = (0..m).map(|i| if i == c { 1.0 } else { 0.0 }).collect();
-        let mut x = chol_solve(&l, m, &e);
+        let mut x = super::bmc::chol_solve(&l, m, &e);
         let r: Vec<f64> =
             (0..m).map(|i| e[i] - (0..m).map(|j| a[i * m + j] * x[j]).sum::<f64>()).collect();
-        for (x, d) in x.iter_mut().zip(chol_solve(&l, m, &r)) {
+        for (x, d) in x.iter_mut().zip(super::bmc::chol_solve(&l, m, &r)) {
             *x += d;
         }
         for i in 0..m {
@@ -322,25 +322,6 @@ pub fn packed_cholesky_solve(packed: &[f64], m: usize, b: &[f64]) -> Vec<f64> {
         }
     }
     x
-}
-
-fn chol_solve(l: &[f64], n: usize, b: &[f64]) -> Vec<f64> {
-    let mut y = b.to_vec();
-    for i in 0..n {
-        let mut s = y[i];
-        for k in 0..i {
-            s -= l[i * n + k] * y[k];
-        }
-        y[i] = s / l[i * n + i];
-    }
-    for i in (0..n).rev() {
-        let mut s = y[i];
-        for k in i + 1..n {
-            s -= l[k * n + i] * y[k];
-        }
-        y[i] = s / l[i * n + i];
-    }
-    y
 }
 
 /// Largest eigenvalue of the symmetric `a` by power iteration.

@@ -129,8 +129,12 @@ pub fn weighted_sum<const N: usize>(weights_q31: &[u32; N], samples: &[U16F16; N
     U16F16(u32::try_from((acc + (1 << 30)) >> 31).unwrap_or(u32::MAX))
 }
 
-/// Implemented for exactly the sizes with baked fixed-point BMC weights (the sizes of
-/// [`crate::bmc::BAKED_SIZES`]); sealed.
+/// Implemented for exactly the sizes with baked fixed-point BMC weights; sealed.
+///
+/// These are the sizes of [`crate::bmc::BAKED_SIZES`] whose weights all lie in [0, 1), which
+/// is every shipped size. It is a trait of its own, not part of `bmc::BakedSize`, because a
+/// table of your own (`SPHERE_QUADRATURE_BMC_TABLE`) may give a size a negative weight: that
+/// size keeps its float renderer and gets no fixed-point form, instead of failing the build.
 #[diagnostic::on_unimplemented(
     message = "no fixed-point Bayesian Monte Carlo weights are baked for `{Self}`",
     label = "this sample count has no baked weights",

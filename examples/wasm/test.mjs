@@ -91,4 +91,46 @@ for (let i = 0; i < 8; i++) {
   });
 }
 
+// 4. The Bayesian Monte Carlo probe (64 RGB samples): the module writes its directions,
+// JavaScript evaluates the scenario's RGB sky there (`sky_rgb` in f32 arithmetic via
+// Math.fround) into the sample buffer, the module updates the probe and answers irradiance
+// queries with variances; bad normals and NaN/infinite samples give error codes.
+const BMC_SEEDS = [0, 1, 0xdeadbeef];
+const BMC_NORMALS = [0, 1, 2, 3, 4, 5, 6, 7, 24, 25, 26];
+const fr = Math.fround;
+function skyRgb(x, y, z) {
+  const l = w.sky(x, y, z);
+  return [l, fr(fr(fr(0.9) * l) + fr(fr(0.05) * x)), fr(fr(0.8) * l)];
+}
+function bmcIrradiance(key, k, [x, y, z]) {
+  const code = w.bmc_probe_irradiance(x, y, z);
+  out.push(`${key}_code ${k} ${code}`);
+  if (code !== 0) return;
+  const e = new Float32Array(memory.buffer, w.bmc_out_ptr(), 6);
+  for (let c = 0; c < 6; c++) value(key, 6 * k + c, e[c]);
+}
+BMC_SEEDS.forEach((seed, s) => {
+  out.push(`w_bmc_reset ${s} ${w.bmc_probe_reset(seed)}`);
+  out.push(`w_bmc_selected ${3 * s} ${w.bmc_probe_selected()}`);
+  bmcIrradiance("w_bmc_empty", s, normal(0));
+  const n = w.bmc_probe_directions();
+  if (n !== 64) throw new Error(`bmc_probe_directions returned ${n}, expected 64`);
+  const dirs = new Float32Array(memory.buffer, w.dirs_ptr(), 3 * n);
+  for (let j = 0; j < 3 * n; j++) value("w_bmc_dir", 3 * n * s + j, dirs[j]);
+  const samples = new Float32Array(memory.buffer, w.samples_ptr(), 3 * n);
+  for (let j = 0; j < n; j++) samples.set(skyRgb(dirs[3 * j], dirs[3 * j + 1], dirs[3 * j + 2]), 3 * j);
+  out.push(`w_bmc_update ${3 * s} ${w.bmc_probe_update()}`);
+  out.push(`w_bmc_selected ${3 * s + 1} ${w.bmc_probe_selected()}`);
+  BMC_NORMALS.forEach((i, ni) => bmcIrradiance("w_bmc_irr", BMC_NORMALS.length * s + ni, normal(i)));
+  // Bad samples are refused and the probe keeps the previous data.
+  const good = samples[3 * 17 + 1];
+  samples[3 * 17 + 1] = NaN;
+  out.push(`w_bmc_update ${3 * s + 1} ${w.bmc_probe_update()}`);
+  samples[3 * 17 + 1] = good;
+  samples[3 * 40 + 2] = -Infinity;
+  out.push(`w_bmc_update ${3 * s + 2} ${w.bmc_probe_update()}`);
+  out.push(`w_bmc_selected ${3 * s + 2} ${w.bmc_probe_selected()}`);
+  bmcIrradiance("w_bmc_kept", s, normal(3));
+});
+
 process.stdout.write(out.join("\n") + "\n");

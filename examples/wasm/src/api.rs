@@ -3,8 +3,9 @@
 //! (`examples/wasm_scenario.rs`), which calls the same functions natively; the crate root must
 //! declare `mod scenario` (the Cortex-M4 scenario, for its procedural `sky`).
 
+use sphere_quadrature::probe::Probe;
 use sphere_quadrature::qmc::{self, LobeSampler};
-use sphere_quadrature::{sg, Lobe, SphericalFibonacci, Vec3};
+use sphere_quadrature::{sg, Error, Lobe, RotationSequence, SphericalFibonacci, Vec3};
 
 use crate::scenario;
 
@@ -74,4 +75,33 @@ pub fn probe_sampler(nx: f32, ny: f32, nz: f32, lo: u32, hi: u32, n: u32) -> Opt
         return None;
     }
     LobeSampler::new(Vec3::new(nx, ny, nz), Lobe::Cosine, n, phase(lo, hi)).ok()
+}
+
+/// Sample count of the Bayesian Monte Carlo probe.
+pub const BMC_N: usize = 64;
+
+/// The Bayesian Monte Carlo probe of the exports: 64 RGB samples.
+pub type BmcProbe = Probe<BMC_N, [f32; 3]>;
+
+/// A BMC probe without data on the spherical Fibonacci set, rotated by the first rotation of
+/// `RotationSequence::new(seed)`, or unrotated for `seed` = 0.
+///
+/// # Errors
+/// Those of [`Probe::set_rotation`] (none for the rotations of the sequence).
+pub fn bmc_probe(seed: u32) -> Result<BmcProbe, Error> {
+    let mut p = BmcProbe::new();
+    if seed != 0 {
+        p.set_rotation(RotationSequence::new(u64::from(seed)).next_rotation())?;
+    }
+    Ok(p)
+}
+
+/// The status code the exports return for an error (0 means success).
+pub fn error_code(e: Error) -> i32 {
+    match e {
+        Error::InvalidDirection => 1,
+        Error::InvalidRadiance => 2,
+        Error::InvalidParameter => 3,
+        _ => 255,
+    }
 }

@@ -23,9 +23,9 @@ mod api;
 mod scenario;
 
 use core::fmt::{Arguments, Write};
-use core::sync::atomic::{AtomicU32, AtomicU8, Ordering::Relaxed};
+use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering::Relaxed};
 
-use api::PROBE_MAX;
+use api::{BmcProbe, BMC_N, PROBE_MAX};
 use sphere_quadrature::qmc::LobeSampler;
 use sphere_quadrature::{Lobe, Vec3};
 
@@ -38,6 +38,19 @@ static OUT: [AtomicU8; OUT_CAP] = [const { AtomicU8::new(0) }; OUT_CAP];
 static SAMPLES: [AtomicU32; PROBE_MAX] = [const { AtomicU32::new(0) }; PROBE_MAX];
 /// Directions written by `probe_directions` (x, y, z per sample, f32 bits).
 static DIRS: [AtomicU32; 3 * PROBE_MAX] = [const { AtomicU32::new(0) }; 3 * PROBE_MAX];
+
+/// Seed of the BMC probe's rotation (0: unrotated), set by `bmc_probe_reset`.
+static BMC_SEED: AtomicU32 = AtomicU32::new(0);
+/// Whether [`BMC_DATA`] holds the probe's accepted samples (false after a reset).
+static BMC_HAS_DATA: AtomicBool = AtomicBool::new(false);
+/// The BMC probe's last accepted RGB samples (f32 bits, r, g, b per direction). The probe is
+/// rebuilt from the seed and these samples in every call: no probe state in statics.
+static BMC_DATA: [AtomicU32; 3 * BMC_N] = [const { AtomicU32::new(0) }; 3 * BMC_N];
+/// The last `bmc_probe_irradiance`: `[r, g, b, var_r, var_g, var_b]` (f32 bits).
+static BMC_OUT: [AtomicU32; 6] = [const { AtomicU32::new(0) }; 6];
+
+// `bmc_probe_update` reads its RGB samples from [`SAMPLES`].
+const _: () = assert!(3 * BMC_N <= PROBE_MAX);
 
 /// Writes the scenario's lines into [`OUT`].
 struct Buffer {
@@ -136,9 +149,94 @@ fn estimate_samples_phong(rx: f32, ry: f32, rz: f32, e: f32, lo: u32, hi: u32, n
     sum / s.len() as f32
 }
 
+/// `3·BMC_N` floats of `buffer` as RGB samples.
+fn load_rgb(buffer: &[AtomicU32]) -> [[f32; 3]; BMC_N] {
+    let mut ys = [[0.0f32; 3]; BMC_N];
+    for (y, a) in ys.iter_mut().zip(buffer.chunks_exact(3)) {
+        for (c, v) in y.iter_mut().zip(a) {
+            *c = f32::from_bits(v.load(Relaxed));
+        }
+    }
+    ys
+}
+
+/// The BMC probe in its current state: rebuilt from [`BMC_SEED`] and updated with
+/// [`BMC_DATA`] when it holds samples.
+fn bmc_current() -> Result<BmcProbe, sphere_quadrature::Error> {
+    let mut p = api::bmc_probe(BMC_SEED.load(Relaxed))?;
+    if BMC_HAS_DATA.load(Relaxed) {
+        p.update(&load_rgb(&BMC_DATA))?;
+    }
+    Ok(p)
+}
+
+/// A new BMC probe (rotation seed `seed`, no data); 0, or an error code (state unchanged).
+fn bmc_reset(seed: u32) -> i32 {
+    match api::bmc_probe(seed) {
+        Ok(_) => {
+            BMC_SEED.store(seed, Relaxed);
+            BMC_HAS_DATA.store(false, Relaxed);
+            0
+        }
+        Err(e) => api::error_code(e),
+    }
+}
+
+/// Writes the BMC probe's directions into [`DIRS`]; their number, or −1 on error.
+fn bmc_directions() -> i32 {
+    let Ok(p) = api::bmc_probe(BMC_SEED.load(Relaxed)) else { return -1 };
+    for (d, slot) in p.directions().iter().zip(DIRS.chunks_exact(3)) {
+        slot[0].store(d.x.to_bits(), Relaxed);
+        slot[1].store(d.y.to_bits(), Relaxed);
+        slot[2].store(d.z.to_bits(), Relaxed);
+    }
+    i32::try_from(BMC_N).unwrap_or(-1)
+}
+
+/// Updates the BMC probe with the `3·BMC_N` floats at the start of [`SAMPLES`]; 0, or an
+/// error code (the probe keeps its previous data).
+fn bmc_update() -> i32 {
+    let ys = load_rgb(&SAMPLES);
+    let result = api::bmc_probe(BMC_SEED.load(Relaxed)).and_then(|mut p| p.update(&ys));
+    match result {
+        Ok(()) => {
+            for (y, slot) in ys.iter().zip(BMC_DATA.chunks_exact(3)) {
+                for (c, a) in y.iter().zip(slot) {
+                    a.store(c.to_bits(), Relaxed);
+                }
+            }
+            BMC_HAS_DATA.store(true, Relaxed);
+            0
+        }
+        Err(e) => api::error_code(e),
+    }
+}
+
+/// The BMC probe's irradiance about `(nx, ny, nz)` into [`BMC_OUT`] (NaN on error); 0, or an
+/// error code.
+fn bmc_irradiance(nx: f32, ny: f32, nz: f32) -> i32 {
+    let (values, code) = match bmc_current().and_then(|p| p.irradiance(Vec3::new(nx, ny, nz))) {
+        Ok(e) => {
+            let [r, g, b] = e.value;
+            let [vr, vg, vb] = e.variance;
+            ([r, g, b, vr, vg, vb], 0)
+        }
+        Err(e) => ([f32::NAN; 6], api::error_code(e)),
+    };
+    for (v, a) in values.iter().zip(&BMC_OUT) {
+        a.store(v.to_bits(), Relaxed);
+    }
+    code
+}
+
+/// The BMC probe's selected family member; −1 on error.
+fn bmc_selected() -> i32 {
+    bmc_current().map_or(-1, |p| i32::try_from(p.selected()).unwrap_or(-1))
+}
+
 #[allow(unsafe_code)] // `#[no_mangle]` only; every body is one safe call.
 mod exports {
-    use super::{api, DIRS, OUT, SAMPLES};
+    use super::{api, BMC_OUT, DIRS, OUT, SAMPLES};
 
     /// Runs the Cortex-M4 scenario; the text is at `out_ptr()`, this many bytes (−1: overflow).
     #[no_mangle]
@@ -213,6 +311,48 @@ mod exports {
         n: u32,
     ) -> f32 {
         super::estimate_samples_phong(rx, ry, rz, e, lo, hi, n)
+    }
+
+    /// Starts a new 64-sample RGB Bayesian Monte Carlo probe without data, rotated by
+    /// `RotationSequence::new(seed).next_rotation()` (unrotated for `seed` = 0); 0, or an
+    /// error code.
+    #[no_mangle]
+    pub extern "C" fn bmc_probe_reset(seed: u32) -> i32 {
+        super::bmc_reset(seed)
+    }
+
+    /// Writes the BMC probe's 64 directions (x, y, z each) to `dirs_ptr()`; returns 64, or −1.
+    #[no_mangle]
+    pub extern "C" fn bmc_probe_directions() -> i32 {
+        super::bmc_directions()
+    }
+
+    /// Updates the BMC probe with the 64 RGB radiance samples (r, g, b each, in the order of
+    /// `bmc_probe_directions`) at `samples_ptr()`; 0, or an error code (2: a NaN or infinite
+    /// sample; the probe then keeps its previous data).
+    #[no_mangle]
+    pub extern "C" fn bmc_probe_update() -> i32 {
+        super::bmc_update()
+    }
+
+    /// Writes the BMC probe's irradiance about `(nx, ny, nz)`, `[r, g, b, var_r, var_g,
+    /// var_b]`, to `bmc_out_ptr()`; 0, or an error code (1: a zero or non-finite normal; the
+    /// six values are then NaN). Zero before the first update.
+    #[no_mangle]
+    pub extern "C" fn bmc_probe_irradiance(nx: f32, ny: f32, nz: f32) -> i32 {
+        super::bmc_irradiance(nx, ny, nz)
+    }
+
+    /// The BMC probe's selected family member (index into its baked family); −1 on error.
+    #[no_mangle]
+    pub extern "C" fn bmc_probe_selected() -> i32 {
+        super::bmc_selected()
+    }
+
+    /// Address of the BMC irradiance output (6 f32).
+    #[no_mangle]
+    pub extern "C" fn bmc_out_ptr() -> usize {
+        BMC_OUT.as_ptr() as usize
     }
 
     /// The procedural sky of the scenario.
