@@ -116,6 +116,8 @@ fn main() {
     // seed and stored samples in every call): directions, RGB sky, update, irradiance.
     let seeds = [0u32, 1, 0xdead_beef];
     let normals = [0, 1, 2, 3, 4, 5, 6, 7, 24, 25, 26];
+    // (normal index, Phong exponent); the last two are bad.
+    let glossy = [(0, 5.0f32), (1, 20.0), (4, 100.0), (7, 0.0), (25, -1.0), (26, f32::NAN)];
     for (s, &seed) in seeds.iter().enumerate() {
         let (mut probe, code) = match api::bmc_probe(seed) {
             Ok(p) => (p, 0),
@@ -135,6 +137,9 @@ fn main() {
         println!("w_bmc_selected {} {}", 3 * s + 1, probe.selected());
         for (ni, &i) in normals.iter().enumerate() {
             bmc_irradiance(&probe, "w_bmc_irr", normals.len() * s + ni, normal(i));
+        }
+        for (gi, &(i, e)) in glossy.iter().enumerate() {
+            bmc_glossy(&probe, "w_bmc_glossy", glossy.len() * s + gi, normal(i), e);
         }
         let good = samples[17][1];
         samples[17][1] = f32::NAN;
@@ -158,6 +163,25 @@ fn bmc_irradiance(probe: &api::BmcProbe, key: &str, k: usize, [x, y, z]: [f32; 3
             println!("{key}_code {k} 0");
             for (c, v) in e.value.into_iter().chain(e.variance).enumerate() {
                 value(key, 6 * k + c, v);
+            }
+        }
+        Err(e) => println!("{key}_code {k} {}", api::error_code(e)),
+    }
+}
+
+/// `key_code k code`, then on success `[r, g, b, var_r, var_g, var_b]` of the Phong glossy
+/// query (as the module's `bmc_probe_glossy`).
+fn bmc_glossy(probe: &api::BmcProbe, key: &str, k: usize, [x, y, z]: [f32; 3], e: f32) {
+    let result = sphere_quadrature::sg::SphericalGaussian::phong_moments(
+        sphere_quadrature::Vec3::new(x, y, z),
+        e,
+    )
+    .and_then(|lobe| Ok((probe.glossy(&lobe)?, probe.glossy_variance(&lobe)?)));
+    match result {
+        Ok((v, var)) => {
+            println!("{key}_code {k} 0");
+            for (c, x) in v.into_iter().chain(var).enumerate() {
+                value(key, 6 * k + c, x);
             }
         }
         Err(e) => println!("{key}_code {k} {}", api::error_code(e)),

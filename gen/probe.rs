@@ -473,6 +473,16 @@ pub fn render(specs: &[Spec], baked: &[Vec<Member>]) -> String {
         specs.len(),
         sizes.join(", ")
     );
+    let (xs, ws) = super::sg::gauss_legendre(8);
+    let _ = writeln!(
+        s,
+        "\n/// 8-point Gauss–Legendre nodes and weights on [0, 1] (for `Probe::glossy_variance`)."
+    );
+    let _ = writeln!(s, "pub(crate) const GAUSS_LEGENDRE_8: [(f64, f64); 8] = [");
+    for (x, w) in xs.iter().zip(&ws) {
+        let _ = writeln!(s, "    ({:?}, {:?}),", 0.5 * (x + 1.0), 0.5 * w);
+    }
+    s.push_str("];\n");
     let lambdas = distinct_lambdas(specs);
     let z_name = |l: f32| format!("PROBE_Z_{:08X}", l.to_bits());
     for &l in &lambdas {

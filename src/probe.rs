@@ -17,6 +17,10 @@
 //! - [`Probe::irradiance`]: `E(n) = π·β + Σᵢ π·z(xᵢ·n)·αᵢ`, O(N), where
 //!   `z(t) = ∫ exp(λ(μ·x − 1))·max(0, n·x)/π dx` at `μ·n = t` comes from a baked
 //!   129-node table of local quadratics.
+//! - [`Probe::glossy`]: `∫ L·G` for a spherical-Gaussian lobe `G` (normalised Phong about the
+//!   mirror direction with [`SphericalGaussian::phong_moments`]), `β·∫G + Σᵢ zᵢ·αᵢ` in O(N)
+//!   with `zᵢ` in closed form (the kernel is an SG as well); [`Probe::glossy_variance`] is
+//!   its exact posterior variance in O(N²).
 //! - **Per-probe selection** (local adaptation): `build.rs` bakes a small *family* of
 //!   sharpnesses `λ` (one `σ′`); each update computes, for every member, the restricted
 //!   (REML) log marginal likelihood with `σ_f` profiled out,
@@ -53,7 +57,9 @@
 //! # Bad input
 //! - A NaN or infinite sample: [`Probe::update`] returns [`Error::InvalidRadiance`] and the
 //!   probe keeps its previous data.
-//! - A zero, NaN or infinite normal: [`Error::InvalidDirection`].
+//! - A zero, NaN or infinite normal or lobe axis: [`Error::InvalidDirection`].
+//! - A lobe sharpness that is negative, not finite or above [`MAX_GLOSSY_SHARPNESS`]:
+//!   [`Error::InvalidSharpness`]; a non-finite lobe amplitude: [`Error::InvalidParameter`].
 //! - A rotation that is not a finite orthonormal matrix: [`Error::InvalidParameter`].
 //! - A [`Selection::Member`] index outside the family: [`Error::InvalidParameter`].
 //! - Before the first update every query returns zero irradiance and zero variance.
@@ -63,6 +69,7 @@ use crate::error::Error;
 use crate::radiance::Radiance;
 use crate::rotation::Mat3;
 use crate::sf::SphericalFibonacci;
+use crate::sg::{full_integral_unchecked, SphericalGaussian};
 use crate::vec3::Vec3;
 use core::f32::consts::PI;
 
@@ -360,9 +367,7 @@ where
     /// [`Error::InvalidDirection`] for a zero or non-finite normal.
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
-        let Some(f) = Self::FAMILY.get(self.selected) else {
-            return Err(Error::InvalidParameter);
-        };
+        let f = self.member_in_use()?;
         // Two passes: node indices and offsets for every sample (branch-free arithmetic the
         // compiler vectorises), then the table reads and the weighted sum.
         const SCALE: f32 = (Z_NODES - 1) as f32 * 0.5;
@@ -391,17 +396,111 @@ where
     /// [`Error::InvalidDirection`] for a zero or non-finite normal.
     pub fn posterior_variance(&self, normal: Vec3) -> Result<T, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
-        let Some(f) = Self::FAMILY.get(self.selected) else {
-            return Err(Error::InvalidParameter);
-        };
-        let m = Self::HALF;
-        // In f64: the variance is a small difference of large terms when σ′ is small.
+        let f = self.member_in_use()?;
         let zeta: [f64; N] = core::array::from_fn(|i| match self.directions.get(i) {
             Some(x) => f64::from(z_lookup(f.z, x.dot(n))),
             None => 0.0,
         });
+        let v = self.unit_variance(f, &zeta, core::f64::consts::PI, f64::from(f.vbar));
+        Ok(self.signal_variance.scale(v as f32))
+    }
+
+    /// Glossy radiance: `∫ L(x)·G(x) dx` for a spherical-Gaussian lobe
+    /// `G(x) = a·exp(μ(r·x − 1))`, O(N) (one `exp`, one `expm1` and one `sqrt` per sample).
+    ///
+    /// With `G = SphericalGaussian::phong_moments(r, e)` (unit integral, `μ = e + 2`, the
+    /// Phong lobe's first Legendre moment) this is the normalised Phong-lobe average of the
+    /// radiance about the mirror direction `r`: the glossy term of a prefiltered environment.
+    /// The SG stands in for the Phong lobe: on smooth lighting that leaves an error floor of
+    /// about 1 % at `e = 5` (`examples/glossy.rs`, `docs/glossy.md`), less for sharper lobes. The lobe is integrated over the whole sphere (no horizon
+    /// clipping, no cosine factor: below the horizon a lobe of `μ = 21` keeps `e^(−21)` of
+    /// its peak).
+    ///
+    /// The kernel is an SG of sharpness `λ` too, so `zᵢ = ∫ k(xᵢ, x)·G(x) dx` is closed:
+    /// `4πa·exp(w − λ − μ)·(1 − e^(−2w))/(2w)` with `w = |λxᵢ + μr|` (the integral of the
+    /// product SG), evaluated as `exp(2λμ(t − 1)/(w + λ + μ))` so that sharp lobes do not
+    /// cancel, and with `libm` whatever the math backend (`Σ αᵢzᵢ` cancels by up to cond(Q),
+    /// so `zᵢ` needs full f32 accuracy). The estimate is `β·a·F(μ) + Σᵢ αᵢzᵢ`, `F(μ) = 2π(1 − e^(−2μ))/μ`. As `μ` grows it
+    /// tends to `a·F(μ)` times the posterior mean of the radiance at `r` (the GP interpolant).
+    ///
+    /// # Errors
+    /// [`Error::InvalidDirection`] for a zero or non-finite axis; [`Error::InvalidSharpness`]
+    /// for a sharpness that is negative, not finite or above [`MAX_GLOSSY_SHARPNESS`];
+    /// [`Error::InvalidParameter`] for a non-finite amplitude.
+    pub fn glossy(&self, lobe: &SphericalGaussian) -> Result<T, Error> {
+        let (r, mu, amp) = check_lobe(lobe)?;
+        let f = self.member_in_use()?;
+        let lambda = f.lambda;
+        let top = lambda + mu;
+        let two_lm = 2.0 * lambda * mu;
+        let scale = 4.0 * PI * amp;
+        let mut acc = self.pi_beta.scale(amp * full_integral_unchecked(mu) / PI);
+        // Always `libm`, whatever the math backend: Σ αᵢzᵢ cancels heavily for the smooth
+        // members (cond(Q) up to 10⁵), so zᵢ needs full f32 accuracy (micromath's `exp` made
+        // the λ = 1 estimate 25 % wrong).
+        for (x, &a) in self.directions.iter().zip(&self.alpha) {
+            // t − 1 = −|x − r|²/2, accurate near the lobe's axis.
+            let d = -0.5 * (*x - r).length_squared();
+            let w = libm::sqrtf((top * top + two_lm * d).max(0.0));
+            let e = libm::expf(two_lm * d / (w + top));
+            // (1 − e^(−2w))/(2w): e^(−2w) < 2⁻²⁵ past w = 9; → 1 − w as w → 0.
+            let h = if w > 9.0 {
+                0.5 / w
+            } else if w > 1e-3 {
+                -libm::expm1f(-2.0 * w) / (2.0 * w)
+            } else {
+                1.0 - w
+            };
+            acc = acc.mul_add(a, scale * e * h);
+        }
+        Ok(acc)
+    }
+
+    /// The exact posterior variance of [`Probe::glossy`] for `lobe` (σ̂_f² times the unit
+    /// variance), O(N²), in f64.
+    ///
+    /// `V̄ = ∫∫ G(x)·k(x, x′)·G(x′)` reduces, with `s = λ + μ − |λx + μr|`, to
+    /// `a²·8π²/(λμ)·∫₀^{2 min(λ, μ)} exp(s²/(2λ) − s(2λ + μ)/λ)·(1 − e^(−2(λ + μ − s)))/2 ds`,
+    /// summed by 8-point Gauss–Legendre on panels of width `2λ/(2λ + μ)` until the integrand
+    /// has fallen by `e^(−40)` (at most 41 panels: about 0.8·10⁶ Cortex-M4 instructions of soft
+    /// f64 at N = 16, 1.2·10⁶ at N = 64; README).
+    ///
+    /// # Errors
+    /// As [`Probe::glossy`].
+    pub fn glossy_variance(&self, lobe: &SphericalGaussian) -> Result<T, Error> {
+        let (r, mu, amp) = check_lobe(lobe)?;
+        let f = self.member_in_use()?;
+        let lambda = f64::from(f.lambda);
+        let (mu, amp) = (f64::from(mu), f64::from(amp));
+        let top = lambda + mu;
+        let two_lm = 2.0 * lambda * mu;
+        let scale = 4.0 * core::f64::consts::PI * amp;
+        let zeta: [f64; N] = core::array::from_fn(|i| match self.directions.get(i) {
+            Some(x) => {
+                let dx = [x.x - r.x, x.y - r.y, x.z - r.z].map(f64::from);
+                let d = -0.5 * (dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]);
+                let w = crate::math::sqrt64((top * top + two_lm * d).max(0.0));
+                let h = if w > 1e-8 { -libm::expm1(-2.0 * w) / (2.0 * w) } else { 1.0 - w };
+                scale * libm::exp(two_lm * d / (w + top)) * h
+            }
+            None => 0.0,
+        });
+        let integral = amp * glossy_full_integral(mu);
+        let v = self.unit_variance(f, &zeta, integral, amp * amp * glossy_vbar(lambda, mu));
+        Ok(self.signal_variance.scale(v as f32))
+    }
+
+    fn member_in_use(&self) -> Result<&'static sealed::Baked, Error> {
+        Self::FAMILY.get(self.selected).ok_or(Error::InvalidParameter)
+    }
+
+    /// `V̄ − ζᵀQ⁻¹ζ + (I − 1ᵀQ⁻¹ζ)²/1ᵀQ⁻¹1` for `ζᵢ = ∫ k(xᵢ, x)·φ(x) dx`, `I = ∫ φ` and
+    /// `V̄ = ∫∫ φ·k·φ` of a weight function `φ`, clamped at zero.
+    fn unit_variance(&self, f: &sealed::Baked, zeta: &[f64; N], integral: f64, vbar: f64) -> f64 {
+        let m = Self::HALF;
         // With s, d the sums and differences of mirrored ζ and E = LLᵀ, F = MMᵀ:
-        // ζᵀQ⁻¹ζ = ½‖L⁻¹s‖² + ½‖M⁻¹d‖² and 1ᵀQ⁻¹ζ = gᵀs. Forward substitutions only.
+        // ζᵀQ⁻¹ζ = ½‖L⁻¹s‖² + ½‖M⁻¹d‖² and 1ᵀQ⁻¹ζ = gᵀs. Forward substitutions only, in
+        // f64: the variance is a small difference of large terms when σ′ is small.
         let (lo, hi) = zeta.split_at(m);
         let mut s = [0.0f64; N];
         {
@@ -417,9 +516,8 @@ where
         forward_substitution(f.chol_odd, dv);
         let quad =
             0.5 * (sv.iter().map(|x| x * x).sum::<f64>() + dv.iter().map(|x| x * x).sum::<f64>());
-        let pi = core::f64::consts::PI;
-        let v = f64::from(f.vbar) - quad + (pi - one) * (pi - one) / f64::from(f.s1);
-        Ok(self.signal_variance.scale(v.max(0.0) as f32))
+        let v = vbar - quad + (integral - one) * (integral - one) / f64::from(f.s1);
+        v.max(0.0)
     }
 
     /// The family member in use (index into [`Probe::family`]).
@@ -457,6 +555,64 @@ fn member_of(b: &sealed::Baked) -> Member {
         mean_variance: b.mean_variance,
         max_variance: b.max_variance,
     }
+}
+
+/// The largest lobe sharpness [`Probe::glossy`] accepts (an angular width of 10⁻⁴ rad:
+/// a mirror, for any sample count).
+pub const MAX_GLOSSY_SHARPNESS: f32 = 1e8;
+
+fn check_lobe(lobe: &SphericalGaussian) -> Result<(Vec3, f32, f32), Error> {
+    let r = lobe.axis.try_normalize().ok_or(Error::InvalidDirection)?;
+    let mu = lobe.sharpness;
+    if !(0.0..=MAX_GLOSSY_SHARPNESS).contains(&mu) {
+        return Err(Error::InvalidSharpness);
+    }
+    if !lobe.amplitude.is_finite() {
+        return Err(Error::InvalidParameter);
+    }
+    Ok((r, mu, lobe.amplitude))
+}
+
+/// `F(μ) = 2π(1 − e^(−2μ))/μ` in f64 (`4π` at `μ = 0`).
+fn glossy_full_integral(mu: f64) -> f64 {
+    let two_pi = 2.0 * core::f64::consts::PI;
+    if mu == 0.0 {
+        2.0 * two_pi
+    } else {
+        -two_pi * libm::expm1(-2.0 * mu) / mu
+    }
+}
+
+/// `∫∫ exp(μ(r·x − 1))·exp(λ(x·x′ − 1))·exp(μ(r·x′ − 1)) dx dx′` (see
+/// [`Probe::glossy_variance`]).
+fn glossy_vbar(lambda: f64, mu: f64) -> f64 {
+    let pi = core::f64::consts::PI;
+    if mu == 0.0 {
+        // ∫∫ k = 4π·F(λ).
+        return 4.0 * pi * glossy_full_integral(lambda);
+    }
+    let rate = (2.0 * lambda + mu) / lambda;
+    let end = 2.0 * lambda.min(mu);
+    let width = 2.0 / rate;
+    let exponent = |s: f64| s * s / (2.0 * lambda) - s * rate;
+    let mut sum = 0.0;
+    let mut a = 0.0;
+    for _ in 0..64 {
+        let b = (a + width).min(end);
+        let h = b - a;
+        for &(x, w) in &crate::tables::GAUSS_LEGENDRE_8 {
+            let s = a + h * x;
+            // 1 − e^(−2w), w = λ + μ − s; e^(−40) is below f64 resolution.
+            let two_w = 2.0 * (lambda + mu - s);
+            let tail = if two_w > 40.0 { 1.0 } else { -libm::expm1(-two_w) };
+            sum += w * h * libm::exp(exponent(s)) * 0.5 * tail;
+        }
+        if b >= end || exponent(b) < -40.0 {
+            break;
+        }
+        a = b;
+    }
+    8.0 * pi * pi / (lambda * mu) * sum
 }
 
 /// `π·z(t)` from the 129-node table: the nearest node's quadratic in the offset `f`,

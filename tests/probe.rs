@@ -7,6 +7,7 @@
 use reference::analytic::SgLight;
 use reference::rng::Rng;
 use sphere_quadrature::probe::{cosine_weighted_average, Probe, ProbeSize, Selection};
+use sphere_quadrature::sg::SphericalGaussian;
 use sphere_quadrature::{bmc::Size, Error, Mat3, Vec3};
 use std::f64::consts::PI;
 
@@ -44,6 +45,33 @@ impl RefProbe {
         RefProbe { xs, lambda, q }
     }
 
+    /// `(α, β, Q⁻¹1)` by LU.
+    fn weights(&self, y: &[f64]) -> (Vec<f64>, f64, Vec<f64>) {
+        let len = self.xs.len();
+        let qi_y = reference::bmc::lu_solve(&self.q, len, y);
+        let qi_1 = reference::bmc::lu_solve(&self.q, len, &vec![1.0; len]);
+        let beta = qi_y.iter().sum::<f64>() / qi_1.iter().sum::<f64>();
+        let alpha = qi_y.iter().zip(&qi_1).map(|(a, b)| a - beta * b).collect();
+        (alpha, beta, qi_1)
+    }
+
+    /// Glossy radiance `∫ L·G` for the lobe `G = exp(μ(r·x − 1))` (unit amplitude), with
+    /// `rᵀQ⁻¹r` and the unit posterior variance; `zᵢ` and `V̄` by quadrature.
+    fn glossy(&self, y: &[f64], r: [f64; 3], mu: f64, vbar: f64) -> (f64, f64, f64) {
+        let len = self.xs.len();
+        let (alpha, beta, qi_1) = self.weights(y);
+        let z: Vec<f64> =
+            self.xs.iter().map(|&x| sg_pair(self.lambda, mu, reference::vec::dot(x, r))).collect();
+        let integral = if mu == 0.0 { 4.0 * PI } else { 2.0 * PI * (1.0 - (-2.0 * mu).exp()) / mu };
+        let value = beta * integral + z.iter().zip(&alpha).map(|(a, b)| a * b).sum::<f64>();
+        let r2: f64 = y.iter().zip(&alpha).map(|(a, b)| a * b).sum();
+        let qi_z = reference::bmc::lu_solve(&self.q, len, &z);
+        let zqz: f64 = z.iter().zip(&qi_z).map(|(a, b)| a * b).sum();
+        let one_z: f64 = qi_z.iter().sum();
+        let s1: f64 = qi_1.iter().sum();
+        (value, r2, vbar - zqz + (integral - one_z).powi(2) / s1)
+    }
+
     fn estimate(&self, y: &[f64], n: [f64; 3]) -> RefEstimate {
         let len = self.xs.len();
         let qi_y = reference::bmc::lu_solve(&self.q, len, y);
@@ -67,6 +95,40 @@ impl RefProbe {
         let ll = -0.5 * log_det - 0.5 * s1.ln() - 0.5 * (len as f64 - 1.0) * r2.ln();
         RefEstimate { e, r2, v: PI * PI * v, ll }
     }
+}
+
+/// `2π∫₀^θₘ sin θ·exp(μ(cos θ − 1))·g(cos θ) dθ` by composite Simpson (2000 intervals; θₘ
+/// where the lobe has fallen below e⁻⁴⁵, else π): the integral over the sphere of the lobe
+/// about the pole times a function of the polar cosine.
+fn polar_integral(mu: f64, g: impl Fn(f64) -> f64) -> f64 {
+    let top = if mu > 0.0 { (90.0 / mu).sqrt().min(PI) } else { PI };
+    let m = 2000;
+    let h = top / m as f64;
+    let mut sum = 0.0;
+    for i in 0..=m {
+        let th = i as f64 * h;
+        let w = if i == 0 || i == m {
+            1.0
+        } else if i % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        };
+        sum += w * th.sin() * (mu * (th.cos() - 1.0)).exp() * g(th.cos());
+    }
+    2.0 * PI * sum * h / 3.0
+}
+
+/// `∫ exp(λ(a·x − 1))·exp(μ(b·x − 1)) dx` for `a·b = t`, numerically: `b` at the pole, the
+/// azimuth by `2π·I₀`, the polar angle by [`polar_integral`] (not the closed form).
+fn sg_pair(lambda: f64, mu: f64, t: f64) -> f64 {
+    let t = t.clamp(-1.0, 1.0);
+    let s = (1.0 - t * t).sqrt();
+    polar_integral(mu, |c| {
+        let sn = (1.0 - c * c).max(0.0).sqrt();
+        // exp(λ(c·t − 1))·I₀(λ·sn·s) = exp(λ(c·t + sn·s − 1))·I₀ₑ(λ·sn·s)
+        (lambda * (c * t + sn * s - 1.0)).exp() * reference::special::bessel_i0e(lambda * sn * s)
+    })
 }
 
 fn log_det(a: &[f64], n: usize) -> f64 {
@@ -432,4 +494,201 @@ fn probe_config_errors_are_clear() {
     let ok = gen::probe::parse("probe = 16 0.3 1 4 # c\nprobe = 64 1 2\n").unwrap();
     assert_eq!(ok.len(), 2);
     assert_eq!(ok[1].lambdas, vec![2.0]);
+}
+
+/// Glossy queries (value and exact variance) against the f64 reference, every member, lobes
+/// from flat (μ = 0) to a near-mirror (μ = 400), through the probe's own f32 directions.
+fn compare_glossy<const N: usize>(fields: usize) -> Vec<(f32, f32, f64, f64)>
+where
+    Size<N>: ProbeSize,
+{
+    let mut rng = Rng::new(0x6105 + N as u64);
+    let mut out = Vec::new();
+    let mut probe = Probe::<N>::new();
+    // V̄ = ∫ G(x)·z(r·x) dx, z itself by quadrature: nested 1-D rules (once per λ, μ).
+    let mut vbars = std::collections::HashMap::new();
+    for _ in 0..fields {
+        let rot = rng.uniform_rotation();
+        probe.set_rotation(mat3(rot)).unwrap();
+        let lights = field(&mut rng);
+        let y: [f32; N] =
+            core::array::from_fn(|i| radiance(&lights, to64(probe.directions()[i])) as f32);
+        let y64: Vec<f64> = y.iter().map(|&v| v as f64).collect();
+        for (k, m) in Probe::<N>::family().enumerate() {
+            probe.update_with(&y, Selection::Member(k)).unwrap();
+            let r = RefProbe::new(rot, N, m.lambda as f64, m.sigma as f64);
+            for mu in [0.0f64, 0.5, 5.0, 40.0, 400.0] {
+                let axis = rng.uniform_sphere();
+                let amp = 0.5 + rng.next_f64();
+                let vbar = *vbars
+                    .entry((k, mu.to_bits()))
+                    .or_insert_with(|| polar_integral(mu, |t| sg_pair(m.lambda as f64, mu, t)));
+                let (want, r2, v) = r.glossy(&y64, axis, mu, vbar);
+                let lobe = SphericalGaussian {
+                    axis: Vec3::new(axis[0] as f32, axis[1] as f32, axis[2] as f32),
+                    sharpness: mu as f32,
+                    amplitude: amp as f32,
+                };
+                let got = probe.glossy(&lobe).unwrap() as f64;
+                let rel = (got - amp * want).abs() / (amp * want).abs();
+                let want_var = r2 / (N as f64 - 1.0) * v * amp * amp;
+                let var = probe.glossy_variance(&lobe).unwrap() as f64;
+                let rel_var = (var - want_var).abs() / want_var;
+                out.push((m.lambda, m.condition, rel, rel_var));
+                if mu == 40.0 {
+                    println!(
+                        "N = {N}, λ = {}, μ = {mu}: value {got:.6e} (ref {:.6e}), variance \
+                         {var:.4e} (ref {want_var:.4e})",
+                        m.lambda,
+                        amp * want
+                    );
+                }
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn glossy_matches_the_f64_reference() {
+    for (n, rows) in [
+        (16, compare_glossy::<16>(2)),
+        (64, compare_glossy::<64>(2)),
+        (256, compare_glossy::<256>(1)),
+    ] {
+        let mut worst = std::collections::BTreeMap::<u32, (f32, f64, f64)>::new();
+        for (lambda, cond, rel, rel_var) in rows {
+            let e = worst.entry(lambda.to_bits()).or_insert((cond, 0.0, 0.0));
+            e.1 = e.1.max(rel);
+            e.2 = e.2.max(rel_var);
+        }
+        for (bits, (cond, rel, rel_var)) in worst {
+            let lambda = f32::from_bits(bits);
+            println!(
+                "N = {n}, λ = {lambda}: cond {cond:.1e}, max relative Δvalue {rel:.2e}, Δvariance \
+                 {rel_var:.2e}"
+            );
+            // The same bar as irradiance (f32 solves; see f32_probe_matches_the_f64_reference),
+            // now per query rather than RMS.
+            let bar = if cond <= 1e4 { 1e-5 } else { f64::from(cond) * f64::from(f32::EPSILON) };
+            assert!(rel < bar, "N = {n}, λ = {lambda}: glossy differs by {rel:e} (bar {bar:e})");
+            assert!(rel_var < 1e-2, "N = {n}, λ = {lambda}: variance differs by {rel_var:e}");
+        }
+    }
+}
+
+#[test]
+fn glossy_of_a_constant_is_exact_with_zero_variance() {
+    let mut probe = Probe::<64, [f32; 3]>::new();
+    probe.set_rotation(Mat3::from_axis_angle(Vec3::new(-1.0, 2.0, 0.5), 1.1)).unwrap();
+    probe.update(&[[1.0, 0.25, 3.0]; 64]).unwrap();
+    for (mu, amp) in [(0.0f32, 1.0f32), (1.0, 2.0), (21.0, 0.5), (1e4, 1.0), (1e8, 3.0)] {
+        let lobe =
+            SphericalGaussian { axis: Vec3::new(0.3, -0.2, 0.9), sharpness: mu, amplitude: amp };
+        let integral = if mu == 0.0 {
+            4.0 * PI
+        } else {
+            2.0 * PI * (-(-2.0 * mu as f64).exp_m1()) / mu as f64
+        } * amp as f64;
+        let got = probe.glossy(&lobe).unwrap();
+        let var = probe.glossy_variance(&lobe).unwrap();
+        for (c, want) in [1.0f64, 0.25, 3.0].iter().enumerate() {
+            let want = want * integral;
+            assert!((got[c] as f64 - want).abs() <= 1e-6 * want, "μ = {mu}: {got:?} vs {want}");
+            assert_eq!(var[c], 0.0);
+        }
+    }
+}
+
+#[test]
+fn glossy_phong_lobe_tracks_the_truth_and_beats_the_lobe_weighted_average() {
+    // Smooth fields (sharpness 1–8) whose Phong-lobe integrals the reference computes by
+    // quadrature; the probe's estimate against the normalised lobe-weighted average of the
+    // same samples, Σ G(xⱼ)Yⱼ / Σ G(xⱼ) (the glossy analogue of the cosine-weighted average).
+    let mut rng = Rng::new(0x5EED);
+    let (mut se_bmc, mut se_avg, mut sa, mut within) = (0.0, 0.0, 0.0, 0usize);
+    let mut count = 0usize;
+    let mut probe = Probe::<64>::new();
+    for _ in 0..8 {
+        probe.set_rotation(mat3(rng.uniform_rotation())).unwrap();
+        let lights: Vec<SgLight> = (0..3)
+            .map(|_| SgLight {
+                axis: rng.uniform_sphere(),
+                sharpness: 1.0 + 7.0 * rng.next_f64(),
+                amplitude: 0.2 + 0.8 * rng.next_f64(),
+            })
+            .collect();
+        let y: [f32; 64] =
+            core::array::from_fn(|i| radiance(&lights, to64(probe.directions()[i])) as f32);
+        probe.update(&y).unwrap();
+        for _ in 0..8 {
+            let r = rng.uniform_sphere();
+            let e = 10.0f32;
+            let lobe = SphericalGaussian::phong_moments(
+                Vec3::new(r[0] as f32, r[1] as f32, r[2] as f32),
+                e,
+            )
+            .unwrap();
+            // Truth for the SG lobe itself: the constant plus each light's SG pair integral.
+            let a = lobe.amplitude as f64;
+            let mu = lobe.sharpness as f64;
+            let truth = a
+                * (0.3 * 2.0 * PI * (1.0 - (-2.0 * mu).exp()) / mu
+                    + lights
+                        .iter()
+                        .map(|l| {
+                            l.amplitude * sg_pair(l.sharpness, mu, reference::vec::dot(l.axis, r))
+                        })
+                        .sum::<f64>());
+            let got = probe.glossy(&lobe).unwrap() as f64;
+            let sd = (probe.glossy_variance(&lobe).unwrap() as f64).sqrt();
+            let (mut num, mut den) = (0.0f64, 0.0f64);
+            for (x, &yj) in probe.directions().iter().zip(&y) {
+                let g = lobe.evaluate(*x) as f64;
+                num += g * yj as f64;
+                den += g;
+            }
+            let avg = if den > 0.0 { num / den } else { 0.0 };
+            se_bmc += (got - truth).powi(2);
+            se_avg += (avg - truth).powi(2);
+            sa += truth.abs();
+            within += usize::from((got - truth).abs() <= 2.0 * sd);
+            count += 1;
+        }
+    }
+    let mean = sa / count as f64;
+    let (bmc, avg) = ((se_bmc / count as f64).sqrt() / mean, (se_avg / count as f64).sqrt() / mean);
+    println!(
+        "N = 64, Phong e = 10 on smooth SG fields: relative RMSE BMC {bmc:.4}, lobe-weighted \
+         average {avg:.4}; |error| ≤ 2σ in {within}/{count}"
+    );
+    assert!(bmc < 0.5 * avg, "BMC {bmc} vs lobe-weighted average {avg}");
+    assert!(within * 10 >= count * 8, "2σ coverage {within}/{count}");
+}
+
+#[test]
+fn glossy_bad_input_is_refused() {
+    let mut probe = Probe::<16>::new();
+    let lobe = |axis, sharpness, amplitude| SphericalGaussian { axis, sharpness, amplitude };
+    // Before any update: zero.
+    assert_eq!(probe.glossy(&lobe(Vec3::Z, 5.0, 1.0)), Ok(0.0));
+    assert_eq!(probe.glossy_variance(&lobe(Vec3::Z, 5.0, 1.0)), Ok(0.0));
+    probe.update(&core::array::from_fn(|i| 1.0 + 0.1 * i as f32)).unwrap();
+    for (l, err) in [
+        (lobe(Vec3::new(0.0, 0.0, 0.0), 5.0, 1.0), Error::InvalidDirection),
+        (lobe(Vec3::new(f32::NAN, 0.0, 1.0), 5.0, 1.0), Error::InvalidDirection),
+        (lobe(Vec3::Z, -1.0, 1.0), Error::InvalidSharpness),
+        (lobe(Vec3::Z, f32::NAN, 1.0), Error::InvalidSharpness),
+        (lobe(Vec3::Z, f32::INFINITY, 1.0), Error::InvalidSharpness),
+        (lobe(Vec3::Z, 2e8, 1.0), Error::InvalidSharpness),
+        (lobe(Vec3::Z, 5.0, f32::NAN), Error::InvalidParameter),
+        (lobe(Vec3::Z, 5.0, f32::INFINITY), Error::InvalidParameter),
+    ] {
+        assert_eq!(probe.glossy(&l), Err(err), "{l:?}");
+        assert_eq!(probe.glossy_variance(&l), Err(err), "{l:?}");
+    }
+    // The largest accepted sharpness still gives a finite answer.
+    let sharp = lobe(Vec3::Z, sphere_quadrature::probe::MAX_GLOSSY_SHARPNESS, 1.0);
+    assert!(probe.glossy(&sharp).unwrap().is_finite());
+    assert!(probe.glossy_variance(&sharp).unwrap().is_finite());
 }

@@ -423,3 +423,48 @@ fn fits_have_the_stated_errors() {
         assert!((fit.integral() - 1.0).abs() < 1e-6);
     }
 }
+
+#[test]
+fn phong_moments_lobe_matches_the_first_legendre_moment() {
+    // Moments ∫ lobe·P_l(cos θ) by quadrature (not the closed forms), Phong against the SG.
+    let moment = |f: &dyn Fn(f64) -> f64, l: usize| {
+        let m = 200_000;
+        let h = 2.0 / m as f64;
+        (0..m)
+            .map(|i| {
+                let u = -1.0 + (i as f64 + 0.5) * h;
+                let p = match l {
+                    0 => 1.0,
+                    1 => u,
+                    _ => 0.5 * (3.0 * u * u - 1.0),
+                };
+                2.0 * PI * f(u) * p * h
+            })
+            .sum::<f64>()
+    };
+    for e in [1.0f32, 5.0, 20.0, 100.0] {
+        let ed = f64::from(e);
+        let phong = |u: f64| (ed + 1.0) / (2.0 * PI) * u.max(0.0).powf(ed);
+        let sg = SphericalGaussian::phong_moments(Vec3::Z, e).unwrap();
+        let (l, a) = (f64::from(sg.sharpness), f64::from(sg.amplitude));
+        let g = |u: f64| a * (l * (u - 1.0)).exp();
+        let fit = SphericalGaussian::phong_lobe(Vec3::Z, e).unwrap();
+        let (lf, af) = (f64::from(fit.sharpness), f64::from(fit.amplitude));
+        let gf = |u: f64| af * (lf * (u - 1.0)).exp();
+        let [p0, p1, p2] = [0, 1, 2].map(|k| moment(&phong, k));
+        let [s0, s1, s2] = [0, 1, 2].map(|k| moment(&g, k));
+        let [_, f1, f2] = [0, 1, 2].map(|k| moment(&gf, k));
+        println!(
+            "e = {e}: A₁ Phong {p1:.6} moments-SG {s1:.6} L²-fit {f1:.6}; A₂ {p2:.6} {s2:.6} {f2:.6}"
+        );
+        assert!((s0 - 1.0).abs() < 1e-6 && (p0 - 1.0).abs() < 1e-6);
+        // A₁ = (e+1)/(e+2) up to coth λ − 1 ≈ 2e^(−2λ) (and the quadrature).
+        assert!((s1 - p1).abs() < 2.2 * (-2.0 * l).exp() + 1e-6, "e = {e}: {s1} vs {p1}");
+        // Closer in A₁ and A₂ than the L² fit of `phong_lobe`.
+        assert!((s1 - p1).abs() < (f1 - p1).abs());
+        // A₂ only asymptotically (at e = 1 the L² fit is closer: 0.194 vs 0.328, Phong 0.25).
+        if e >= 5.0 {
+            assert!((s2 - p2).abs() < (f2 - p2).abs(), "e = {e}: A₂ {s2} / {f2} vs {p2}");
+        }
+    }
+}

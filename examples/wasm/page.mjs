@@ -1,7 +1,8 @@
 // The browser page of examples/wasm (index.html): shades a sphere from a bundled environment
-// map with the module's probe-style estimators (diffuse + normalised Phong glossy, N
-// selectable) next to a brute-force reference over every map pixel, and runs the page's own
-// numeric check (apartment, N = 64, e = 20: relRMSE of luminance < 20 % for both).
+// map with one Bayesian Monte Carlo probe of N samples (diffuse irradiance + normalised Phong
+// glossy, N selectable), next to the weighted averages of the same samples, QMC with N
+// samples per pixel, and a brute-force reference over every map pixel, and runs the page's
+// own numeric check (see CHECK).
 // Served from the repository root (examples/wasm/browser_test.mjs does that), so the map is at
 // ../envmaps/<name>.hdr and the module at target/… relative to this page.
 
@@ -9,8 +10,15 @@ const WASM = "target/wasm32-unknown-unknown/release/sphere_quadrature_wasm.wasm"
 const MAPS = ["apartment", "bridge", "city", "dawn", "forest", "hall", "lab", "lobby", "night", "park"];
 /** Grid of normals per sphere (the reference sums all 131 072 pixels for each). */
 const G = 32;
-/** The page check: map, N, Phong exponent, thresholds on relative RMSE of luminance. */
-const CHECK = { map: "apartment", n: 64, e: 20, diffuseMax: 0.2, glossyMax: 0.2 };
+/**
+ * The page check, over every bundled map at this lighting, N and Phong exponent: the BMC
+ * probe's mean relative RMSE of luminance must be below the weighted averages' (diffuse and
+ * glossy), and on `map` below the two bounds (sanity: the benchmark measures ≈ 20 % diffuse
+ * there).
+ */
+const CHECK = { map: "apartment", lighting: "clamp", n: 64, e: 20, diffuseMax: 0.2, glossyMax: 0.6 };
+/** Rotation seeds of the BMC probe (`bmc_shade`); figures are means over them. */
+const SEEDS = [1, 2, 3, 4, 5, 6, 7, 8];
 
 const $ = (id) => document.getElementById(id);
 const lum = (r, g, b) => 0.2126 * r + 0.7152 * g + 0.0722 * b;
@@ -155,8 +163,8 @@ function reference(map, cells, e) {
   return out;
 }
 
-/** The module's probe: directions from wasm, radiance from JS, the estimate from wasm. */
-function probe(wasm, map, cells, n, e) {
+/** QMC per pixel: N lobe-distributed directions from wasm for every cell, radiance from JS. */
+function qmcPerPixel(wasm, map, cells, n, e) {
   const out = new Float32Array(3 * G * G).fill(NaN);
   const w = wasm;
   for (const c of cells) {
@@ -178,6 +186,61 @@ function probe(wasm, map, cells, n, e) {
     }
   }
   return out;
+}
+
+/**
+ * One Bayesian Monte Carlo probe for the whole sphere: wasm gives its N directions (rotation
+ * `seed`), JS writes the N RGB radiance samples there, and one `bmc_shade` call updates the
+ * probe and answers every cell (irradiance about the normal, Phong glossy about the mirror
+ * direction). The same N samples also feed the peers a probe would otherwise use: the
+ * cosine-weighted average (diffuse) and the Phong-lobe-weighted average (glossy).
+ */
+function bmcProbe(wasm, map, cells, n, e, seed) {
+  const w = wasm;
+  const got = w.bmc_shade_directions(n, seed);
+  if (got !== n) throw new Error(`bmc_shade_directions returned ${got}, expected ${n}`);
+  const dirs = new Float32Array(w.memory.buffer, w.dirs_ptr(), 3 * n).slice();
+  const samples = new Float32Array(w.memory.buffer, w.samples_ptr(), 3 * n);
+  for (let j = 0; j < n; j++) {
+    const i = pixelOf(map, dirs[3 * j], dirs[3 * j + 1], dirs[3 * j + 2]);
+    for (let ch = 0; ch < 3; ch++) samples[3 * j + ch] = map.rgb[i + ch];
+  }
+  const ys = samples.slice();
+  const live = cells.filter((c) => c);
+  const queries = new Float32Array(w.memory.buffer, w.queries_ptr(), 6 * live.length);
+  live.forEach((c, q) => {
+    queries.set(c.n, 6 * q);
+    queries.set(c.r, 6 * q + 3);
+  });
+  const code = w.bmc_shade(n, seed, live.length, e);
+  if (code !== 0) throw new Error(`bmc_shade returned error code ${code}`);
+  const shaded = new Float32Array(w.memory.buffer, w.shaded_ptr(), 6 * live.length);
+  const dp = new Float32Array(3 * G * G).fill(NaN);
+  const gp = new Float32Array(3 * G * G).fill(NaN);
+  const da = new Float32Array(3 * G * G).fill(NaN);
+  const ga = new Float32Array(3 * G * G).fill(NaN);
+  live.forEach((c, q) => {
+    let dw = 0, gw = 0;
+    const ds = [0, 0, 0], gs = [0, 0, 0];
+    for (let j = 0; j < n; j++) {
+      const x = dirs[3 * j], y = dirs[3 * j + 1], z = dirs[3 * j + 2];
+      const cn = Math.max(0, c.n[0] * x + c.n[1] * y + c.n[2] * z);
+      const cr = Math.max(0, c.r[0] * x + c.r[1] * y + c.r[2] * z) ** e;
+      dw += cn;
+      gw += cr;
+      for (let ch = 0; ch < 3; ch++) {
+        ds[ch] += cn * ys[3 * j + ch];
+        gs[ch] += cr * ys[3 * j + ch];
+      }
+    }
+    for (let ch = 0; ch < 3; ch++) {
+      dp[3 * c.k + ch] = shaded[6 * q + ch] / Math.PI;
+      gp[3 * c.k + ch] = shaded[6 * q + 3 + ch];
+      da[3 * c.k + ch] = dw > 0 ? ds[ch] / dw : 0;
+      ga[3 * c.k + ch] = gw > 0 ? gs[ch] / gw : 0;
+    }
+  });
+  return { dp, gp, da, ga };
 }
 
 /** RMSE of luminance over the sphere's cells / mean |reference luminance|. */
@@ -233,63 +296,144 @@ const maps = new Map();
 const refs = new Map();
 const cells = sphereCells();
 
-async function getMap(name) {
-  if (!maps.has(name)) {
-    const res = await fetch(`../envmaps/${name}.hdr`);
-    if (!res.ok) throw new Error(`${name}.hdr: HTTP ${res.status}`);
-    maps.set(name, prepareMap(decodeHdr(new Uint8Array(await res.arrayBuffer()))));
+/**
+ * The `clamp` lighting of examples/accuracy.rs: luminance clamped at 30 × the map's
+ * solid-angle mean (the sun and lamps are direct light that a renderer samples separately).
+ */
+function clampMap({ w, h, rgb }) {
+  let sum = 0, omega = 0;
+  for (let v = 0; v < h; v++) {
+    const st = Math.sin((Math.PI * (v + 0.5)) / h);
+    for (let u = 0; u < w; u++) {
+      const o = 3 * (v * w + u);
+      sum += st * lum(rgb[o], rgb[o + 1], rgb[o + 2]);
+      omega += st;
+    }
   }
-  return maps.get(name);
+  const cap = (30 * sum) / omega;
+  const out = new Float32Array(rgb.length);
+  for (let o = 0; o < rgb.length; o += 3) {
+    const l = lum(rgb[o], rgb[o + 1], rgb[o + 2]);
+    const f = l > cap ? cap / l : 1;
+    out[o] = rgb[o] * f;
+    out[o + 1] = rgb[o + 1] * f;
+    out[o + 2] = rgb[o + 2] * f;
+  }
+  return { w, h, rgb: out };
+}
+
+/** The map `name` under `lighting` ("raw" or "clamp"), decoded once. */
+async function getMap(name, lighting) {
+  const key = `${name}|${lighting}`;
+  if (!maps.has(key)) {
+    if (!maps.has(name)) {
+      const res = await fetch(`../envmaps/${name}.hdr`);
+      if (!res.ok) throw new Error(`${name}.hdr: HTTP ${res.status}`);
+      maps.set(name, decodeHdr(new Uint8Array(await res.arrayBuffer())));
+    }
+    const raw = maps.get(name);
+    maps.set(key, prepareMap(lighting === "clamp" ? clampMap(raw) : raw));
+  }
+  return maps.get(key);
 }
 
 function getRef(name, map, e) {
-  const key = `${name}|${e}`;
+  const key = `${name}|${map.lighting}|${e}`;
   if (!refs.has(key)) refs.set(key, reference(map, cells, e));
   return refs.get(key);
 }
 
-async function evaluate(wasm, name, n, e) {
-  const map = await getMap(name);
+async function evaluate(wasm, name, lighting, n, e) {
+  const map = await getMap(name, lighting);
+  map.lighting = lighting;
   const t0 = performance.now();
   const dr = getRef(name, map, null);
   const gr = getRef(name, map, e);
   const t1 = performance.now();
-  const dp = probe(wasm, map, cells, n, null);
-  const gp = probe(wasm, map, cells, n, e);
+  // One probe orientation is one random draw: the figures average SEEDS rotations; the
+  // pictures show the first.
+  const b = bmcProbe(wasm, map, cells, n, e, SEEDS[0]);
+  const sums = [0, 0, 0, 0];
+  for (const seed of SEEDS) {
+    const p = seed === SEEDS[0] ? b : bmcProbe(wasm, map, cells, n, e, seed);
+    sums[0] += relRmse(p.dp, dr) / SEEDS.length;
+    sums[1] += relRmse(p.gp, gr) / SEEDS.length;
+    sums[2] += relRmse(p.da, dr) / SEEDS.length;
+    sums[3] += relRmse(p.ga, gr) / SEEDS.length;
+  }
   const t2 = performance.now();
-  return { dr, gr, dp, gp, diffuse: relRmse(dp, dr), glossy: relRmse(gp, gr), refMs: t1 - t0, probeMs: t2 - t1 };
+  const dq = qmcPerPixel(wasm, map, cells, n, null);
+  const gq = qmcPerPixel(wasm, map, cells, n, e);
+  const t3 = performance.now();
+  return {
+    dr, gr, ...b, dq, gq,
+    rows: [
+      ["BMC probe (N shared samples)", sums[0], sums[1]],
+      ["weighted average of the same samples", sums[2], sums[3]],
+      ["QMC per pixel (N samples each)", relRmse(dq, dr), relRmse(gq, gr)],
+    ],
+    refMs: t1 - t0, bmcMs: (t2 - t1) / SEEDS.length, qmcMs: t3 - t2,
+  };
 }
 
 const pct = (x) => `${(100 * x).toFixed(2)} %`;
 
 async function show(wasm) {
   const name = $("map").value;
+  const lighting = $("lighting").value;
   const n = Number($("n").value);
   const e = Number($("e").value);
-  $("status").textContent = `computing ${name}, N = ${n}, e = ${e}…`;
+  $("status").textContent = `computing ${name} (${lighting}), N = ${n}, e = ${e}…`;
   await new Promise((r) => setTimeout(r, 0));
-  const r = await evaluate(wasm, name, n, e);
+  const r = await evaluate(wasm, name, lighting, n, e);
   const sd = 0.5 / meanLum(r.dr);
   const sg = 0.8 / meanLum(r.gr);
-  draw($("diffuse-probe"), r.dp, sd);
-  draw($("diffuse-ref"), r.dr, sd);
-  draw($("glossy-probe"), r.gp, sg);
-  draw($("glossy-ref"), r.gr, sg);
-  $("stats").innerHTML = `<td>current</td><td>${name}</td><td>${n}</td><td>${e}</td><td>${pct(r.diffuse)}</td><td>${pct(r.glossy)}</td>`;
-  $("status").textContent = `reference ${r.refMs.toFixed(0)} ms (cached after first use), probe ${r.probeMs.toFixed(0)} ms`;
+  for (const [id, img, sc] of [
+    ["diffuse-bmc", r.dp, sd], ["diffuse-avg", r.da, sd], ["diffuse-qmc", r.dq, sd], ["diffuse-ref", r.dr, sd],
+    ["glossy-bmc", r.gp, sg], ["glossy-avg", r.ga, sg], ["glossy-qmc", r.gq, sg], ["glossy-ref", r.gr, sg],
+  ]) draw($(id), img, sc);
+  $("stats").innerHTML = r.rows
+    .map(([what, d, g]) => `<tr><td>${what}</td><td>${name} (${lighting})</td><td>${n}</td><td>${e}</td><td>${pct(d)}</td><td>${pct(g)}</td></tr>`)
+    .join("");
+  $("status").textContent =
+    `reference ${r.refMs.toFixed(0)} ms (cached after first use), BMC probe ${r.bmcMs.toFixed(0)} ms per orientation, ` +
+    `QMC per pixel ${r.qmcMs.toFixed(0)} ms`;
 }
 
 async function check(wasm) {
-  const r = await evaluate(wasm, CHECK.map, CHECK.n, CHECK.e);
-  const pass = r.diffuse < CHECK.diffuseMax && r.glossy < CHECK.glossyMax;
+  // Every bundled map: one map is one noisy comparison (the benchmark's claim, and the
+  // issue's target, are about the mean over maps).
+  const rows = [];
+  for (const name of MAPS) {
+    $("check").textContent = `check: running (${name})…`;
+    const r = await evaluate(wasm, name, CHECK.lighting, CHECK.n, CHECK.e);
+    const [[, bd, bg], [, ad, ag]] = r.rows;
+    rows.push({ name, bd, bg, ad, ag });
+  }
+  const mean = (k) => rows.reduce((s, r) => s + r[k], 0) / rows.length;
+  const [bd, bg, ad, ag] = ["bd", "bg", "ad", "ag"].map(mean);
+  const home = rows.find((r) => r.name === CHECK.map);
+  const pass = bd < ad && bg < ag && home.bd < CHECK.diffuseMax && home.bg < CHECK.glossyMax;
+  $("check-table").innerHTML =
+    "<tr><th>map</th><th>BMC diffuse</th><th>cos-weighted avg</th><th>ratio</th>" +
+    "<th>BMC glossy</th><th>lobe-weighted avg</th><th>ratio</th></tr>" +
+    [...rows, { name: "mean", bd, bg, ad, ag }]
+      .map((r) => `<tr><td>${r.name}</td><td>${pct(r.bd)}</td><td>${pct(r.ad)}</td><td>${(r.bd / r.ad).toFixed(3)}</td>` +
+        `<td>${pct(r.bg)}</td><td>${pct(r.ag)}</td><td>${(r.bg / r.ag).toFixed(3)}</td></tr>`)
+      .join("");
   const el = $("check");
-  el.dataset.diffuse = String(r.diffuse);
-  el.dataset.glossy = String(r.glossy);
+  el.dataset.diffuse = String(bd);
+  el.dataset.glossy = String(bg);
+  el.dataset.diffuseAverage = String(ad);
+  el.dataset.glossyAverage = String(ag);
+  el.dataset.perMap = JSON.stringify(rows);
   el.dataset.pass = String(pass);
   el.textContent =
-    `check ${pass ? "PASSED" : "FAILED"} (${CHECK.map}, N = ${CHECK.n}, e = ${CHECK.e}, ${G}×${G} grid): ` +
-    `diffuse relRMSE ${pct(r.diffuse)} (< ${pct(CHECK.diffuseMax)}), ` +
-    `glossy relRMSE ${pct(r.glossy)} (< ${pct(CHECK.glossyMax)})`;
+    `check ${pass ? "PASSED" : "FAILED"} (all ${rows.length} maps, ${CHECK.lighting}, N = ${CHECK.n}, e = ${CHECK.e}, ` +
+    `${G}×${G} grid, ${SEEDS.length} probe rotations each): mean relRMSE of the BMC probe ` +
+    `diffuse ${pct(bd)} vs cosine-weighted average ${pct(ad)}, glossy ${pct(bg)} vs lobe-weighted average ` +
+    `${pct(ag)} (BMC must be lower in both); on ${CHECK.map} ${pct(home.bd)} (< ${pct(CHECK.diffuseMax)}) and ` +
+    `${pct(home.bg)} (< ${pct(CHECK.glossyMax)})`;
 }
 
 async function main() {
@@ -300,10 +444,11 @@ async function main() {
   const { instance } = await WebAssembly.instantiate(await res.arrayBuffer(), {});
   const wasm = instance.exports;
   if (wasm.probe_max() < 1024) throw new Error(`probe_max() = ${wasm.probe_max()}`);
+  if (cells.filter((c) => c).length > 1024) throw new Error("more cells than bmc_shade takes");
   await show(wasm);
   await check(wasm);
   $("check").dataset.done = "true";
-  for (const id of ["map", "n", "e"]) {
+  for (const id of ["map", "lighting", "n", "e"]) {
     $(id).addEventListener("change", () => show(wasm).catch(fail));
   }
 }

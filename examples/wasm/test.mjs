@@ -109,6 +109,15 @@ function bmcIrradiance(key, k, [x, y, z]) {
   const e = new Float32Array(memory.buffer, w.bmc_out_ptr(), 6);
   for (let c = 0; c < 6; c++) value(key, 6 * k + c, e[c]);
 }
+// Glossy queries: (normal index, Phong exponent); the last two are bad (exponent −1, NaN).
+const BMC_GLOSSY = [[0, 5], [1, 20], [4, 100], [7, 0], [25, -1], [26, NaN]];
+function bmcGlossy(key, k, [x, y, z], e) {
+  const code = w.bmc_probe_glossy(x, y, z, e);
+  out.push(`${key}_code ${k} ${code}`);
+  if (code !== 0) return;
+  const g = new Float32Array(memory.buffer, w.bmc_out_ptr(), 6);
+  for (let c = 0; c < 6; c++) value(key, 6 * k + c, g[c]);
+}
 BMC_SEEDS.forEach((seed, s) => {
   out.push(`w_bmc_reset ${s} ${w.bmc_probe_reset(seed)}`);
   out.push(`w_bmc_selected ${3 * s} ${w.bmc_probe_selected()}`);
@@ -122,6 +131,7 @@ BMC_SEEDS.forEach((seed, s) => {
   out.push(`w_bmc_update ${3 * s} ${w.bmc_probe_update()}`);
   out.push(`w_bmc_selected ${3 * s + 1} ${w.bmc_probe_selected()}`);
   BMC_NORMALS.forEach((i, ni) => bmcIrradiance("w_bmc_irr", BMC_NORMALS.length * s + ni, normal(i)));
+  BMC_GLOSSY.forEach(([i, e], gi) => bmcGlossy("w_bmc_glossy", BMC_GLOSSY.length * s + gi, normal(i), e));
   // Bad samples are refused and the probe keeps the previous data.
   const good = samples[3 * 17 + 1];
   samples[3 * 17 + 1] = NaN;

@@ -131,6 +131,13 @@ where
     hprintln!("# count probe_update_one_member N={} {} instructions/call", N, one);
     hprintln!("# count probe_irradiance N={} {} instructions/call", N, query);
     hprintln!("# count cosine_weighted_average N={} {} instructions/call", N, cwa);
+    let lobe = sg::SphericalGaussian::phong_moments(Vec3::new(0.6, 0.0, 0.8), 20.0);
+    if let Ok(lobe) = lobe {
+        let glossy = count(query_reps, || black_box(&p).glossy(black_box(&lobe)));
+        let variance = count(update_reps, || black_box(&p).glossy_variance(black_box(&lobe)));
+        hprintln!("# count probe_glossy N={} {} instructions/call", N, glossy);
+        hprintln!("# count probe_glossy_variance N={} {} instructions/call", N, variance);
+    }
 }
 
 /// Ends the QEMU run with a status.

@@ -6,7 +6,7 @@
 use core::fmt::Arguments;
 
 use sphere_quadrature::qmc::{self, LobeSampler};
-use sphere_quadrature::{bmc, probe};
+use sphere_quadrature::{bmc, probe, sg};
 use sphere_quadrature::{
     math, Error, HemisphericalFibonacci, Lobe, RotationSequence, SphericalFibonacci, Vec3,
 };
@@ -147,6 +147,22 @@ pub fn run(out: &mut impl Sink) {
                 }
             }
         }
+        // Glossy: normalised Phong lobes (SG fit) about random mirror directions, with the
+        // exact variance.
+        for (i, e) in [0.0f32, 5.0, 20.0, 100.0].into_iter().enumerate() {
+            let r = seq.next_rotation() * Vec3::Z;
+            let Ok(lobe) = sg::SphericalGaussian::phong_moments(r, e) else { continue };
+            if let (Ok(g), Ok(v)) = (p.glossy(&lobe), p.glossy_variance(&lobe)) {
+                for (c, (&gv, &var)) in g.iter().zip(&v).enumerate() {
+                    value(out, "probe_glossy", 3 * i + c, gv);
+                    value(out, "probe_glossy_var", 3 * i + c, var);
+                }
+            }
+        }
+        let flat = sg::SphericalGaussian { axis: Vec3::ZERO, sharpness: 5.0, amplitude: 1.0 };
+        out.line(format_args!("probe_glossy_zero_axis 0 {:?}", p.glossy(&flat).err()));
+        let nan = sg::SphericalGaussian { axis: Vec3::Z, sharpness: f32::NAN, amplitude: 1.0 };
+        out.line(format_args!("probe_glossy_nan_sharpness 0 {:?}", p.glossy(&nan).err()));
         let mut bad = ys;
         bad[5][1] = f32::NAN;
         out.line(format_args!("probe_nan_sample 0 {:?}", p.update(&bad)));

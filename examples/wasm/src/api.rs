@@ -3,7 +3,8 @@
 //! (`examples/wasm_scenario.rs`), which calls the same functions natively; the crate root must
 //! declare `mod scenario` (the Cortex-M4 scenario, for its procedural `sky`).
 
-use sphere_quadrature::probe::Probe;
+use sphere_quadrature::bmc::Size;
+use sphere_quadrature::probe::{Probe, ProbeSize};
 use sphere_quadrature::qmc::{self, LobeSampler};
 use sphere_quadrature::{sg, Error, Lobe, RotationSequence, SphericalFibonacci, Vec3};
 
@@ -89,7 +90,18 @@ pub type BmcProbe = Probe<BMC_N, [f32; 3]>;
 /// # Errors
 /// Those of [`Probe::set_rotation`] (none for the rotations of the sequence).
 pub fn bmc_probe(seed: u32) -> Result<BmcProbe, Error> {
-    let mut p = BmcProbe::new();
+    bmc_probe_n::<BMC_N>(seed)
+}
+
+/// [`bmc_probe`] for any baked size `N`.
+///
+/// # Errors
+/// Those of [`Probe::set_rotation`] (none for the rotations of the sequence).
+pub fn bmc_probe_n<const N: usize>(seed: u32) -> Result<Probe<N, [f32; 3]>, Error>
+where
+    Size<N>: ProbeSize,
+{
+    let mut p = Probe::new();
     if seed != 0 {
         p.set_rotation(RotationSequence::new(u64::from(seed)).next_rotation())?;
     }
@@ -102,6 +114,7 @@ pub fn error_code(e: Error) -> i32 {
         Error::InvalidDirection => 1,
         Error::InvalidRadiance => 2,
         Error::InvalidParameter => 3,
+        Error::InvalidExponent | Error::InvalidSharpness => 4,
         _ => 255,
     }
 }

@@ -26,8 +26,11 @@ use core::fmt::{Arguments, Write};
 use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering::Relaxed};
 
 use api::{BmcProbe, BMC_N, PROBE_MAX};
+use sphere_quadrature::bmc::Size;
+use sphere_quadrature::probe::ProbeSize;
 use sphere_quadrature::qmc::LobeSampler;
-use sphere_quadrature::{Lobe, Vec3};
+use sphere_quadrature::sg::SphericalGaussian;
+use sphere_quadrature::{Error, Lobe, Vec3};
 
 /// Capacity of the scenario's text buffer in bytes.
 const OUT_CAP: usize = 32 * 1024;
@@ -48,6 +51,14 @@ static BMC_HAS_DATA: AtomicBool = AtomicBool::new(false);
 static BMC_DATA: [AtomicU32; 3 * BMC_N] = [const { AtomicU32::new(0) }; 3 * BMC_N];
 /// The last `bmc_probe_irradiance`: `[r, g, b, var_r, var_g, var_b]` (f32 bits).
 static BMC_OUT: [AtomicU32; 6] = [const { AtomicU32::new(0) }; 6];
+
+/// Most queries of one `bmc_shade` call (a 32×32 grid).
+const SHADE_MAX: usize = 1024;
+/// `bmc_shade` queries: normal and reflection direction per query (6 f32 bits), written by
+/// JavaScript.
+static QUERIES: [AtomicU32; 6 * SHADE_MAX] = [const { AtomicU32::new(0) }; 6 * SHADE_MAX];
+/// `bmc_shade` results: irradiance RGB and glossy RGB per query (6 f32 bits).
+static SHADED: [AtomicU32; 6 * SHADE_MAX] = [const { AtomicU32::new(0) }; 6 * SHADE_MAX];
 
 // `bmc_probe_update` reads its RGB samples from [`SAMPLES`].
 const _: () = assert!(3 * BMC_N <= PROBE_MAX);
@@ -229,6 +240,101 @@ fn bmc_irradiance(nx: f32, ny: f32, nz: f32) -> i32 {
     code
 }
 
+/// The BMC probe's normalised Phong-lobe glossy radiance about `(rx, ry, rz)` (exponent `e`,
+/// the lobe `SphericalGaussian::phong_moments`) with its exact variance into [`BMC_OUT`] (NaN on
+/// error); 0, or an error code.
+fn bmc_glossy(rx: f32, ry: f32, rz: f32, e: f32) -> i32 {
+    let result = bmc_current().and_then(|p| {
+        let lobe = SphericalGaussian::phong_moments(Vec3::new(rx, ry, rz), e)?;
+        Ok((p.glossy(&lobe)?, p.glossy_variance(&lobe)?))
+    });
+    let (values, code) = match result {
+        Ok(([r, g, b], [vr, vg, vb])) => ([r, g, b, vr, vg, vb], 0),
+        Err(e) => ([f32::NAN; 6], api::error_code(e)),
+    };
+    for (v, a) in values.iter().zip(&BMC_OUT) {
+        a.store(v.to_bits(), Relaxed);
+    }
+    code
+}
+
+/// Writes the directions of an `n`-sample probe rotated by `seed` (as `bmc_probe_reset`) into
+/// [`DIRS`]; `n`, or −1 for an `n` without a baked family.
+fn shade_directions(n: u32, seed: u32) -> i32 {
+    fn run<const N: usize>(seed: u32) -> i32
+    where
+        Size<N>: ProbeSize,
+    {
+        let Ok(p) = api::bmc_probe_n::<N>(seed) else { return -1 };
+        for (d, slot) in p.directions().iter().zip(DIRS.chunks_exact(3)) {
+            slot[0].store(d.x.to_bits(), Relaxed);
+            slot[1].store(d.y.to_bits(), Relaxed);
+            slot[2].store(d.z.to_bits(), Relaxed);
+        }
+        i32::try_from(N).unwrap_or(-1)
+    }
+    match n {
+        16 => run::<16>(seed),
+        32 => run::<32>(seed),
+        64 => run::<64>(seed),
+        128 => run::<128>(seed),
+        256 => run::<256>(seed),
+        _ => -1,
+    }
+}
+
+/// One update of an `n`-sample RGB probe (rotation `seed`, samples from [`SAMPLES`]), then
+/// `count` queries from [`QUERIES`]: irradiance about each normal and Phong glossy radiance
+/// (exponent `e`) about each reflection direction into [`SHADED`] (NaN for a query with a bad
+/// direction). 0, or an error code (3: `n` without a baked family, `count` above 1024 or a bad
+/// exponent; 2: a NaN or infinite sample).
+fn shade(n: u32, seed: u32, count: u32, e: f32) -> i32 {
+    fn run<const N: usize>(seed: u32, count: usize, e: f32) -> Result<(), Error>
+    where
+        Size<N>: ProbeSize,
+    {
+        let mut p = api::bmc_probe_n::<N>(seed)?;
+        let mut ys = [[0.0f32; 3]; N];
+        for (y, a) in ys.iter_mut().zip(SAMPLES.chunks_exact(3)) {
+            for (c, v) in y.iter_mut().zip(a) {
+                *c = f32::from_bits(v.load(Relaxed));
+            }
+        }
+        p.update(&ys)?;
+        // Checks the exponent once, before any query.
+        SphericalGaussian::phong_moments(Vec3::Z, e)?;
+        let load = |a: &[AtomicU32]| {
+            let [x, y, z] =
+                [0, 1, 2].map(|i| a.get(i).map_or(f32::NAN, |v| f32::from_bits(v.load(Relaxed))));
+            Vec3::new(x, y, z)
+        };
+        for (q, out) in QUERIES.chunks_exact(6).zip(SHADED.chunks_exact(6)).take(count) {
+            let (nq, rq) = q.split_at(3);
+            let irr = p.irradiance(load(nq)).map_or([f32::NAN; 3], |v| v.value);
+            let glossy = SphericalGaussian::phong_moments(load(rq), e)
+                .and_then(|lobe| p.glossy(&lobe))
+                .unwrap_or([f32::NAN; 3]);
+            for (v, a) in irr.iter().chain(&glossy).zip(out) {
+                a.store(v.to_bits(), Relaxed);
+            }
+        }
+        Ok(())
+    }
+    let count = count as usize;
+    if count > SHADE_MAX {
+        return api::error_code(Error::InvalidParameter);
+    }
+    let result = match n {
+        16 => run::<16>(seed, count, e),
+        32 => run::<32>(seed, count, e),
+        64 => run::<64>(seed, count, e),
+        128 => run::<128>(seed, count, e),
+        256 => run::<256>(seed, count, e),
+        _ => Err(Error::InvalidParameter),
+    };
+    result.map_or_else(api::error_code, |()| 0)
+}
+
 /// The BMC probe's selected family member; −1 on error.
 fn bmc_selected() -> i32 {
     bmc_current().map_or(-1, |p| i32::try_from(p.selected()).unwrap_or(-1))
@@ -236,7 +342,7 @@ fn bmc_selected() -> i32 {
 
 #[allow(unsafe_code)] // `#[no_mangle]` only; every body is one safe call.
 mod exports {
-    use super::{api, BMC_OUT, DIRS, OUT, SAMPLES};
+    use super::{api, BMC_OUT, DIRS, OUT, QUERIES, SAMPLES, SHADED};
 
     /// Runs the Cortex-M4 scenario; the text is at `out_ptr()`, this many bytes (−1: overflow).
     #[no_mangle]
@@ -341,6 +447,46 @@ mod exports {
     #[no_mangle]
     pub extern "C" fn bmc_probe_irradiance(nx: f32, ny: f32, nz: f32) -> i32 {
         super::bmc_irradiance(nx, ny, nz)
+    }
+
+    /// Writes the BMC probe's normalised Phong glossy radiance about the reflection direction
+    /// `(rx, ry, rz)` with exponent `e` (lobe `SphericalGaussian::phong_moments`), `[r, g, b,
+    /// var_r, var_g, var_b]` with the exact variance, to `bmc_out_ptr()`; 0, or an error code
+    /// (1: a zero or non-finite direction, 4: a negative or non-finite exponent; the six
+    /// values are then NaN). Zero before the first update.
+    #[no_mangle]
+    pub extern "C" fn bmc_probe_glossy(rx: f32, ry: f32, rz: f32, e: f32) -> i32 {
+        super::bmc_glossy(rx, ry, rz, e)
+    }
+
+    /// Writes the directions of an `n`-sample BMC probe (n = 16, 32, 64, 128 or 256) rotated as
+    /// by `bmc_probe_reset(seed)` to `dirs_ptr()`; returns `n`, or −1 for any other `n`.
+    #[no_mangle]
+    pub extern "C" fn bmc_shade_directions(n: u32, seed: u32) -> i32 {
+        super::shade_directions(n, seed)
+    }
+
+    /// Shades many points from one probe: updates an `n`-sample RGB probe (rotation `seed`)
+    /// with the `3n` samples at `samples_ptr()` (at the directions of `bmc_shade_directions`),
+    /// then for each of `count` ≤ 1024 queries at `queries_ptr()` (normal x, y, z, reflection
+    /// x, y, z) writes irradiance RGB and normalised Phong glossy RGB (exponent `e`) to
+    /// `shaded_ptr()` (NaN for a bad direction). 0, or an error code (2: a NaN or infinite
+    /// sample; 3: bad `n` or `count`; 4: bad exponent).
+    #[no_mangle]
+    pub extern "C" fn bmc_shade(n: u32, seed: u32, count: u32, e: f32) -> i32 {
+        super::shade(n, seed, count, e)
+    }
+
+    /// Address of the `bmc_shade` query buffer (6·1024 f32).
+    #[no_mangle]
+    pub extern "C" fn queries_ptr() -> usize {
+        QUERIES.as_ptr() as usize
+    }
+
+    /// Address of the `bmc_shade` result buffer (6·1024 f32).
+    #[no_mangle]
+    pub extern "C" fn shaded_ptr() -> usize {
+        SHADED.as_ptr() as usize
     }
 
     /// The BMC probe's selected family member (index into its baked family); −1 on error.

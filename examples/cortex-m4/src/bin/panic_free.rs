@@ -134,15 +134,17 @@ fn sg_fractions() {
 
 #[inline(never)]
 fn spherical_gaussian() {
-    let (Ok(a), Ok(b), Ok(c)) = (
+    let (Ok(a), Ok(b), Ok(m), Ok(c)) = (
         SphericalGaussian::new(dir(), black_box(50.0), black_box(3.0)),
         SphericalGaussian::phong_lobe(dir(), black_box(10.0)),
+        SphericalGaussian::phong_moments(dir(), black_box(10.0)),
         SphericalGaussian::clamped_cosine(dir()),
     ) else {
         return;
     };
     keep(a.evaluate(dir()));
     keep(a.product(&b));
+    keep(m.integral());
     keep(a.integral());
     keep(a.inner_product(&c));
     keep(a.rotated(&Mat3::about_z(black_box(0.3))));
@@ -169,10 +171,16 @@ fn bmc_probe() {
     keep(p.irradiance(dir()));
     keep(p.posterior_variance(dir()));
     keep(cosine_weighted_average(p.directions(), black_box(&ys[..]), dir()));
+    let lobe =
+        SphericalGaussian { axis: dir(), sharpness: black_box(21.0), amplitude: black_box(0.5) };
+    keep(p.glossy(&lobe));
+    keep(p.glossy_variance(&lobe));
     let mut rgb = Probe::<16, [f32; 3]>::new();
     keep(rgb.update(black_box(&[[1.0, 2.0, 3.0]; 16])));
     keep(rgb.irradiance(dir()));
     keep(rgb.posterior_variance(dir()));
+    keep(rgb.glossy(&lobe));
+    keep(rgb.glossy_variance(&lobe));
 }
 
 #[inline(never)]
