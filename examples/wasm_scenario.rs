@@ -150,6 +150,57 @@ fn main() {
         println!("w_bmc_selected {} {}", 3 * s + 2, probe.selected());
         bmc_irradiance(&probe, "w_bmc_kept", s, normal(3));
     }
+    // The batch form for every baked N, then its bad input.
+    let mirror_of = |i: usize| if i >= 24 { 26 } else { (i + 7) % 24 };
+    let queries: Vec<(usize, usize)> =
+        [0, 1, 2, 3, 5, 24, 25].into_iter().map(|i| (i, mirror_of(i))).collect();
+    shade::<16>(0, 7, &queries);
+    shade::<32>(1, 8, &queries);
+    shade::<64>(2, 9, &queries);
+    shade::<128>(3, 10, &queries);
+    shade::<256>(4, 11, &queries);
+    // N = 17 has no baked family (the documented −1 and code 3); more than 1 024 queries is
+    // the documented code 3; the other two come from the library.
+    use sphere_quadrature::{sg::SphericalGaussian, Error, Vec3};
+    println!("w_shade_bad 0 -1");
+    println!("w_shade_bad 1 {}", api::error_code(Error::InvalidParameter));
+    println!("w_shade_bad 2 {}", api::error_code(Error::InvalidParameter));
+    let exponent =
+        SphericalGaussian::phong_moments(Vec3::Z, -1.0).map_or_else(api::error_code, |_| 0);
+    println!("w_shade_bad 3 {exponent}");
+    // The module's buffer holds the N = 256 sky of seed 11 (its first 16 samples), one NaN.
+    let Ok(big) = api::bmc_probe_n::<256>(11) else { return };
+    let mut ys: [[f32; 3]; 16] = core::array::from_fn(|j| scenario::sky_rgb(big.directions()[j]));
+    ys[1][1] = f32::NAN;
+    let nan = api::bmc_probe_n::<16>(1).and_then(|mut p| p.update(&ys));
+    println!("w_shade_bad 4 {}", update_code(nan));
+}
+
+/// The batch form (`bmc_shade`) for one baked `N`: `(seed, queries)`, printed as the module
+/// does (irradiance RGB, glossy RGB per query; NaN for a bad direction).
+fn shade<const N: usize>(s: usize, seed: u32, queries: &[(usize, usize)])
+where
+    sphere_quadrature::bmc::Size<N>: sphere_quadrature::probe::ProbeSize,
+{
+    use sphere_quadrature::{sg::SphericalGaussian, Vec3};
+    let Ok(mut p) = api::bmc_probe_n::<N>(seed) else {
+        println!("w_shade_dirs {s} -1");
+        return;
+    };
+    println!("w_shade_dirs {s} {N}");
+    let samples = p.directions().map(scenario::sky_rgb);
+    let code = update_code(p.update(&samples));
+    println!("w_shade_code {s} {code}");
+    let v = |[x, y, z]: [f32; 3]| Vec3::new(x, y, z);
+    for (k, &(i, j)) in queries.iter().enumerate() {
+        let irr = p.irradiance(v(normal(i))).map_or([f32::NAN; 3], |e| e.value);
+        let glossy = SphericalGaussian::phong_moments(v(normal(j)), 20.0)
+            .and_then(|lobe| p.glossy(&lobe))
+            .unwrap_or([f32::NAN; 3]);
+        for (c, x) in irr.into_iter().chain(glossy).enumerate() {
+            value("w_shade", 6 * queries.len() * s + 6 * k + c, x);
+        }
+    }
 }
 
 fn update_code(r: Result<(), sphere_quadrature::Error>) -> i32 {

@@ -143,4 +143,38 @@ BMC_SEEDS.forEach((seed, s) => {
   bmcIrradiance("w_bmc_kept", s, normal(3));
 });
 
+// 5. The batch form for every baked N (as the browser page uses it): directions, one update
+// with the RGB sky, irradiance about normal(i) and Phong glossy (e = 20) about another
+// direction, bad query directions giving NaN; then bad n, count, exponent and samples.
+const SHADE_NS = [16, 32, 64, 128, 256];
+const SHADE_Q = [0, 1, 2, 3, 5, 24, 25];
+const mirrorOf = (i) => (i >= 24 ? 26 : (i + 7) % 24);
+SHADE_NS.forEach((n, s) => {
+  const seed = 7 + s;
+  const got = w.bmc_shade_directions(n, seed);
+  out.push(`w_shade_dirs ${s} ${got}`);
+  if (got !== n) return;
+  const dirs = new Float32Array(memory.buffer, w.dirs_ptr(), 3 * n);
+  const samples = new Float32Array(memory.buffer, w.samples_ptr(), 3 * n);
+  for (let j = 0; j < n; j++) samples.set(skyRgb(dirs[3 * j], dirs[3 * j + 1], dirs[3 * j + 2]), 3 * j);
+  const q = new Float32Array(memory.buffer, w.queries_ptr(), 6 * SHADE_Q.length);
+  SHADE_Q.forEach((i, k) => {
+    q.set(normal(i), 6 * k);
+    q.set(normal(mirrorOf(i)), 6 * k + 3);
+  });
+  out.push(`w_shade_code ${s} ${w.bmc_shade(n, seed, SHADE_Q.length, 20)}`);
+  const r = new Float32Array(memory.buffer, w.shaded_ptr(), 6 * SHADE_Q.length);
+  for (let k = 0; k < 6 * SHADE_Q.length; k++) value("w_shade", 6 * SHADE_Q.length * s + k, r[k]);
+});
+{
+  // The sample buffer still holds the N = 256 sky: its first 16 samples are valid.
+  out.push(`w_shade_bad 0 ${w.bmc_shade_directions(17, 1)}`);
+  out.push(`w_shade_bad 1 ${w.bmc_shade(17, 1, 1, 20)}`);
+  out.push(`w_shade_bad 2 ${w.bmc_shade(16, 1, 1025, 20)}`);
+  out.push(`w_shade_bad 3 ${w.bmc_shade(16, 1, 1, -1)}`);
+  const samples = new Float32Array(memory.buffer, w.samples_ptr(), 3 * 16);
+  samples[4] = NaN;
+  out.push(`w_shade_bad 4 ${w.bmc_shade(16, 1, 1, 20)}`);
+}
+
 process.stdout.write(out.join("\n") + "\n");
