@@ -17,6 +17,14 @@
 //! - `QMC-SF`: this crate's hemisphere spherical Fibonacci set with the lobe morph and a new
 //!   random rotation about the axis per estimate.
 //!
+//! Then the **probe form** on the `clamp` tier: one `sphere_quadrature::probe::Probe` of N
+//! samples (16 seeded random rotations of the set per map) answers every query — irradiance
+//! about the normals and Phong glossy (`SphericalGaussian::phong_moments`) about the
+//! reflection directions — next to the weighted averages of the same N samples (the cheap
+//! probe peer: weights `max(0, n·x)` and `max(0, r·x)ᵉ`), with the fraction of queries whose
+//! error is within two posterior standard deviations (`posterior_variance`,
+//! `glossy_variance`).
+//!
 //! Printed: relative RMSE of luminance = RMSE / mean |truth|, per map and averaged over the
 //! maps, in two lighting tiers: `raw` (as loaded) and `clamp` (luminance clamped at 30× the
 //! map's solid-angle mean: suns and lamps are direct light that renderers sample separately,
@@ -31,8 +39,12 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use compare::{clamped, evaluate, truths, weights, Errors, Kind};
-use reference::envmap::EnvMap;
+use reference::envmap::{luminance, EnvMap};
 use reference::rng::Rng;
+use sphere_quadrature::bmc::Size;
+use sphere_quadrature::probe::{Probe, ProbeSize};
+use sphere_quadrature::sg::SphericalGaussian;
+use sphere_quadrature::{Mat3, Vec3};
 
 const NS: [usize; 5] = [16, 32, 64, 128, 256];
 const QUERIES: usize = 64;
@@ -56,6 +68,111 @@ fn print_table(title: &str, rows: &[Errors]) {
     }
 }
 
+/// Probe-form sample counts and rotations per map.
+const PROBE_NS: [usize; 3] = [16, 64, 256];
+const ROTATIONS: usize = 16;
+
+/// Squared errors (BMC, weighted average), Σ|truth|, count and 2σ hits, per kind.
+#[derive(Clone, Copy, Default)]
+struct ProbeSums {
+    sq: [[f64; 2]; 2],
+    truth: [f64; 2],
+    count: [usize; 2],
+    within: [usize; 2],
+}
+
+impl ProbeSums {
+    /// `[BMC, average]` relative RMSE and the 2σ fraction of `kind`.
+    fn report(&self, kind: usize) -> (f64, f64, f64) {
+        let c = self.count[kind] as f64;
+        let mean = self.truth[kind] / c;
+        let rel = |sq: f64| (sq / c).sqrt() / mean;
+        (rel(self.sq[kind][0]), rel(self.sq[kind][1]), self.within[kind] as f64 / c)
+    }
+}
+
+fn v32(d: [f64; 3]) -> Vec3 {
+    Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32)
+}
+
+/// One probe per rotation: irradiance about `axes[0]`, Phong glossy about `axes[1]`.
+fn probe_form<const N: usize>(
+    map: &EnvMap,
+    axes: [&[[f64; 3]]; 2],
+    truth: [&[f64]; 2],
+    rotations: &[Mat3],
+) -> ProbeSums
+where
+    Size<N>: ProbeSize,
+{
+    let mut s = ProbeSums::default();
+    for &rot in rotations {
+        let mut probe = Probe::<N>::new();
+        probe.set_rotation(rot).expect("a random rotation is orthonormal");
+        let xs: Vec<[f64; 3]> =
+            probe.directions().iter().map(|d| [d.x as f64, d.y as f64, d.z as f64]).collect();
+        let ys: [f32; N] = std::array::from_fn(|j| luminance(map.radiance(xs[j])) as f32);
+        probe.update(&ys).expect("finite samples");
+        for kind in 0..2 {
+            for (a, &t) in axes[kind].iter().zip(truth[kind]) {
+                let (bmc, var, power) = if kind == 0 {
+                    let n = v32(*a);
+                    let e = probe.irradiance(n).expect("unit normal");
+                    let var = probe.posterior_variance(n).expect("unit normal");
+                    (e.value as f64, var as f64, 1.0)
+                } else {
+                    let lobe = SphericalGaussian::phong_moments(v32(*a), PHONG_EXPONENT as f32)
+                        .expect("valid lobe");
+                    let g = probe.glossy(&lobe).expect("valid lobe");
+                    (
+                        g as f64,
+                        probe.glossy_variance(&lobe).expect("valid lobe") as f64,
+                        PHONG_EXPONENT,
+                    )
+                };
+                let (mut num, mut den) = (0.0, 0.0);
+                for (x, &y) in xs.iter().zip(&ys) {
+                    let w = (a[0] * x[0] + a[1] * x[1] + a[2] * x[2]).max(0.0).powf(power);
+                    num += w * y as f64;
+                    den += w;
+                }
+                let scale = if kind == 0 { std::f64::consts::PI } else { 1.0 };
+                let avg = if den > 0.0 { scale * num / den } else { 0.0 };
+                s.sq[kind][0] += (bmc - t).powi(2);
+                s.sq[kind][1] += (avg - t).powi(2);
+                s.truth[kind] += t.abs();
+                s.count[kind] += 1;
+                s.within[kind] += usize::from((bmc - t).abs() <= 2.0 * var.sqrt());
+            }
+        }
+    }
+    s
+}
+
+fn print_probe_table(title: &str, rows: &[ProbeSums]) {
+    println!(
+        "
+{title}"
+    );
+    println!(
+        "{:>5} {:>11} {:>11} {:>8} {:>11} {:>11} {:>8}",
+        "N", "BMC irr", "cos-avg", "2σ", "BMC glossy", "lobe-avg", "2σ"
+    );
+    for (n, r) in PROBE_NS.iter().zip(rows) {
+        let (bd, ad, cd) = r.report(0);
+        let (bg, ag, cg) = r.report(1);
+        println!(
+            "{n:>5} {:>10.3}% {:>10.3}% {:>7.0}% {:>10.3}% {:>10.3}% {:>7.0}%",
+            100.0 * bd,
+            100.0 * ad,
+            100.0 * cd,
+            100.0 * bg,
+            100.0 * ag,
+            100.0 * cg
+        );
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/envmaps");
@@ -76,6 +193,14 @@ fn main() {
     let mut cache: Option<((usize, usize), WeightsPerKind)> = None;
     // sums[tier][kind][n]: relative RMSE summed over the maps.
     let mut sums = [[[Errors::default(); NS.len()]; 2]; 2];
+    let rotations: Vec<Mat3> = (0..ROTATIONS)
+        .map(|_| {
+            let m = rng.uniform_rotation();
+            Mat3::from_rows(v32(m[0]), v32(m[1]), v32(m[2]))
+        })
+        .collect();
+    // Probe form, pooled over the maps: squared errors summed, so the mean is per query.
+    let mut probe_sums = [ProbeSums::default(); PROBE_NS.len()];
     for path in &paths {
         let raw = EnvMap::load(path).unwrap_or_else(|e| {
             eprintln!("cannot load {}: {e}", path.display());
@@ -89,11 +214,39 @@ fn main() {
         }
         let Some((_, pixel_weights)) = &cache else { unreachable!("just filled") };
         for (tier, map) in [raw.clone(), clamped(&raw)].iter().enumerate() {
+            let truth_by_kind: Vec<Vec<f64>> =
+                (0..KINDS.len()).map(|k| truths(map, &pixel_weights[k])).collect();
+            if TIERS[tier] == "clamp" {
+                let t = [truth_by_kind[0].as_slice(), truth_by_kind[1].as_slice()];
+                let a = [normals.as_slice(), reflections.as_slice()];
+                let rows = [
+                    probe_form::<16>(map, a, t, &rotations),
+                    probe_form::<64>(map, a, t, &rotations),
+                    probe_form::<256>(map, a, t, &rotations),
+                ];
+                print_probe_table(
+                    &format!(
+                        "{name} [clamp] probe form, one probe of N samples for all queries \
+                         ({ROTATIONS} rotations): relative RMSE, and |error| ≤ 2σ"
+                    ),
+                    &rows,
+                );
+                for (sum, r) in probe_sums.iter_mut().zip(&rows) {
+                    for kind in 0..2 {
+                        for e in 0..2 {
+                            sum.sq[kind][e] += r.sq[kind][e];
+                        }
+                        sum.truth[kind] += r.truth[kind];
+                        sum.count[kind] += r.count[kind];
+                        sum.within[kind] += r.within[kind];
+                    }
+                }
+            }
             for (k, &kind) in KINDS.iter().enumerate() {
-                let truth = truths(map, &pixel_weights[k]);
+                let truth = &truth_by_kind[k];
                 let rows: Vec<Errors> = NS
                     .iter()
-                    .map(|&n| evaluate(map, kind, axes[k], &truth, n, DRAWS, 7 + k as u64))
+                    .map(|&n| evaluate(map, kind, axes[k], truth, n, DRAWS, 7 + k as u64))
                     .collect();
                 let title = format!(
                     "{name} [{}] {}: relative RMSE over {QUERIES} queries × {DRAWS} draws",
@@ -120,6 +273,13 @@ fn main() {
                 print_table(&title, rows);
             }
         }
+        print_probe_table(
+            &format!(
+                "all {} maps pooled [clamp] probe form: relative RMSE, and |error| ≤ 2σ",
+                paths.len()
+            ),
+            &probe_sums,
+        );
     }
     eprintln!("\n({:.1} s)", start.elapsed().as_secs_f64());
 }
