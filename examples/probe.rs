@@ -123,7 +123,7 @@ where
                 } else {
                     let lobe = SphericalGaussian::phong_moments(v32(*a), PHONG_EXPONENT as f32)
                         .expect("valid lobe");
-                    let g = probe.glossy(&lobe).expect("valid lobe");
+                    let g = probe.glossy(&lobe).expect("valid lobe").value;
                     (
                         g as f64,
                         probe.glossy_variance(&lobe).expect("valid lobe") as f64,

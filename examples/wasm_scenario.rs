@@ -195,7 +195,7 @@ where
     for (k, &(i, j)) in queries.iter().enumerate() {
         let irr = p.irradiance(v(normal(i))).map_or([f32::NAN; 3], |e| e.value);
         let glossy = SphericalGaussian::phong_moments(v(normal(j)), 20.0)
-            .and_then(|lobe| p.glossy(&lobe))
+            .and_then(|lobe| p.glossy(&lobe).map(|g| g.value))
             .unwrap_or([f32::NAN; 3]);
         for (c, x) in irr.into_iter().chain(glossy).enumerate() {
             value("w_shade", 6 * queries.len() * s + 6 * k + c, x);
@@ -227,7 +227,7 @@ fn bmc_glossy(probe: &api::BmcProbe, key: &str, k: usize, [x, y, z]: [f32; 3], e
         sphere_quadrature::Vec3::new(x, y, z),
         e,
     )
-    .and_then(|lobe| Ok((probe.glossy(&lobe)?, probe.glossy_variance(&lobe)?)));
+    .and_then(|lobe| Ok((probe.glossy(&lobe)?.value, probe.glossy_variance(&lobe)?)));
     match result {
         Ok((v, var)) => {
             println!("{key}_code {k} 0");

@@ -54,6 +54,58 @@ pub const Z_NODES: usize = 129;
 /// Query normals for the direction-averaged posterior variance.
 pub const VARIANCE_NORMALS: usize = 256;
 
+/// Points of the baked glossy variance grid: lobe sharpness `μ = 0`, then `2^(k−1)` for
+/// `k = 1…11` (1 to 1024).
+pub const GLOSSY_GRID: usize = 12;
+
+/// Mirror directions over which the glossy variance is averaged: the SF sphere set of this
+/// size (unrelated to any probe size, so no direction sits on a sample by construction).
+pub const GLOSSY_DIRECTIONS: usize = 37;
+
+/// `μ` of grid point `k`.
+pub fn glossy_grid(k: usize) -> f64 {
+    if k == 0 {
+        0.0
+    } else {
+        f64::from(1u32 << (k - 1))
+    }
+}
+
+/// `ζ(t) = ∫ exp(λ(x·y − 1))·exp(μ(r·y − 1)) dy` at `x·r = t`: the integral of the product
+/// SG, `4π·exp(w − λ − μ)·(1 − e^(−2w))/(2w)`, `w = |λx + μr|`.
+pub fn glossy_zeta(lambda: f64, mu: f64, t: f64) -> f64 {
+    let w = (lambda * lambda + mu * mu + 2.0 * lambda * mu * t.clamp(-1.0, 1.0)).max(0.0).sqrt();
+    let h = if w > 1e-8 { -(-2.0 * w).exp_m1() / (2.0 * w) } else { 1.0 };
+    4.0 * PI * (w - lambda - mu).exp() * h
+}
+
+/// `F(μ) = ∫ exp(μ(r·y − 1)) dy = 2π(1 − e^(−2μ))/μ` (`4π` at 0).
+pub fn glossy_full(mu: f64) -> f64 {
+    if mu == 0.0 {
+        4.0 * PI
+    } else {
+        -2.0 * PI * (-2.0 * mu).exp_m1() / mu
+    }
+}
+
+/// `V̄ = ∫∫ G·k·G = 2π∫ exp(μ(t − 1))·ζ(t) dt` over `t ∈ [−1, 1]`, by 16-point Gauss–Legendre
+/// on 16 panels in `u = 1 − t` graded geometrically towards the lobe's axis (`[0, 2⁻¹⁴]`,
+/// then doubling up to `[1, 2]`).
+pub fn glossy_vbar(lambda: f64, mu: f64) -> f64 {
+    let (xs, ws) = super::sg::gauss_legendre(16);
+    let mut edges = vec![0.0];
+    edges.extend((0..16).map(|k| 2.0 * 0.5f64.powi(15 - k)));
+    let mut sum = 0.0;
+    for pair in edges.windows(2) {
+        let (a, b) = (pair[0], pair[1]);
+        for (x, w) in xs.iter().zip(&ws) {
+            let u = 0.5 * (a + b) + 0.5 * (b - a) * x;
+            sum += 0.5 * (b - a) * w * (-mu * u).exp() * glossy_zeta(lambda, mu, 1.0 - u);
+        }
+    }
+    2.0 * PI * sum
+}
+
 /// `round(2⁶⁴/Φ)`: the crate's golden phase step (`sf::GOLDEN_PHASE`).
 const GOLDEN_PHASE: u64 = 0x9E37_79B9_7F4A_7C16;
 
@@ -220,6 +272,9 @@ pub struct Member {
     pub mean_variance: f64,
     /// Its maximum over the same normals.
     pub max_variance: f64,
+    /// Per [`GLOSSY_GRID`] point: the posterior variance of `∫ L·exp(μ(r·y − 1)) dy`
+    /// (σ_f = 1), mean over [`GLOSSY_DIRECTIONS`] mirror directions, divided by `F(μ)²`.
+    pub glossy_variance: Vec<f64>,
     /// `λ_max/λ_min` of `Q` (from the blocks' extreme eigenvalues).
     pub condition: f64,
 }
@@ -415,6 +470,7 @@ pub fn bake_member(n: usize, lambda: f32, sigma: f32) -> Result<Member, String> 
         vbar: PI * PI * super::bmc::kernel_mean_mean(lambda),
         mean_variance: 0.0,
         max_variance: 0.0,
+        glossy_variance: Vec::new(),
         condition: max_eig / min_eig,
     };
     let table = z_table(lambda);
@@ -428,6 +484,25 @@ pub fn bake_member(n: usize, lambda: f32, sigma: f32) -> Result<Member, String> 
     }
     member.mean_variance = sum / VARIANCE_NORMALS as f64;
     member.max_variance = max;
+    member.glossy_variance = (0..GLOSSY_GRID)
+        .map(|k| {
+            let mu = glossy_grid(k);
+            let (vbar, full) = (glossy_vbar(lambda, mu), glossy_full(mu));
+            let mean = (0..GLOSSY_DIRECTIONS)
+                .map(|q| {
+                    let r = sphere_direction(q, GLOSSY_DIRECTIONS);
+                    let zeta: Vec<f64> =
+                        xs.iter().map(|&x| glossy_zeta(lambda, mu, dot(x, r))).collect();
+                    let u = member.solve(&zeta);
+                    let quad: f64 = zeta.iter().zip(&u).map(|(a, b)| a * b).sum();
+                    let one: f64 = u.iter().sum();
+                    (vbar - quad + (full - one).powi(2) / member.s1).max(0.0)
+                })
+                .sum::<f64>()
+                / GLOSSY_DIRECTIONS as f64;
+            mean / (full * full)
+        })
+        .collect();
     Ok(member)
 }
 
@@ -457,7 +532,7 @@ pub fn distinct_lambdas(specs: &[Spec]) -> Vec<f32> {
 /// `λ`).
 pub fn family_bytes(n: usize, members: usize) -> usize {
     let m = n / 2;
-    members * 4 * (m * (m + 1) + m + 8 + 3 * Z_NODES)
+    members * 4 * (m * (m + 1) + m + 8 + GLOSSY_GRID + 3 * Z_NODES)
 }
 
 /// The Rust source that `build.rs` writes to `$OUT_DIR/probe_tables.rs`.
@@ -534,6 +609,8 @@ pub fn render(specs: &[Spec], baked: &[Vec<Member>]) -> String {
             let _ = writeln!(s, "        chol_odd: &PROBE_{n}_{k}_ODD,");
             let _ = writeln!(s, "        g: &PROBE_{n}_{k}_G,");
             let _ = writeln!(s, "        z: &{},", z_name(l));
+            let grid: Vec<String> = mb.glossy_variance.iter().map(|&v| bits(v as f32)).collect();
+            let _ = writeln!(s, "        glossy_variance: [{}],", grid.join(", "));
             for (name, x) in [
                 ("lambda", l),
                 ("sigma", spec.sigma),

@@ -19,8 +19,9 @@
 //!   129-node table of local quadratics.
 //! - [`Probe::glossy`]: `∫ L·G` for a spherical-Gaussian lobe `G` (normalised Phong about the
 //!   mirror direction with [`SphericalGaussian::phong_moments`]), `β·∫G + Σᵢ zᵢ·αᵢ` in O(N)
-//!   with `zᵢ` in closed form (the kernel is an SG as well); [`Probe::glossy_variance`] is
-//!   its exact posterior variance in O(N²).
+//!   with `zᵢ` in closed form (the kernel is an SG as well), and a baked direction-averaged
+//!   variance interpolated in the lobe sharpness; [`Probe::glossy_variance`] is its exact
+//!   posterior variance in O(N²).
 //! - **Per-probe selection** (local adaptation): `build.rs` bakes a small *family* of
 //!   sharpnesses `λ` (one `σ′`); each update computes, for every member, the restricted
 //!   (REML) log marginal likelihood with `σ_f` profiled out,
@@ -77,6 +78,10 @@ use core::f32::consts::PI;
 /// this length; a mismatch does not compile).
 pub const Z_NODES: usize = 129;
 
+/// Points of each member's baked glossy variance grid: lobe sharpness `μ = 0`, then
+/// `μ = 2^(k−1)` for `k = 1…11` (1 to 1024); see [`Probe::glossy`].
+pub const GLOSSY_GRID: usize = 12;
+
 /// Implemented for exactly the sizes `N` with a baked probe family (`Size<16>`, `Size<32>`,
 /// `Size<64>`, `Size<128>`, `Size<256>` by default); sealed.
 #[diagnostic::on_unimplemented(
@@ -98,6 +103,8 @@ pub(crate) mod sealed {
         pub g: &'static [f32],
         /// `[v, s, c]` per node: `π·z ≈ v + f·(s + f·c)`.
         pub z: &'static [[f32; 3]; super::Z_NODES],
+        /// Direction-averaged unit glossy variance over `F(μ)²` on the grid.
+        pub glossy_variance: [f32; super::GLOSSY_GRID],
         pub lambda: f32,
         pub sigma: f32,
         pub s1: f32,
@@ -249,12 +256,13 @@ where
         Self::FAMILY.get(k).map(member_of)
     }
 
-    /// Flash bytes of this size's baked tables: per member two packed `N/2` factors, `g` and
-    /// eight scalars, plus its quadratic `π·z` table (shared with other sizes of the same `λ`).
+    /// Flash bytes of this size's baked tables: per member two packed `N/2` factors, `g`,
+    /// eight scalars and the glossy variance grid, plus its quadratic `π·z` table (shared with
+    /// other sizes of the same `λ`).
     #[must_use]
     pub const fn table_bytes() -> usize {
         let m = N / 2;
-        Self::FAMILY.len() * 4 * (m * (m + 1) + m + 8 + 3 * Z_NODES)
+        Self::FAMILY.len() * 4 * (m * (m + 1) + m + 8 + GLOSSY_GRID + 3 * Z_NODES)
     }
 
     /// Takes new samples (radiance in [`Probe::directions`], in order) and picks the family
@@ -405,29 +413,35 @@ where
         Ok(self.signal_variance.scale(v as f32))
     }
 
-    /// Glossy radiance: `∫ L(x)·G(x) dx` for a spherical-Gaussian lobe
-    /// `G(x) = a·exp(μ(r·x − 1))`, O(N) (one `exp`, one `expm1` and one `sqrt` per sample).
+    /// Glossy radiance `∫ L(x)·G(x) dx` for a spherical-Gaussian lobe
+    /// `G(x) = a·exp(μ(r·x − 1))`, with a direction-averaged posterior variance, O(N) (one
+    /// `exp`, at most one `expm1` and one `sqrt` per sample).
     ///
     /// With `G = SphericalGaussian::phong_moments(r, e)` (unit integral, `μ = e + 2`, the
     /// Phong lobe's first Legendre moment) this is the normalised Phong-lobe average of the
     /// radiance about the mirror direction `r`: the glossy term of a prefiltered environment.
     /// The SG stands in for the Phong lobe: on smooth lighting that leaves an error floor of
-    /// about 1 % at `e = 5` (`examples/glossy.rs`, `docs/glossy.md`), less for sharper lobes. The lobe is integrated over the whole sphere (no horizon
-    /// clipping, no cosine factor: below the horizon a lobe of `μ = 21` keeps `e^(−21)` of
-    /// its peak).
+    /// about 1 % at `e = 5` (`examples/glossy.rs`, `docs/glossy.md`), less for sharper lobes.
+    /// The lobe is integrated over the whole sphere (no horizon clipping, no cosine factor:
+    /// below the horizon a lobe of `μ = 22` keeps `e^(−22)` of its peak).
     ///
     /// The kernel is an SG of sharpness `λ` too, so `zᵢ = ∫ k(xᵢ, x)·G(x) dx` is closed:
     /// `4πa·exp(w − λ − μ)·(1 − e^(−2w))/(2w)` with `w = |λxᵢ + μr|` (the integral of the
     /// product SG), evaluated as `exp(2λμ(t − 1)/(w + λ + μ))` so that sharp lobes do not
     /// cancel, and with `libm` whatever the math backend (`Σ αᵢzᵢ` cancels by up to cond(Q),
-    /// so `zᵢ` needs full f32 accuracy). The estimate is `β·a·F(μ) + Σᵢ αᵢzᵢ`, `F(μ) = 2π(1 − e^(−2μ))/μ`. As `μ` grows it
-    /// tends to `a·F(μ)` times the posterior mean of the radiance at `r` (the GP interpolant).
+    /// so `zᵢ` needs full f32 accuracy). The estimate is `β·a·F(μ) + Σᵢ αᵢzᵢ` with
+    /// `F(μ) = 2π(1 − e^(−2μ))/μ`. As `μ` grows it tends to `a·F(μ)` times the posterior mean
+    /// of the radiance at `r` (the GP interpolant).
+    ///
+    /// The variance is σ̂_f²·a²·F(μ)² times the unit variance over `F(μ)²` averaged over 37
+    /// mirror directions, baked per member at `μ = 0, 1, 2, 4, …, 1024` and interpolated
+    /// linearly in `μ` (constant above 1024); [`Probe::glossy_variance`] is exact for `r`.
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite axis; [`Error::InvalidSharpness`]
     /// for a sharpness that is negative, not finite or above [`MAX_GLOSSY_SHARPNESS`];
     /// [`Error::InvalidParameter`] for a non-finite amplitude.
-    pub fn glossy(&self, lobe: &SphericalGaussian) -> Result<T, Error> {
+    pub fn glossy(&self, lobe: &SphericalGaussian) -> Result<Estimate<T>, Error> {
         let (r, mu, amp) = check_lobe(lobe)?;
         let f = self.member_in_use()?;
         let lambda = f.lambda;
@@ -453,7 +467,9 @@ where
             };
             acc = acc.mul_add(a, scale * e * h);
         }
-        Ok(acc)
+        let full = amp * full_integral_unchecked(mu);
+        let unit = full * full * glossy_grid_lookup(&f.glossy_variance, mu);
+        Ok(Estimate { value: acc, variance: self.signal_variance.scale(unit) })
     }
 
     /// The exact posterior variance of [`Probe::glossy`] for `lobe` (σ̂_f² times the unit
@@ -571,6 +587,25 @@ fn check_lobe(lobe: &SphericalGaussian) -> Result<(Vec3, f32, f32), Error> {
         return Err(Error::InvalidParameter);
     }
     Ok((r, mu, lobe.amplitude))
+}
+
+/// The glossy variance grid at `μ`: linear between `μ = 0` and 1, then linear in `μ` within
+/// each octave `[2^k, 2^(k+1)]` (the octave from the float's exponent bits), the last value
+/// above 1024.
+fn glossy_grid_lookup(grid: &[f32; GLOSSY_GRID], mu: f32) -> f32 {
+    let at = |k: usize| grid.get(k).copied().unwrap_or(0.0);
+    if mu < 1.0 {
+        return at(0) + mu * (at(1) - at(0));
+    }
+    let top = (1u32 << (GLOSSY_GRID - 2)) as f32;
+    if mu >= top {
+        return at(GLOSSY_GRID - 1);
+    }
+    // μ = 2^e·(1 + m), e = 0…9: grid points e + 1 and e + 2.
+    let e = ((mu.to_bits() >> 23) as usize).saturating_sub(127);
+    let base = (1u32 << e.min(31)) as f32;
+    let f = mu / base - 1.0;
+    at(e + 1) + f * (at(e + 2) - at(e + 1))
 }
 
 /// `F(μ) = 2π(1 − e^(−2μ))/μ` in f64 (`4π` at `μ = 0`).

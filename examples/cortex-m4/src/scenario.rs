@@ -153,8 +153,10 @@ pub fn run(out: &mut impl Sink) {
             let r = seq.next_rotation() * Vec3::Z;
             let Ok(lobe) = sg::SphericalGaussian::phong_moments(r, e) else { continue };
             if let (Ok(g), Ok(v)) = (p.glossy(&lobe), p.glossy_variance(&lobe)) {
-                for (c, (&gv, &var)) in g.iter().zip(&v).enumerate() {
+                for (c, ((&gv, &fast), &var)) in g.value.iter().zip(&g.variance).zip(&v).enumerate()
+                {
                     value(out, "probe_glossy", 3 * i + c, gv);
+                    value(out, "probe_glossy_fast_var", 3 * i + c, fast);
                     value(out, "probe_glossy_var", 3 * i + c, var);
                 }
             }

@@ -246,7 +246,7 @@ fn bmc_irradiance(nx: f32, ny: f32, nz: f32) -> i32 {
 fn bmc_glossy(rx: f32, ry: f32, rz: f32, e: f32) -> i32 {
     let result = bmc_current().and_then(|p| {
         let lobe = SphericalGaussian::phong_moments(Vec3::new(rx, ry, rz), e)?;
-        Ok((p.glossy(&lobe)?, p.glossy_variance(&lobe)?))
+        Ok((p.glossy(&lobe)?.value, p.glossy_variance(&lobe)?))
     });
     let (values, code) = match result {
         Ok(([r, g, b], [vr, vg, vb])) => ([r, g, b, vr, vg, vb], 0),
@@ -312,7 +312,7 @@ fn shade(n: u32, seed: u32, count: u32, e: f32) -> i32 {
             let (nq, rq) = q.split_at(3);
             let irr = p.irradiance(load(nq)).map_or([f32::NAN; 3], |v| v.value);
             let glossy = SphericalGaussian::phong_moments(load(rq), e)
-                .and_then(|lobe| p.glossy(&lobe))
+                .and_then(|lobe| p.glossy(&lobe).map(|g| g.value))
                 .unwrap_or([f32::NAN; 3]);
             for (v, a) in irr.iter().chain(&glossy).zip(out) {
                 a.store(v.to_bits(), Relaxed);
