@@ -448,7 +448,8 @@ where
         let top = lambda + mu;
         let two_lm = 2.0 * lambda * mu;
         let scale = 4.0 * PI * amp;
-        let mut acc = self.pi_beta.scale(amp * full_integral_unchecked(mu) / PI);
+        let full = amp * full_integral_unchecked(mu);
+        let mut acc = self.pi_beta.scale(full / PI);
         // Always `libm`, whatever the math backend: Σ αᵢzᵢ cancels heavily for the smooth
         // members (cond(Q) up to 10⁵), so zᵢ needs full f32 accuracy (micromath's `exp` made
         // the λ = 1 estimate 25 % wrong).
@@ -467,7 +468,6 @@ where
             };
             acc = acc.mul_add(a, scale * e * h);
         }
-        let full = amp * full_integral_unchecked(mu);
         let unit = full * full * glossy_grid_lookup(&f.glossy_variance, mu);
         Ok(Estimate { value: acc, variance: self.signal_variance.scale(unit) })
     }

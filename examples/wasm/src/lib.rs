@@ -134,12 +134,17 @@ fn phong_sampler(
 
 /// Writes the sampler's directions into [`DIRS`]; their number.
 fn store_directions(s: &LobeSampler) -> i32 {
-    for (d, slot) in s.iter().zip(DIRS.chunks_exact(3)) {
+    store_vectors(s.iter());
+    i32::try_from(s.len()).unwrap_or(-1)
+}
+
+/// Writes directions into [`DIRS`] (x, y, z each), as many as fit.
+fn store_vectors(dirs: impl Iterator<Item = Vec3>) {
+    for (d, slot) in dirs.zip(DIRS.chunks_exact(3)) {
         slot[0].store(d.x.to_bits(), Relaxed);
         slot[1].store(d.y.to_bits(), Relaxed);
         slot[2].store(d.z.to_bits(), Relaxed);
     }
-    i32::try_from(s.len()).unwrap_or(-1)
 }
 
 /// The probe estimate from the first `n` values of [`SAMPLES`]; NaN on bad input.
@@ -160,9 +165,9 @@ fn estimate_samples_phong(rx: f32, ry: f32, rz: f32, e: f32, lo: u32, hi: u32, n
     sum / s.len() as f32
 }
 
-/// `3·BMC_N` floats of `buffer` as RGB samples.
-fn load_rgb(buffer: &[AtomicU32]) -> [[f32; 3]; BMC_N] {
-    let mut ys = [[0.0f32; 3]; BMC_N];
+/// `3·N` floats of `buffer` as RGB samples.
+fn load_rgb<const N: usize>(buffer: &[AtomicU32]) -> [[f32; 3]; N] {
+    let mut ys = [[0.0f32; 3]; N];
     for (y, a) in ys.iter_mut().zip(buffer.chunks_exact(3)) {
         for (c, v) in y.iter_mut().zip(a) {
             *c = f32::from_bits(v.load(Relaxed));
@@ -196,11 +201,7 @@ fn bmc_reset(seed: u32) -> i32 {
 /// Writes the BMC probe's directions into [`DIRS`]; their number, or −1 on error.
 fn bmc_directions() -> i32 {
     let Ok(p) = api::bmc_probe(BMC_SEED.load(Relaxed)) else { return -1 };
-    for (d, slot) in p.directions().iter().zip(DIRS.chunks_exact(3)) {
-        slot[0].store(d.x.to_bits(), Relaxed);
-        slot[1].store(d.y.to_bits(), Relaxed);
-        slot[2].store(d.z.to_bits(), Relaxed);
-    }
+    store_vectors(p.directions().iter().copied());
     i32::try_from(BMC_N).unwrap_or(-1)
 }
 
@@ -266,11 +267,7 @@ fn shade_directions(n: u32, seed: u32) -> i32 {
         Size<N>: ProbeSize,
     {
         let Ok(p) = api::bmc_probe_n::<N>(seed) else { return -1 };
-        for (d, slot) in p.directions().iter().zip(DIRS.chunks_exact(3)) {
-            slot[0].store(d.x.to_bits(), Relaxed);
-            slot[1].store(d.y.to_bits(), Relaxed);
-            slot[2].store(d.z.to_bits(), Relaxed);
-        }
+        store_vectors(p.directions().iter().copied());
         i32::try_from(N).unwrap_or(-1)
     }
     match n {
@@ -294,13 +291,7 @@ fn shade(n: u32, seed: u32, count: u32, e: f32) -> i32 {
         Size<N>: ProbeSize,
     {
         let mut p = api::bmc_probe_n::<N>(seed)?;
-        let mut ys = [[0.0f32; 3]; N];
-        for (y, a) in ys.iter_mut().zip(SAMPLES.chunks_exact(3)) {
-            for (c, v) in y.iter_mut().zip(a) {
-                *c = f32::from_bits(v.load(Relaxed));
-            }
-        }
-        p.update(&ys)?;
+        p.update(&load_rgb::<N>(&SAMPLES))?;
         // Checks the exponent once, before any query.
         SphericalGaussian::phong_moments(Vec3::Z, e)?;
         let load = |a: &[AtomicU32]| {
