@@ -47,7 +47,18 @@ fn main() {
     write_if_changed(&out_dir.join("bmc_fixed_tables.rs"), &fixed);
 
     let (probe_file, text) = config(gen::probe::CONFIG_FILE, PROBE_ENV);
-    let specs = gen::probe::parse(&text).unwrap_or_else(|e| panic!("{probe_file}: {e}"));
+    let mut specs = gen::probe::parse(&text).unwrap_or_else(|e| panic!("{probe_file}: {e}"));
+    // The feature `footprint-sweep` adds the footprint benchmark's extra footprints.
+    if std::env::var_os("CARGO_FEATURE_FOOTPRINT_SWEEP").is_some() {
+        let file = gen::probe::SWEEP_FILE;
+        let text = std::fs::read_to_string(file).unwrap_or_else(|e| panic!("reading {file}: {e}"));
+        let extra = gen::probe::parse_extra(&text).unwrap_or_else(|e| panic!("{file}: {e}"));
+        for spec in extra {
+            if !specs.iter().any(|s| s.n == spec.n && s.footprint == spec.footprint) {
+                specs.push(spec);
+            }
+        }
+    }
     let families = gen::probe::bake_all(&specs).unwrap_or_else(|e| panic!("{probe_file}: {e}"));
     write_if_changed(&out_dir.join("probe_tables.rs"), &gen::probe::render(&specs, &families));
 }

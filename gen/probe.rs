@@ -42,6 +42,19 @@ use std::fmt::Write as _;
 /// The file in `tables/` that says what to bake.
 pub const CONFIG_FILE: &str = "tables/probe.txt";
 
+/// The extra footprints baked with the feature `footprint-sweep` (same format, no `probe`
+/// line needed).
+pub const SWEEP_FILE: &str = "tables/probe_sweep.txt";
+
+/// Parses a file of `footprint = …` lines only (the [`SWEEP_FILE`]).
+pub fn parse_extra(text: &str) -> Result<Vec<Spec>, String> {
+    // Borrow the main parser's checks with a placeholder point line, then drop it.
+    let mut specs =
+        parse(&format!("probe = 2 1 1\n{text}")).map_err(|e| e.replace("line ", "line (+1) "))?;
+    specs.retain(|s| s.footprint != Footprint::Point);
+    Ok(specs)
+}
+
 /// The largest N a config may ask for.
 pub const MAX_N: usize = 1024;
 
@@ -109,21 +122,324 @@ pub fn glossy_vbar(lambda: f64, mu: f64) -> f64 {
 /// `round(2⁶⁴/Φ)`: the crate's golden phase step (`sf::GOLDEN_PHASE`).
 const GOLDEN_PHASE: u64 = 0x9E37_79B9_7F4A_7C16;
 
-/// One probe size to bake: `N`, `σ′` and the family of sharpnesses.
+/// What each sample measures (see `src/footprint.rs`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Footprint {
+    /// The radiance in the sample's direction.
+    Point,
+    /// The normalised spherical Gaussian of this integer sharpness `S`.
+    Gaussian(u32),
+    /// The normalised cosine-power response `(P + 1)/(2π)·max(0, t)ᴾ`.
+    Cosine(u32),
+}
+
+impl Footprint {
+    /// The Rust type of the footprint marker.
+    pub fn type_name(self) -> String {
+        match self {
+            Footprint::Point => "crate::footprint::Point".into(),
+            Footprint::Gaussian(s) => format!("crate::footprint::Gaussian<{s}>"),
+            Footprint::Cosine(p) => format!("crate::footprint::CosinePower<{p}>"),
+        }
+    }
+
+    /// A short name for static identifiers (`P`, `G8`, `C1`).
+    pub fn tag(self) -> String {
+        match self {
+            Footprint::Point => "P".into(),
+            Footprint::Gaussian(s) => format!("G{s}"),
+            Footprint::Cosine(p) => format!("C{p}"),
+        }
+    }
+
+    /// The Funk–Hecke gains `g_l`, `l < count`.
+    pub fn gains(self, count: usize) -> Vec<f64> {
+        match self {
+            Footprint::Point => vec![1.0; count],
+            Footprint::Gaussian(s) => bessel_ratios(f64::from(s), count),
+            Footprint::Cosine(p) => cosine_power_gains(p, count),
+        }
+    }
+}
+
+/// The largest footprint parameter (Gaussian sharpness, cosine-power exponent).
+pub const MAX_FOOTPRINT: u32 = 4096;
+
+/// The most Legendre terms a member's series may need (the parser refuses members whose
+/// kernel series has not converged by then).
+pub const MAX_SERIES: usize = 256;
+
+/// `ρ_l(x) = i_l(x)/i₀(x)` for `l < count` (modified spherical Bessel functions of the first
+/// kind), by the backward continued fraction `r_k = i_k/i_{k−1} = x/(2k + 1 + x·r_{k+1})`
+/// started at `count + 2x + 60` (past `k ≈ 2x` each step damps the start's error by `r² < 1/9`).
+pub fn bessel_ratios(x: f64, count: usize) -> Vec<f64> {
+    let mut out = vec![0.0; count];
+    if count == 0 {
+        return out;
+    }
+    out[0] = 1.0;
+    if x == 0.0 {
+        return out;
+    }
+    let start = count + 2 * (x.min(1e6) as usize) + 60;
+    let mut r = 0.0;
+    let mut ratios = vec![0.0; count];
+    for k in (1..=start).rev() {
+        r = x / ((2 * k + 1) as f64 + x * r);
+        if k < count {
+            ratios[k] = r;
+        }
+    }
+    for l in 1..count {
+        out[l] = out[l - 1] * ratios[l];
+    }
+    out
+}
+
+/// `(p + 1)∫₀¹ tᵖ P_l(t) dt` for `l < count`: `m₀ = 1/(p + 1)`, `m₁ = 1/(p + 2)`,
+/// `m_{l+2} = m_l·(p − l)/(p + l + 3)` (Gradshteyn–Ryzhik 7.126.2).
+pub fn cosine_power_gains(p: u32, count: usize) -> Vec<f64> {
+    let pf = f64::from(p);
+    let mut m = vec![0.0; count];
+    for l in 0..count {
+        m[l] = if l < 2 {
+            1.0 / (pf + 1.0 + l as f64)
+        } else {
+            m[l - 2] * (pf - (l - 2) as f64) / (pf + (l - 2) as f64 + 3.0)
+        };
+    }
+    m.iter().map(|x| (pf + 1.0) * x).collect()
+}
+
+/// The clamped cosine's Funk–Hecke gains `c_l = 2π∫₀¹ t·P_l(t) dt` (`π`, `2π/3`, `π/4`, 0,
+/// `−π/24`, …), `l < count`.
+pub fn clamped_cosine_gains(count: usize) -> Vec<f64> {
+    cosine_power_gains(1, count).iter().map(|g| PI * g).collect()
+}
+
+/// The Funk–Hecke coefficients `K_l = 2π∫ exp(x(t − 1))·P_l(t) dt = F(x)·ρ_l(x)` of a unit
+/// spherical Gaussian of sharpness `x`, `l < count`.
+pub fn sg_coefficients(x: f64, count: usize) -> Vec<f64> {
+    let f = glossy_full(x);
+    bessel_ratios(x, count).iter().map(|r| f * r).collect()
+}
+
+/// `Σ_l a_l·(2l + 1)/(4π)·P_l(t)`.
+pub fn legendre_series(a: &[f64], t: f64) -> f64 {
+    let t = t.clamp(-1.0, 1.0);
+    let (mut p0, mut p1) = (1.0, t);
+    let mut sum = 0.0;
+    for (l, &c) in a.iter().enumerate() {
+        let p = match l {
+            0 => 1.0,
+            1 => t,
+            _ => {
+                let p2 = ((2 * l - 1) as f64 * t * p1 - (l - 1) as f64 * p0) / l as f64;
+                p0 = p1;
+                p1 = p2;
+                p2
+            }
+        };
+        sum += c * (2 * l + 1) as f64 / (4.0 * PI) * p;
+    }
+    sum
+}
+
+/// The sample model of one member: the covariances a footprint probe needs, in f64.
+///
+/// - Point, kernel `exp(λ(t − 1))` (as before).
+/// - Gaussian footprint `S`: the kernel on the radiance is the spherical Gaussian of sharpness
+///   `ν` *deconvolved* by the footprint, `K_l = F(ν)·ρ_l(ν)/ρ_l(S)` (positive and summable for
+///   `ν < S`; close to the squared exponential of sharpness `νS/(S − ν)`), chosen so that the
+///   covariance of a sample with the radiance, `K_l·g_l`, is exactly the spherical Gaussian
+///   `exp(ν(t − 1))`. Then everything that involves one sample is the point model with `λ = ν`
+///   (the irradiance table, the glossy `zᵢ`), `Cov(Yᵢ, Yⱼ) = ∫ SG_ν(xᵢ·y)·f(xⱼ·y) dy` is the
+///   closed-form integral of a product of spherical Gaussians, and only `V̄` (the prior
+///   variance of the integral of the unfiltered radiance) needs the series `Σ K_l c_l²…`.
+/// - Cosine-power footprint `P`: the squared-exponential kernel `K_l = F(λ)·ρ_l(λ)`;
+///   `Cov(Yᵢ, Yⱼ) = Σ K_l g_l²(2l + 1)/(4π)·P_l`, `Cov(Yᵢ, E(n)) = Σ K_l g_l c_l…`, and the
+///   glossy `zᵢ = Σ K_l g_l Λ_l(μ)…` (a Legendre series the library sums per query).
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// The footprint.
+    pub footprint: Footprint,
+    /// `λ` (point, cosine power) or `ν` (Gaussian footprint).
+    pub lambda: f64,
+    /// Kernel coefficients `K_l` (`l < series.len()`), converged to `10⁻¹⁸·K₀`.
+    pub kernel: Vec<f64>,
+    /// The footprint's gains on the same degrees.
+    pub gains: Vec<f64>,
+    /// `K_l·g_l²`: the sample covariance's coefficients.
+    sample: Vec<f64>,
+}
+
+impl Model {
+    /// The model of `footprint` with member sharpness `lambda`.
+    pub fn new(footprint: Footprint, lambda: f64) -> Result<Model, String> {
+        // Enough degrees for the kernel series to converge: K_l·(2l + 1) < 10⁻¹⁸·K₀.
+        let count = MAX_SERIES + 64;
+        let kernel: Vec<f64> = match footprint {
+            Footprint::Gaussian(s) => {
+                let s = f64::from(s);
+                if lambda >= s {
+                    return Err(format!(
+                        "ν = {lambda} must be below the footprint's sharpness {s}"
+                    ));
+                }
+                let (rn, rs) = (bessel_ratios(lambda, count), bessel_ratios(s, count));
+                let f = glossy_full(lambda);
+                // ρ_l(S) underflows only far past convergence; stop there.
+                rn.iter().zip(&rs).map(|(a, b)| if *b > 0.0 { f * a / b } else { 0.0 }).collect()
+            }
+            _ => sg_coefficients(lambda, count),
+        };
+        let k0 = kernel[0];
+        let used = kernel
+            .iter()
+            .enumerate()
+            .rposition(|(l, k)| k * (2 * l + 1) as f64 > 1e-18 * k0)
+            .map_or(1, |p| p + 1);
+        if used > MAX_SERIES {
+            return Err(format!(
+                "the kernel series needs {used} > {MAX_SERIES} Legendre terms (ν too close to S?)"
+            ));
+        }
+        let gains = footprint.gains(used);
+        let sample = kernel.iter().zip(&gains).map(|(k, g)| k * g * g).collect();
+        Ok(Model { footprint, lambda, kernel: kernel[..used].to_vec(), gains, sample })
+    }
+
+    /// `Cov(Yᵢ, Yⱼ)` without the nugget, for `xᵢ·xⱼ = t` and `|xᵢ − xⱼ|² = d2`.
+    pub fn sample_covariance(&self, t: f64, d2: f64) -> f64 {
+        match self.footprint {
+            Footprint::Point => (-0.5 * self.lambda * d2).exp(),
+            Footprint::Gaussian(s) => {
+                let (nu, s) = (self.lambda, f64::from(s));
+                // ∫ e^{ν(xᵢ·y − 1)} e^{S(xⱼ·y − 1)} dy / F(S), w = |νxᵢ + Sxⱼ|.
+                let w = ((nu + s) * (nu + s) - nu * s * d2).max(0.0).sqrt();
+                let h = if w > 1e-8 { -(-2.0 * w).exp_m1() / (2.0 * w) } else { 1.0 - w };
+                4.0 * PI * (-nu * s * d2 / (w + nu + s)).exp() * h / glossy_full(s)
+            }
+            Footprint::Cosine(_) => legendre_series(&self.sample, t),
+        }
+    }
+
+    /// `Cov(Yᵢ, E(n)) = π·z(t)` for `xᵢ·n = t` (σ_f = 1).
+    pub fn irradiance_covariance(&self, t: f64) -> f64 {
+        match self.footprint {
+            Footprint::Point | Footprint::Gaussian(_) => PI * kernel_mean(self.lambda, t),
+            Footprint::Cosine(_) => legendre_series(&self.irradiance_coefficients(), t),
+        }
+    }
+
+    fn irradiance_coefficients(&self) -> Vec<f64> {
+        let c = clamped_cosine_gains(self.kernel.len());
+        self.kernel.iter().zip(&self.gains).zip(&c).map(|((k, g), c)| k * g * c).collect()
+    }
+
+    /// `π²V̄ = Var(E(n))` under the prior (σ_f = 1).
+    pub fn irradiance_vbar(&self) -> f64 {
+        match self.footprint {
+            Footprint::Point | Footprint::Cosine(_) => {
+                PI * PI * super::bmc::kernel_mean_mean(self.lambda)
+            }
+            Footprint::Gaussian(_) => {
+                let c = clamped_cosine_gains(self.kernel.len());
+                self.kernel
+                    .iter()
+                    .zip(&c)
+                    .enumerate()
+                    .map(|(l, (k, c))| k * c * c * (2 * l + 1) as f64 / (4.0 * PI))
+                    .sum()
+            }
+        }
+    }
+
+    /// `Cov(Yᵢ, ∫ L·exp(μ(r·y − 1)) dy)` for `xᵢ·r = t`.
+    pub fn glossy_covariance(&self, mu: f64, t: f64) -> f64 {
+        self.glossy_covariance_fn(mu)(t)
+    }
+
+    /// [`Model::glossy_covariance`] at a fixed `μ`, as a function of `t`.
+    pub fn glossy_covariance_fn(&self, mu: f64) -> impl Fn(f64) -> f64 + '_ {
+        let a: Vec<f64> = match self.footprint {
+            Footprint::Cosine(_) => {
+                let lobe = sg_coefficients(mu, self.kernel.len());
+                self.kernel
+                    .iter()
+                    .zip(&self.gains)
+                    .zip(&lobe)
+                    .map(|((k, g), b)| k * g * b)
+                    .collect()
+            }
+            _ => Vec::new(),
+        };
+        move |t| match self.footprint {
+            Footprint::Point | Footprint::Gaussian(_) => glossy_zeta(self.lambda, mu, t),
+            Footprint::Cosine(_) => legendre_series(&a, t),
+        }
+    }
+
+    /// The prior variance of `∫ L·exp(μ(r·y − 1)) dy`.
+    pub fn glossy_vbar(&self, mu: f64) -> f64 {
+        match self.footprint {
+            Footprint::Point | Footprint::Cosine(_) => glossy_vbar(self.lambda, mu),
+            Footprint::Gaussian(_) => {
+                let lobe = sg_coefficients(mu, self.kernel.len());
+                self.kernel
+                    .iter()
+                    .zip(&lobe)
+                    .enumerate()
+                    .map(|(l, (k, b))| k * b * b * (2 * l + 1) as f64 / (4.0 * PI))
+                    .sum()
+            }
+        }
+    }
+
+    /// The Legendre coefficients the library keeps: `K_l·g_l·(2l + 1)/(4π)` for a
+    /// cosine-power footprint (summed per glossy query), `K_l·(2l + 1)/(4π)` for a Gaussian
+    /// footprint (the exact glossy `V̄`), none for point samples.
+    pub fn glossy_series(&self) -> Vec<f64> {
+        match self.footprint {
+            Footprint::Gaussian(_) => self
+                .kernel
+                .iter()
+                .enumerate()
+                .map(|(l, k)| k * (2 * l + 1) as f64 / (4.0 * PI))
+                .collect(),
+            Footprint::Cosine(_) => self
+                .kernel
+                .iter()
+                .zip(&self.gains)
+                .enumerate()
+                .map(|(l, (k, g))| k * g * (2 * l + 1) as f64 / (4.0 * PI))
+                .collect(),
+            _ => Vec::new(),
+        }
+    }
+}
+
+/// One probe size to bake: `N`, the footprint, `σ′` and the family of sharpnesses.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Spec {
     /// Number of samples (even).
     pub n: usize,
+    /// What each sample measures.
+    pub footprint: Footprint,
     /// Noise ratio `σ′` (rounded to f32 first).
     pub sigma: f32,
     /// Sharpnesses `λ` of the family, strictly increasing (rounded to f32 first).
     pub lambdas: Vec<f32>,
 }
 
-/// Parses `probe = N sigma lambda1 lambda2 …` lines; `#` starts a comment.
+/// Parses the config: `probe = N sigma lambda1 lambda2 …` lines (point samples),
+/// `footprint = N gaussian S sigma nu1 nu2 …` and `footprint = N cosine P sigma lambda1 …`
+/// lines (footprint samples); `#` starts a comment.
 ///
-/// `N` even, in 2..=[`MAX_N`], strictly increasing over the lines; `σ′` finite and
-/// positive; 1..=[`MAX_MEMBERS`] sharpnesses, finite, in (0, 10⁴], strictly increasing.
+/// `N` even, in 2..=[`MAX_N`]; point lines strictly increasing in `N`; no `(N, footprint)`
+/// twice; `σ′` finite and positive; 1..=[`MAX_MEMBERS`] sharpnesses, finite, in (0, 10⁴],
+/// strictly increasing, and below `S` for a Gaussian footprint; footprint parameters in
+/// 1..=[`MAX_FOOTPRINT`].
 pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
     let mut specs: Vec<Spec> = Vec::new();
     for (no, raw) in text.lines().enumerate() {
@@ -132,11 +448,41 @@ pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
             continue;
         }
         let at = |msg: String| format!("line {}: {msg}", no + 1);
-        let rest = line
-            .strip_prefix("probe")
-            .and_then(|r| r.trim_start().strip_prefix('='))
-            .ok_or_else(|| at(format!("expected `probe = N sigma lambda…`, found `{line}`")))?;
-        let fields: Vec<&str> = rest.split_whitespace().collect();
+        let key_value = |key: &str| {
+            line.strip_prefix(key)
+                .and_then(|r| r.trim_start().strip_prefix('='))
+                .map(|r| r.split_whitespace().collect::<Vec<&str>>())
+        };
+        let (footprint, fields) = if let Some(f) = key_value("probe") {
+            (Footprint::Point, f)
+        } else if let Some(f) = key_value("footprint") {
+            if f.len() < 3 {
+                return Err(at(
+                    "expected `footprint = N gaussian|cosine PARAMETER sigma lambda…`".into()
+                ));
+            }
+            let p: u32 =
+                f[2].parse().map_err(|e| at(format!("footprint parameter `{}`: {e}", f[2])))?;
+            if !(1..=MAX_FOOTPRINT).contains(&p) {
+                return Err(at(format!("footprint parameter {p} must be in 1..={MAX_FOOTPRINT}")));
+            }
+            let fp = match f[1] {
+                "gaussian" => Footprint::Gaussian(p),
+                "cosine" => Footprint::Cosine(p),
+                other => {
+                    return Err(at(format!(
+                        "footprint kind `{other}`: expected `gaussian` or `cosine`"
+                    )))
+                }
+            };
+            let mut rest = vec![f[0]];
+            rest.extend_from_slice(&f[3..]);
+            (fp, rest)
+        } else {
+            return Err(at(format!(
+                "expected `probe = N sigma lambda…` or `footprint = …`, found `{line}`"
+            )));
+        };
         if fields.len() < 3 {
             return Err(at("expected N, sigma and at least one lambda".into()));
         }
@@ -144,10 +490,17 @@ pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
         if !(2..=MAX_N).contains(&n) || n % 2 != 0 {
             return Err(at(format!("N = {n} must be even and in 2..={MAX_N}")));
         }
-        if let Some(last) = specs.last() {
-            if n <= last.n {
-                return Err(at(format!("N = {n} must exceed the previous line's {}", last.n)));
+        if footprint == Footprint::Point {
+            if let Some(last) = specs.iter().rev().find(|s| s.footprint == Footprint::Point) {
+                if n <= last.n {
+                    return Err(at(format!(
+                        "N = {n} must exceed the previous probe line's {}",
+                        last.n
+                    )));
+                }
             }
+        } else if specs.iter().any(|s| s.n == n && s.footprint == footprint) {
+            return Err(at(format!("N = {n} with this footprint appears twice")));
         }
         let number = |s: &str, what: &str| -> Result<f32, String> {
             let x: f32 = s.parse().map_err(|e| at(format!("{what} `{s}`: {e}")))?;
@@ -167,14 +520,19 @@ pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
             if lambdas.last().is_some_and(|&p| l <= p) {
                 return Err(at(format!("lambdas must increase strictly (`{f}`)")));
             }
+            if let Footprint::Gaussian(s) = footprint {
+                if f64::from(l) >= f64::from(s) {
+                    return Err(at(format!("nu = {f} must be below the footprint sharpness {s}")));
+                }
+            }
             lambdas.push(l);
         }
         if lambdas.len() > MAX_MEMBERS {
             return Err(at(format!("at most {MAX_MEMBERS} lambdas per size")));
         }
-        specs.push(Spec { n, sigma, lambdas });
+        specs.push(Spec { n, footprint, sigma, lambdas });
     }
-    if specs.is_empty() {
+    if !specs.iter().any(|s| s.footprint == Footprint::Point) {
         return Err("no `probe = …` line".into());
     }
     Ok(specs)
@@ -205,8 +563,13 @@ pub fn z_step() -> f64 {
 /// `v + f·s + f²·c` in `f = (t − tₖ)/h` that interpolates `π·z` at the two ends and the
 /// middle of the stretch of `t` the node serves (`|f| ≤ ½`, inside [−1, 1]).
 pub fn z_table(lambda: f64) -> Vec<[f64; 3]> {
+    z_table_of(|t| PI * kernel_mean(lambda, t))
+}
+
+/// [`z_table`] of any `π·z(t)` (for a footprint model, [`Model::irradiance_covariance`]).
+pub fn z_table_of(pz: impl Fn(f64) -> f64) -> Vec<[f64; 3]> {
     let h = z_step();
-    let z = |f: f64, tk: f64| PI * kernel_mean(lambda, tk + f * h);
+    let z = |f: f64, tk: f64| pz(tk + f * h);
     (0..Z_NODES)
         .map(|k| {
             let tk = -1.0 + k as f64 * h;
@@ -247,6 +610,10 @@ pub fn z_interpolate(table: &[[f64; 3]], t: f64) -> f64 {
 pub struct Member {
     /// `N`.
     pub n: usize,
+    /// The sample model (footprint and kernel).
+    pub model: Model,
+    /// The member's `π·z` table.
+    pub z: Vec<[f64; 3]>,
     /// Sharpness `λ` (f32-exact).
     pub lambda: f64,
     /// `σ′` (f32-exact).
@@ -402,19 +769,31 @@ pub fn posterior_variance(member: &Member, zeta: &[f64]) -> f64 {
     member.vbar - quad + (PI - one).powi(2) / member.s1
 }
 
-/// Bakes one member: `N` samples, sharpness `λ`, noise ratio `σ′`.
+/// Bakes one point-sample member: `N` samples, sharpness `λ`, noise ratio `σ′`.
 pub fn bake_member(n: usize, lambda: f32, sigma: f32) -> Result<Member, String> {
+    bake_footprint_member(n, Footprint::Point, lambda, sigma)
+}
+
+/// Bakes one member of a probe whose samples have `footprint`: `N` samples, sharpness `λ`
+/// (`ν` for a Gaussian footprint, see [`Model`]), noise ratio `σ′`.
+pub fn bake_footprint_member(
+    n: usize,
+    footprint: Footprint,
+    lambda: f32,
+    sigma: f32,
+) -> Result<Member, String> {
     if n < 2 || n % 2 != 0 {
         return Err(format!("probe N = {n} must be even and at least 2"));
     }
     let m = n / 2;
     let (lambda, sigma) = (f64::from(lambda), f64::from(sigma));
+    let model = Model::new(footprint, lambda)?;
     let xs: Vec<[f64; 3]> = (0..n).map(|j| sphere_direction(j, n)).collect();
     let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let k = |i: usize, j: usize| {
         // |xᵢ − xⱼ|² = 2 − 2xᵢ·xⱼ, from the difference for accuracy near 0.
         let d2: f64 = (0..3).map(|c| (xs[i][c] - xs[j][c]).powi(2)).sum();
-        (-0.5 * lambda * d2).exp() + if i == j { sigma * sigma } else { 0.0 }
+        model.sample_covariance(dot(xs[i], xs[j]), d2) + if i == j { sigma * sigma } else { 0.0 }
     };
     let mut e = vec![0.0; m * m];
     let mut f = vec![0.0; m * m];
@@ -456,8 +835,12 @@ pub fn bake_member(n: usize, lambda: f32, sigma: f32) -> Result<Member, String> 
     // Extreme eigenvalues of Q are those of E and F.
     let max_eig = largest_eigenvalue(&e, m).max(largest_eigenvalue(&f, m));
     let min_eig = 1.0 / largest_eigenvalue(&e_inv, m).max(largest_eigenvalue(&f_inv, m));
+    let table = z_table_of(|t| model.irradiance_covariance(t));
+    let vbar = model.irradiance_vbar();
     let mut member = Member {
         n,
+        model: model.clone(),
+        z: table.clone(),
         lambda,
         sigma,
         inv_even: pack(&e_inv),
@@ -467,13 +850,12 @@ pub fn bake_member(n: usize, lambda: f32, sigma: f32) -> Result<Member, String> 
         g,
         s1,
         log_det: log_det_e + log_det_f,
-        vbar: PI * PI * super::bmc::kernel_mean_mean(lambda),
+        vbar,
         mean_variance: 0.0,
         max_variance: 0.0,
         glossy_variance: Vec::new(),
         condition: max_eig / min_eig,
     };
-    let table = z_table(lambda);
     let (mut sum, mut max) = (0.0f64, 0.0f64);
     for q in 0..VARIANCE_NORMALS {
         let nq = sphere_direction(q, VARIANCE_NORMALS);
@@ -487,12 +869,12 @@ pub fn bake_member(n: usize, lambda: f32, sigma: f32) -> Result<Member, String> 
     member.glossy_variance = (0..GLOSSY_GRID)
         .map(|k| {
             let mu = glossy_grid(k);
-            let (vbar, full) = (glossy_vbar(lambda, mu), glossy_full(mu));
+            let (vbar, full) = (model.glossy_vbar(mu), glossy_full(mu));
+            let zeta_of = model.glossy_covariance_fn(mu);
             let mean = (0..GLOSSY_DIRECTIONS)
                 .map(|q| {
                     let r = sphere_direction(q, GLOSSY_DIRECTIONS);
-                    let zeta: Vec<f64> =
-                        xs.iter().map(|&x| glossy_zeta(lambda, mu, dot(x, r))).collect();
+                    let zeta: Vec<f64> = xs.iter().map(|&x| zeta_of(dot(x, r))).collect();
                     let u = member.solve(&zeta);
                     let quad: f64 = zeta.iter().zip(&u).map(|(a, b)| a * b).sum();
                     let one: f64 = u.iter().sum();
@@ -513,26 +895,42 @@ pub fn bake_all(specs: &[Spec]) -> Result<Vec<Vec<Member>>, String> {
         .map(|s| {
             s.lambdas
                 .iter()
-                .map(|&l| bake_member(s.n, l, s.sigma).map_err(|e| format!("N = {}: {e}", s.n)))
+                .map(|&l| {
+                    bake_footprint_member(s.n, s.footprint, l, s.sigma)
+                        .map_err(|e| format!("N = {} ({:?}): {e}", s.n, s.footprint))
+                })
                 .collect()
         })
         .collect()
 }
 
-/// The distinct sharpnesses over all specs, ascending (one `π·z` table each).
+/// The distinct sharpnesses over all point specs, ascending.
 pub fn distinct_lambdas(specs: &[Spec]) -> Vec<f32> {
-    let mut all: Vec<f32> = specs.iter().flat_map(|s| s.lambdas.iter().copied()).collect();
+    let mut all: Vec<f32> = specs
+        .iter()
+        .filter(|s| s.footprint == Footprint::Point)
+        .flat_map(|s| s.lambdas.iter().copied())
+        .collect();
     all.sort_by(f32::total_cmp);
     all.dedup();
     all
 }
 
-/// Flash bytes of one size's family: per member the two packed blocks, `g`, and six
-/// scalars; plus a quadratic `π·z` table per member (shared with other sizes of the same
-/// `λ`).
+/// Flash bytes of one size's family: per member the two packed blocks, `g`, eight scalars,
+/// the glossy grid and `series` glossy Legendre coefficients; plus a quadratic `π·z` table per
+/// member (shared with other sizes and footprints of the same table).
 pub fn family_bytes(n: usize, members: usize) -> usize {
     let m = n / 2;
     members * 4 * (m * (m + 1) + m + 8 + GLOSSY_GRID + 3 * Z_NODES)
+}
+
+/// The name of a member's `π·z` table: point and Gaussian-footprint members of the same
+/// sharpness share one (the cross-covariance is the same spherical Gaussian).
+fn z_name(footprint: Footprint, lambda: f32) -> String {
+    match footprint {
+        Footprint::Cosine(p) => format!("PROBE_Z_C{p}_{:08X}", lambda.to_bits()),
+        _ => format!("PROBE_Z_{:08X}", lambda.to_bits()),
+    }
 }
 
 /// The Rust source that `build.rs` writes to `$OUT_DIR/probe_tables.rs`.
@@ -540,13 +938,36 @@ pub fn render(specs: &[Spec], baked: &[Vec<Member>]) -> String {
     let mut s = String::new();
     s.push_str("// @generated by build.rs; do not edit\n");
     let _ = writeln!(s, "// From gen/probe.rs and {CONFIG_FILE}.");
-    let sizes: Vec<String> = specs.iter().map(|b| b.n.to_string()).collect();
-    let _ = writeln!(s, "\n/// The sizes N with a baked probe family.");
+    let points: Vec<&Spec> = specs.iter().filter(|b| b.footprint == Footprint::Point).collect();
+    let sizes: Vec<String> = points.iter().map(|b| b.n.to_string()).collect();
+    let _ = writeln!(s, "\n/// The sizes N with a baked point-sample probe family.");
     let _ = writeln!(
         s,
         "pub(crate) const PROBE_SIZES: [usize; {}] = [{}];",
-        specs.len(),
+        points.len(),
         sizes.join(", ")
+    );
+    let kinds: Vec<String> = specs
+        .iter()
+        .map(|b| {
+            let kind = match b.footprint {
+                Footprint::Point => "crate::footprint::Kind::Point".to_string(),
+                Footprint::Gaussian(x) => {
+                    format!("crate::footprint::Kind::Gaussian {{ sharpness: {x} }}")
+                }
+                Footprint::Cosine(x) => {
+                    format!("crate::footprint::Kind::CosinePower {{ exponent: {x} }}")
+                }
+            };
+            format!("({}, {kind})", b.n)
+        })
+        .collect();
+    let _ = writeln!(s, "\n/// Every baked (N, footprint) pair, in table order.");
+    let _ = writeln!(
+        s,
+        "pub(crate) const PROBE_TABLES: [(usize, crate::footprint::Kind); {}] = [{}];",
+        kinds.len(),
+        kinds.join(", ")
     );
     let (xs, ws) = super::sg::gauss_legendre(8);
     let _ = writeln!(
@@ -558,57 +979,72 @@ pub fn render(specs: &[Spec], baked: &[Vec<Member>]) -> String {
         let _ = writeln!(s, "    ({:?}, {:?}),", 0.5 * (x + 1.0), 0.5 * w);
     }
     s.push_str("];\n");
-    let lambdas = distinct_lambdas(specs);
-    let z_name = |l: f32| format!("PROBE_Z_{:08X}", l.to_bits());
-    for &l in &lambdas {
-        let _ = writeln!(
-            s,
-            "\n/// π·z(t) ≈ v + f·(s + f·c) about t = −1 + 2k/{} for λ = {l:?}.",
-            Z_NODES - 1
-        );
-        let _ = writeln!(s, "static {}: [[f32; 3]; {Z_NODES}] = [", z_name(l));
-        for [v, d, c] in z_table(f64::from(l)) {
+    let mut emitted: Vec<String> = Vec::new();
+    for (spec, members) in specs.iter().zip(baked) {
+        for (k, mb) in members.iter().enumerate() {
+            let name = z_name(spec.footprint, spec.lambdas[k]);
+            if emitted.contains(&name) {
+                continue;
+            }
             let _ = writeln!(
                 s,
-                "    [{}, {}, {}], // {:?}",
-                bits(v as f32),
-                bits(d as f32),
-                bits(c as f32),
-                v as f32
+                "\n/// π·z(t) ≈ v + f·(s + f·c) about t = −1 + 2k/{} for λ = {:?} ({:?}).",
+                Z_NODES - 1,
+                spec.lambdas[k],
+                spec.footprint
             );
+            let _ = writeln!(s, "static {name}: [[f32; 3]; {Z_NODES}] = [");
+            for &[v, d, c] in &mb.z {
+                let _ = writeln!(
+                    s,
+                    "    [{}, {}, {}], // {:?}",
+                    bits(v as f32),
+                    bits(d as f32),
+                    bits(c as f32),
+                    v as f32
+                );
+            }
+            s.push_str("];\n");
+            emitted.push(name);
         }
-        s.push_str("];\n");
     }
     for (spec, members) in specs.iter().zip(baked) {
         let n = spec.n;
         let m = n / 2;
+        let tag = spec.footprint.tag();
+        let ty = spec.footprint.type_name();
         for (k, mb) in members.iter().enumerate() {
             for (name, data) in [("EVEN", &mb.chol_even), ("ODD", &mb.chol_odd), ("G", &mb.g)] {
-                let _ = writeln!(s, "\nstatic PROBE_{n}_{k}_{name}: [f32; {}] = [", data.len());
-                for &x in data.iter() {
-                    let _ = writeln!(s, "    {},", bits(x as f32));
+                // f32 bits: exact, and a third of the source of `f32::from_bits(…)` items.
+                let _ =
+                    writeln!(s, "\nstatic PROBE_{n}_{tag}_{k}_{name}: [u32; {}] = [", data.len());
+                for row in data.chunks(8) {
+                    let items: Vec<String> =
+                        row.iter().map(|&x| format!("0x{:08x}", (x as f32).to_bits())).collect();
+                    let _ = writeln!(s, "    {},", items.join(", "));
                 }
                 s.push_str("];\n");
             }
         }
         let _ = writeln!(
             s,
-            "\n/// Family for N = {n}, σ′ = {:?}: {} member(s).",
+            "\n/// Family for N = {n}, {:?}, σ′ = {:?}: {} member(s).",
+            spec.footprint,
             spec.sigma,
             members.len()
         );
         let _ = writeln!(
             s,
-            "static PROBE_{n}_FAMILY: [crate::probe::sealed::Baked; {}] = [",
+            "static PROBE_{n}_{tag}_FAMILY: [crate::probe::sealed::Baked; {}] = [",
             members.len()
         );
         for (k, mb) in members.iter().enumerate() {
             let l = spec.lambdas[k];
             s.push_str("    crate::probe::sealed::Baked {\n");
-            let _ = writeln!(s, "        chol_even: &PROBE_{n}_{k}_EVEN,");
-            let _ = writeln!(s, "        chol_odd: &PROBE_{n}_{k}_ODD,");
-            let _ = writeln!(s, "        g: &PROBE_{n}_{k}_G,");
-            let _ = writeln!(s, "        z: &{},", z_name(l));
+            let _ = writeln!(s, "        chol_even: &PROBE_{n}_{tag}_{k}_EVEN,");
+            let _ = writeln!(s, "        chol_odd: &PROBE_{n}_{tag}_{k}_ODD,");
+            let _ = writeln!(s, "        g: &PROBE_{n}_{tag}_{k}_G,");
+            let _ = writeln!(s, "        z: &{},", z_name(spec.footprint, l));
             let grid: Vec<String> = mb.glossy_variance.iter().map(|&v| bits(v as f32)).collect();
             let _ = writeln!(s, "        glossy_variance: [{}],", grid.join(", "));
             for (name, x) in [
@@ -626,14 +1062,17 @@ pub fn render(specs: &[Spec], baked: &[Vec<Member>]) -> String {
             s.push_str("    },\n");
         }
         s.push_str("];\n");
-        let _ = writeln!(s, "impl crate::probe::sealed::Sealed for crate::bmc::Size<{n}> {{");
+        let _ = writeln!(s, "impl crate::probe::sealed::Tables<{ty}> for crate::bmc::Size<{n}> {{");
         let _ = writeln!(s, "    const HALF: usize = {m};");
         let _ = writeln!(
             s,
-            "    const FAMILY: &'static [crate::probe::sealed::Baked] = &PROBE_{n}_FAMILY;"
+            "    const FAMILY: &'static [crate::probe::sealed::Baked] = &PROBE_{n}_{tag}_FAMILY;"
         );
         s.push_str("}\n");
-        let _ = writeln!(s, "impl crate::probe::ProbeSize for crate::bmc::Size<{n}> {{}}");
+        let _ = writeln!(s, "impl crate::probe::ProbeTables<{ty}> for crate::bmc::Size<{n}> {{}}");
+        if spec.footprint == Footprint::Point {
+            let _ = writeln!(s, "impl crate::probe::ProbeSize for crate::bmc::Size<{n}> {{}}");
+        }
     }
     s
 }

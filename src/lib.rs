@@ -73,6 +73,7 @@ pub mod bmc;
 mod error;
 #[cfg(feature = "fixed")]
 pub mod fixed_point;
+pub mod footprint;
 pub mod math;
 pub mod metrics;
 pub mod probe;

@@ -67,12 +67,14 @@
 
 use crate::bmc::Size;
 use crate::error::Error;
+use crate::footprint::{Footprint, Kind, Point};
 use crate::radiance::Radiance;
 use crate::rotation::Mat3;
 use crate::sf::SphericalFibonacci;
 use crate::sg::{full_integral_unchecked, SphericalGaussian};
 use crate::vec3::Vec3;
 use core::f32::consts::PI;
+use core::marker::PhantomData;
 
 /// Nodes of each baked `π·z(t)` table over `t ∈ [−1, 1]` (`gen/probe.rs` emits arrays of
 /// this length; a mismatch does not compile).
@@ -82,25 +84,37 @@ pub const Z_NODES: usize = 129;
 /// `μ = 2^(k−1)` for `k = 1…11` (1 to 1024); see [`Probe::glossy`].
 pub const GLOSSY_GRID: usize = 12;
 
-/// Implemented for exactly the sizes `N` with a baked probe family (`Size<16>`, `Size<32>`,
-/// `Size<64>`, `Size<128>`, `Size<256>` by default); sealed.
+/// Implemented for exactly the sizes `N` with a baked point-sample probe family (`Size<16>`,
+/// `Size<32>`, `Size<64>`, `Size<128>`, `Size<256>` by default); sealed.
 #[diagnostic::on_unimplemented(
     message = "no Bayesian Monte Carlo probe family is baked for `{Self}`",
     label = "this sample count has no baked probe tables",
     note = "the baked sizes are N = 16, 32, 64, 128, 256 (tables/probe.txt; even N only)"
 )]
-pub trait ProbeSize: sealed::Sealed {}
+pub trait ProbeSize: ProbeTables<Point> {}
+
+/// Implemented for exactly the pairs (sample count `N`, footprint `F`) with a baked probe
+/// family; sealed. By default: point samples and [`Gaussian`](crate::footprint::Gaussian)
+/// footprints of sharpness `N/16`, `N/8`, `N/4` and `N/2` for `N` = 16, 32, 64, 128, 256, and
+/// the photodiode [`CosinePower<1>`](crate::footprint::CosinePower) for `N` = 16, 32, 64
+/// ([`BAKED_TABLES`] lists them; `tables/probe.txt` says how to bake others).
+#[diagnostic::on_unimplemented(
+    message = "no Bayesian Monte Carlo probe family is baked for `{Self}` with footprint `{F}`",
+    label = "this sample count and footprint have no baked probe tables",
+    note = "`probe::BAKED_TABLES` lists the baked pairs; bake others with a `footprint = …` line (tables/README.md)"
+)]
+pub trait ProbeTables<F: Footprint>: sealed::Tables<F> {}
 
 pub(crate) mod sealed {
     /// One baked family member (see `gen/probe.rs`).
     #[derive(Debug)]
     pub struct Baked {
         /// Cholesky factor of `E`, packed lower-triangle rows, reciprocal diagonal.
-        pub chol_even: &'static [f32],
+        pub chol_even: &'static [u32],
         /// Cholesky factor of `F`, likewise.
-        pub chol_odd: &'static [f32],
+        pub chol_odd: &'static [u32],
         /// `g = E⁻¹1`.
-        pub g: &'static [f32],
+        pub g: &'static [u32],
         /// `[v, s, c]` per node: `π·z ≈ v + f·(s + f·c)`.
         pub z: &'static [[f32; 3]; super::Z_NODES],
         /// Direction-averaged unit glossy variance over `F(μ)²` on the grid.
@@ -115,20 +129,28 @@ pub(crate) mod sealed {
         pub condition: f32,
     }
 
-    pub trait Sealed {
+    pub trait Tables<F> {
         const HALF: usize;
         const FAMILY: &'static [Baked];
     }
 }
 
-/// The sizes with a baked probe family, ascending.
+/// The sizes with a baked point-sample probe family, ascending.
 pub const BAKED_SIZES: &[usize] = &crate::tables::PROBE_SIZES;
+
+/// Every baked (sample count, footprint) pair.
+pub const BAKED_TABLES: &[(usize, Kind)] = &crate::tables::PROBE_TABLES;
 
 /// One member of a baked family: the kernel hyperparameters and figures of its `Q`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Member {
-    /// Kernel sharpness `λ = 2/l²`.
+    /// What the samples measure.
+    pub footprint: Kind,
+    /// Kernel sharpness `λ = 2/l²`; for a [`Gaussian`](crate::footprint::Gaussian) footprint
+    /// of sharpness `S`, the sharpness `ν < S` of the covariance of a sample with the radiance
+    /// (the kernel is close to the squared exponential of sharpness `νS/(S − ν)`; see
+    /// "Footprints" in the module docs).
     pub lambda: f32,
     /// Length scale `l = √(2/λ)`.
     pub length_scale: f32,
@@ -168,9 +190,9 @@ pub struct Estimate<T> {
 /// Holds its sample directions, `α` and `β`: `12N + 4CN` bytes plus a few words (1 KiB for
 /// `N = 64`, one channel). The baked tables are in flash ([`Probe::table_bytes`]).
 #[derive(Clone, Debug)]
-pub struct Probe<const N: usize, T: Radiance = f32>
+pub struct Probe<const N: usize, T: Radiance = f32, F: Footprint = Point>
 where
-    Size<N>: ProbeSize,
+    Size<N>: ProbeTables<F>,
 {
     directions: [Vec3; N],
     alpha: [T; N],
@@ -178,25 +200,26 @@ where
     signal_variance: T,
     selected: usize,
     log_likelihood: f32,
+    footprint: PhantomData<F>,
 }
 
-impl<const N: usize, T: Radiance> Default for Probe<N, T>
+impl<const N: usize, T: Radiance, F: Footprint> Default for Probe<N, T, F>
 where
-    Size<N>: ProbeSize,
+    Size<N>: ProbeTables<F>,
 {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<const N: usize, T: Radiance> Probe<N, T>
+impl<const N: usize, T: Radiance, F: Footprint> Probe<N, T, F>
 where
-    Size<N>: ProbeSize,
+    Size<N>: ProbeTables<F>,
 {
-    const FAMILY: &'static [sealed::Baked] = <Size<N> as sealed::Sealed>::FAMILY;
+    const FAMILY: &'static [sealed::Baked] = <Size<N> as sealed::Tables<F>>::FAMILY;
     const HALF: usize = {
-        assert!(2 * <Size<N> as sealed::Sealed>::HALF == N, "baked block size differs from N/2");
-        <Size<N> as sealed::Sealed>::HALF
+        assert!(2 * <Size<N> as sealed::Tables<F>>::HALF == N, "baked block size differs from N/2");
+        <Size<N> as sealed::Tables<F>>::HALF
     };
 
     /// A probe on the unrotated spherical Fibonacci sphere set, with no data yet.
@@ -209,7 +232,14 @@ where
             signal_variance: T::ZERO,
             selected: 0,
             log_likelihood: 0.0,
+            footprint: PhantomData,
         }
+    }
+
+    /// What each sample measures (the footprint `F` as a value).
+    #[must_use]
+    pub const fn footprint() -> Kind {
+        F::KIND
     }
 
     /// Rotates the sample set as a whole (from the unrotated set, not cumulatively) and
@@ -247,13 +277,13 @@ where
 
     /// The baked family, in order of increasing `λ`.
     pub fn family() -> impl ExactSizeIterator<Item = Member> + Clone {
-        Self::FAMILY.iter().map(member_of)
+        Self::FAMILY.iter().map(|b| member_of(b, F::KIND))
     }
 
     /// Family member `k`, or `None` past the end.
     #[must_use]
     pub fn member(k: usize) -> Option<Member> {
-        Self::FAMILY.get(k).map(member_of)
+        Self::FAMILY.get(k).map(|b| member_of(b, F::KIND))
     }
 
     /// Flash bytes of this size's baked tables: per member two packed `N/2` factors, `g`,
@@ -262,7 +292,13 @@ where
     #[must_use]
     pub const fn table_bytes() -> usize {
         let m = N / 2;
-        Self::FAMILY.len() * 4 * (m * (m + 1) + m + 8 + GLOSSY_GRID + 3 * Z_NODES)
+        let mut bytes = 0;
+        let mut k = 0;
+        while k < Self::FAMILY.len() {
+            bytes += 4 * (m * (m + 1) + m + 8 + GLOSSY_GRID + 3 * Z_NODES);
+            k += 1;
+        }
+        bytes
     }
 
     /// Takes new samples (radiance in [`Probe::directions`], in order) and picks the family
@@ -353,10 +389,10 @@ where
         {
             let (lo, hi) = work.split_at_mut(m);
             let (ylo, yhi) = samples.split_at(m);
-            for ((((&ap, &bp), &g), (out_lo, out_hi)), (yp, yq)) in a
+            for ((((&ap, &bp), g), (out_lo, out_hi)), (yp, yq)) in a
                 .iter()
                 .zip(b)
-                .zip(f.g)
+                .zip(f.g.iter().map(|&b| f32::from_bits(b)))
                 .zip(lo.iter_mut().zip(hi.iter_mut().rev()))
                 .zip(ylo.iter().zip(yhi.iter().rev()))
             {
@@ -444,6 +480,9 @@ where
     pub fn glossy(&self, lobe: &SphericalGaussian) -> Result<Estimate<T>, Error> {
         let (r, mu, amp) = check_lobe(lobe)?;
         let f = self.member_in_use()?;
+        if let Kind::CosinePower { exponent } = F::KIND {
+            return Ok(self.glossy_by_series(f, exponent, r, mu, amp));
+        }
         let lambda = f.lambda;
         let top = lambda + mu;
         let two_lm = 2.0 * lambda * mu;
@@ -488,6 +527,24 @@ where
         let f = self.member_in_use()?;
         let lambda = f64::from(f.lambda);
         let (mu, amp) = (f64::from(mu), f64::from(amp));
+        let integral = amp * glossy_full_integral(mu);
+        if let Kind::CosinePower { exponent } = F::KIND {
+            // zᵢ = a·F(μ)·Σ_l K_l·g_l·(2l + 1)/(4π)·ρₗ(μ)·P_l(xᵢ·r); V̄ as for point samples.
+            let mut h = [0.0f64; MAX_SERIES];
+            let len = cosine_series(lambda, exponent, &mut h);
+            let mut rho = [0.0f64; MAX_SERIES];
+            bessel_ratios(mu, &mut rho[..len]);
+            for (h, &p) in h.iter_mut().zip(&rho[..len]) {
+                *h *= integral * p;
+            }
+            let zeta: [f64; N] = core::array::from_fn(|i| match self.directions.get(i) {
+                Some(x) => legendre_sum(&h[..len], f64::from(x.dot(r))),
+                None => 0.0,
+            });
+            let vbar = amp * amp * glossy_vbar(lambda, mu);
+            let v = self.unit_variance(f, &zeta, integral, vbar);
+            return Ok(self.signal_variance.scale(v as f32));
+        }
         let top = lambda + mu;
         let two_lm = 2.0 * lambda * mu;
         let scale = 4.0 * core::f64::consts::PI * amp;
@@ -501,9 +558,40 @@ where
             }
             None => 0.0,
         });
-        let integral = amp * glossy_full_integral(mu);
-        let v = self.unit_variance(f, &zeta, integral, amp * amp * glossy_vbar(lambda, mu));
+        let vbar = if let Kind::Gaussian { sharpness } = F::KIND {
+            integral * integral * deconvolved_vbar(lambda, f64::from(sharpness), mu)
+        } else {
+            amp * amp * glossy_vbar(lambda, mu)
+        };
+        let v = self.unit_variance(f, &zeta, integral, vbar);
         Ok(self.signal_variance.scale(v as f32))
+    }
+
+    /// [`Probe::glossy`] for a cosine-power footprint: `zᵢ = a·F(μ)·Σ_l bₗ·ρₗ(μ)·P_l(xᵢ·r)`
+    /// with `bₗ = K_l·g_l·(2l + 1)/(4π)` ([`cosine_series`]) and `ρₗ(μ) = i_l(μ)/i₀(μ)`.
+    fn glossy_by_series(
+        &self,
+        f: &sealed::Baked,
+        exponent: u32,
+        r: Vec3,
+        mu: f32,
+        amp: f32,
+    ) -> Estimate<T> {
+        let full = amp * full_integral_unchecked(mu);
+        let mut b = [0.0f64; MAX_SERIES];
+        let len = cosine_series(f64::from(f.lambda), exponent, &mut b);
+        let mut rho = [0.0f64; MAX_SERIES];
+        bessel_ratios(f64::from(mu), &mut rho[..len]);
+        let mut h = [0.0f32; MAX_SERIES];
+        for ((h, &b), &p) in h.iter_mut().zip(&b[..len]).zip(&rho[..len]) {
+            *h = (f64::from(full) * b * p) as f32;
+        }
+        let mut acc = self.pi_beta.scale(full / PI);
+        for (x, &a) in self.directions.iter().zip(&self.alpha) {
+            acc = acc.mul_add(a, legendre_sum_f32(&h[..len], x.dot(r)));
+        }
+        let unit = full * full * glossy_grid_lookup(&f.glossy_variance, mu);
+        Estimate { value: acc, variance: self.signal_variance.scale(unit) }
     }
 
     fn member_in_use(&self) -> Result<&'static sealed::Baked, Error> {
@@ -527,7 +615,7 @@ where
             }
         }
         let (sv, dv) = s.split_at_mut(m);
-        let one: f64 = sv.iter().zip(f.g).map(|(x, &g)| x * f64::from(g)).sum();
+        let one: f64 = sv.iter().zip(f.g).map(|(x, &g)| x * f64::from(f32::from_bits(g))).sum();
         forward_substitution(f.chol_even, sv);
         forward_substitution(f.chol_odd, dv);
         let quad =
@@ -562,8 +650,9 @@ where
     }
 }
 
-fn member_of(b: &sealed::Baked) -> Member {
+fn member_of(b: &sealed::Baked, footprint: Kind) -> Member {
     Member {
+        footprint,
         lambda: b.lambda,
         length_scale: crate::math::sqrt(2.0 / b.lambda),
         sigma: b.sigma,
@@ -666,9 +755,10 @@ fn z_lookup(z: &[[f32; 3]; Z_NODES], t: f32) -> f32 {
     v + f * (s + f * c)
 }
 
-/// `x ← (LLᵀ)⁻¹x` for `L` stored as packed lower-triangle rows with a reciprocal diagonal:
+/// `x ← (LLᵀ)⁻¹x` for `L` stored (as f32 bits) as packed lower-triangle rows with a reciprocal
+/// diagonal:
 /// forward substitution by rows, then back substitution by columns through the same rows.
-fn cholesky_solve<T: Radiance>(packed: &[f32], x: &mut [T]) {
+fn cholesky_solve<T: Radiance>(packed: &[u32], x: &mut [T]) {
     let mut rest = packed;
     for i in 0..x.len() {
         let Some((row, r)) = rest.split_at_checked(i + 1) else { return };
@@ -676,8 +766,11 @@ fn cholesky_solve<T: Radiance>(packed: &[f32], x: &mut [T]) {
         let Some((&inv, off)) = row.split_last() else { return };
         let (head, tail) = x.split_at_mut(i);
         let Some(xi) = tail.first_mut() else { return };
-        let acc = off.iter().zip(head.iter()).fold(*xi, |acc, (&l, &xj)| acc.mul_add(xj, -l));
-        *xi = acc.scale(inv);
+        let acc = off
+            .iter()
+            .zip(head.iter())
+            .fold(*xi, |acc, (&l, &xj)| acc.mul_add(xj, -f32::from_bits(l)));
+        *xi = acc.scale(f32::from_bits(inv));
     }
     let mut end = packed.len();
     for i in (0..x.len()).rev() {
@@ -687,16 +780,16 @@ fn cholesky_solve<T: Radiance>(packed: &[f32], x: &mut [T]) {
         let Some((&inv, off)) = row.split_last() else { return };
         let (head, tail) = x.split_at_mut(i);
         let Some(xi) = tail.first_mut() else { return };
-        *xi = xi.scale(inv);
+        *xi = xi.scale(f32::from_bits(inv));
         let v = *xi;
         for (&l, xj) in off.iter().zip(head.iter_mut()) {
-            *xj = xj.mul_add(v, -l);
+            *xj = xj.mul_add(v, -f32::from_bits(l));
         }
     }
 }
 
 /// `x ← L⁻¹x` (forward substitution only), in f64, for the packed factor as above.
-fn forward_substitution(packed: &[f32], x: &mut [f64]) {
+fn forward_substitution(packed: &[u32], x: &mut [f64]) {
     let mut rest = packed;
     for i in 0..x.len() {
         let Some((row, r)) = rest.split_at_checked(i + 1) else { return };
@@ -704,9 +797,131 @@ fn forward_substitution(packed: &[f32], x: &mut [f64]) {
         let Some((&inv, off)) = row.split_last() else { return };
         let (head, tail) = x.split_at_mut(i);
         let Some(xi) = tail.first_mut() else { return };
-        let acc: f64 = off.iter().zip(head.iter()).map(|(&l, &xj)| f64::from(l) * xj).sum();
-        *xi = (*xi - acc) * f64::from(inv);
+        let acc: f64 =
+            off.iter().zip(head.iter()).map(|(&l, &xj)| f64::from(f32::from_bits(l)) * xj).sum();
+        *xi = (*xi - acc) * f64::from(f32::from_bits(inv));
     }
+}
+
+/// The most Legendre terms a baked series may have (`gen/probe.rs` refuses longer ones).
+const MAX_SERIES: usize = 256;
+
+/// `ρ_l(x) = i_l(x)/i₀(x)` for `l < out.len()` (modified spherical Bessel functions), in f64.
+///
+/// Large `x` (`x ≥ 40` and `x ≥ L²/36`, `L = out.len() − 1`): the forward recurrence
+/// `ρ_{l+1} = ρ_{l−1} − (2l + 1)/x·ρ_l` from `ρ₁ = coth x − 1/x`, whose rounding grows like
+/// `e^{l²/(2x)} ≤ e^{18}` relative to `ρ₀` (below 10⁻⁸). Otherwise the backward continued
+/// fraction `r_k = x/(2k + 1 + x·r_{k+1})` for `r_k = ρ_k/ρ_{k−1}`, started at
+/// `L + 2x + 60` (past `k ≈ 2x` every step damps the start's error by `r² < 1/9`), at most
+/// about `L + L²/18 + 140` steps.
+fn bessel_ratios(x: f64, out: &mut [f64]) {
+    let Some((first, rest)) = out.split_first_mut() else { return };
+    *first = 1.0;
+    if x.is_nan() || x <= 0.0 {
+        rest.iter_mut().for_each(|r| *r = 0.0);
+        return;
+    }
+    let top = rest.len() as f64;
+    if x >= 40.0 && 36.0 * x >= top * top {
+        // coth x − 1/x with e^{−2x} < 2⁻¹¹⁵: 1 − 1/x to f64 rounding.
+        let mut prev = 1.0;
+        let mut cur = 1.0 - 1.0 / x;
+        for (l, r) in rest.iter_mut().enumerate() {
+            *r = cur;
+            let next = prev - (2 * l + 3) as f64 / x * cur;
+            prev = cur;
+            cur = next;
+        }
+        return;
+    }
+    let start = rest.len() + 2 * (x as usize) + 60;
+    let mut ratio = 0.0;
+    for k in (1..=start).rev() {
+        ratio = x / ((2 * k + 1) as f64 + x * ratio);
+        if let Some(r) = rest.get_mut(k - 1) {
+            *r = ratio;
+        }
+    }
+    let mut product = 1.0;
+    for r in rest.iter_mut() {
+        product *= *r;
+        *r = product;
+    }
+}
+
+/// `bₗ = K_l·g_l·(2l + 1)/(4π)` of a cosine-power footprint `max(0, t)ᵖ` under the
+/// squared-exponential kernel of sharpness `λ` (`K_l = F(λ)·ρₗ(λ)`, `g_l` the footprint's
+/// gains), into `out`; returns the number of terms kept: `16 + ⌈9.1√λ⌉` (capped at
+/// [`MAX_SERIES`]), past which `K_l/K₀ < e^{−41}`.
+fn cosine_series(lambda: f64, exponent: u32, out: &mut [f64; MAX_SERIES]) -> usize {
+    let len = (16 + (9.1 * crate::math::sqrt64(lambda)) as usize).min(MAX_SERIES);
+    let Some(out) = out.get_mut(..len) else { return 0 };
+    bessel_ratios(lambda, out);
+    let full = glossy_full_integral(lambda);
+    let p = f64::from(exponent);
+    // (p + 1)·m_l with m₀ = 1/(p + 1), m₁ = 1/(p + 2), m_l = m_{l−2}·(p − l + 2)/(p + l + 1).
+    let (mut even, mut odd) = (1.0 / (p + 1.0), 1.0 / (p + 2.0));
+    for (l, b) in out.iter_mut().enumerate() {
+        let m = if l % 2 == 0 { even } else { odd };
+        *b *= full * (p + 1.0) * m * (2 * l + 1) as f64 / (4.0 * core::f64::consts::PI);
+        let lf = l as f64;
+        if l % 2 == 0 {
+            even *= (p - lf) / (p + lf + 3.0);
+        } else {
+            odd *= (p - lf) / (p + lf + 3.0);
+        }
+    }
+    len
+}
+
+/// `V̄/F(μ)² = Σ_l K_l·(2l + 1)/(4π)·ρₗ(μ)²` for the Gaussian footprint's deconvolved kernel
+/// `K_l = F(ν)·ρₗ(ν)/ρₗ(S)`, summed over [`MAX_SERIES`] terms (`K_l` falls like `(ν/S)^l`;
+/// `gen/probe.rs` refuses members whose series has not converged by then).
+fn deconvolved_vbar(nu: f64, sharpness: f64, mu: f64) -> f64 {
+    let mut rn = [0.0f64; MAX_SERIES];
+    let mut rs = [0.0f64; MAX_SERIES];
+    bessel_ratios(nu, &mut rn);
+    bessel_ratios(sharpness, &mut rs);
+    // ρₗ(ν)/ρₗ(S) → rn; then ρₗ(μ) → rs.
+    for (a, &b) in rn.iter_mut().zip(&rs) {
+        *a = if b > 0.0 { *a / b } else { 0.0 };
+    }
+    bessel_ratios(mu, &mut rs);
+    let full = glossy_full_integral(nu);
+    let mut sum = 0.0;
+    for (l, (&k, &p)) in rn.iter().zip(&rs).enumerate() {
+        sum += full * k * (2 * l + 1) as f64 / (4.0 * core::f64::consts::PI) * p * p;
+    }
+    sum
+}
+
+/// `Σ_l hₗ·P_l(t)` by the forward recurrence of `P_l`, in f64.
+fn legendre_sum(h: &[f64], t: f64) -> f64 {
+    let t = t.clamp(-1.0, 1.0);
+    let (mut p0, mut p1) = (0.0, 1.0);
+    let mut sum = 0.0;
+    for (l, &c) in h.iter().enumerate() {
+        sum += c * p1;
+        let next = ((2 * l + 1) as f64 * t * p1 - l as f64 * p0) / (l + 1) as f64;
+        p0 = p1;
+        p1 = next;
+    }
+    sum
+}
+
+/// `Σ_l hₗ·P_l(t)` by the forward recurrence of `P_l`, in f32 (the glossy hot path).
+fn legendre_sum_f32(h: &[f32], t: f32) -> f32 {
+    let t = t.clamp(-1.0, 1.0);
+    let (mut p0, mut p1) = (0.0f32, 1.0f32);
+    let mut sum = 0.0f32;
+    for (l, &c) in h.iter().enumerate() {
+        sum += c * p1;
+        let lf = l as f32;
+        let next = ((2.0 * lf + 1.0) * t * p1 - lf * p0) / (lf + 1.0);
+        p0 = p1;
+        p1 = next;
+    }
+    sum
 }
 
 /// The normalised cosine-weighted average used by ray-traced irradiance-field probes, the
