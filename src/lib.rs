@@ -26,7 +26,13 @@
 //!   posterior variance for any normal out, with per-probe kernel selection by marginal
 //!   likelihood. On the held-out maps of `examples/accuracy.rs` it has 0.76–0.87× the error of
 //!   the cosine-weighted average at N = 16…64 (`clamp` tier) and 0.66–0.73× the best of that
-//!   average and SH L2 (`smooth` tier).
+//!   average and SH L2 (`smooth` tier). Samples may be points or have a known footprint
+//!   (`Probe<N, T, F>`): a probe whose samples integrate a lobe (a mip level, a cone, a
+//!   photodiode) models it exactly, for 10–50× lower irradiance error on real maps.
+//! - [`footprint`]: what a sample measures (point, Gaussian lobe, cosine-power sensor) and
+//!   the footprints' Funk–Hecke gains.
+//! - [`envmap`]: footprint samples of an equirectangular RGB map, exact (every pixel) or
+//!   from a mip pyramid, in caller-provided buffers.
 //! - [`rotation`]: rotation matrices and a seeded rotation sequence.
 //! - [`metrics`]: point-set quality (energy, worst-case error, discrepancy, separation,
 //!   covering radius, spectra, design strength) and the circle view.
@@ -40,6 +46,8 @@
 //!   binary's decision (see [`math`]).
 //! - `defmt`: `defmt::Format` on the public data types.
 //! - `fixed`: [`fixed_point`], integer-only BMC weighted sums for cores without an FPU.
+//! - `footprint-sweep`: also bake the footprint benchmark's Gaussian footprints (sharpness
+//!   N/16, N/8, N/4, N/2 for every size); flash is unaffected, the build script runs longer.
 //!
 //! # Accuracy
 //! Measured by the tests in `tests/` against the independent f64 reference crate:
@@ -70,6 +78,7 @@
 #![deny(missing_docs)]
 
 pub mod bmc;
+pub mod envmap;
 mod error;
 #[cfg(feature = "fixed")]
 pub mod fixed_point;

@@ -46,6 +46,7 @@ pub mod bmc;
 pub mod discrepancy;
 pub mod envmap;
 pub mod fit;
+pub mod footprint;
 pub mod peers;
 pub mod pointsets;
 pub mod quad;

@@ -16,6 +16,7 @@ use core::hint::black_box;
 use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
+use sphere_quadrature::footprint::{CosinePower, Footprint, Gaussian, Kind, Point};
 use sphere_quadrature::qmc::{self, LobeSampler};
 use sphere_quadrature::{bmc, probe, sg};
 use sphere_quadrature::{Lobe, SphericalFibonacci, Vec3};
@@ -97,9 +98,15 @@ fn main() -> ! {
     report!("renderer_w_dot_y", 16, 200, || r16.estimate(black_box(y16)));
     report!("renderer_w_dot_y", 64, 100, || r64.estimate(black_box(y64)));
     report!("renderer_w_dot_y", 256, 50, || r256.estimate(black_box(&ys)));
-    probe_counts::<16>(20, 200);
-    probe_counts::<64>(4, 100);
-    probe_counts::<256>(1, 50);
+    probe_counts::<16, Point>("probe", 20, 200);
+    probe_counts::<64, Point>("probe", 4, 100);
+    probe_counts::<256, Point>("probe", 1, 50);
+    // Footprint probes (issue #11), next to the point probe of the same N: photodiodes
+    // (`CosinePower<1>`) at N = 16 and 32, the Gaussian footprint of sharpness 8 at N = 64.
+    probe_counts::<32, Point>("probe", 10, 100);
+    probe_counts::<16, CosinePower<1>>("photodiode_probe", 20, 200);
+    probe_counts::<32, CosinePower<1>>("photodiode_probe", 10, 100);
+    probe_counts::<64, Gaussian<8>>("gaussian8_probe", 4, 100);
     report!("sg_clamped_cosine_fraction", 1, 200, || {
         sg::clamped_cosine_fraction(black_box(7.3), black_box(0.41))
     });
@@ -110,13 +117,14 @@ fn main() -> ! {
     exit(debug::EXIT_SUCCESS)
 }
 
-/// Probe `update` (selection over the family, and one member), `irradiance`, and the
-/// cosine-weighted average query on the same samples.
-fn probe_counts<const N: usize>(update_reps: u32, query_reps: u32)
+/// Probe `update` (selection over the family, and one member), `irradiance`, `glossy` and
+/// `glossy_variance` for footprint `F` (lines `# count {label}_update N=…`), and for point
+/// samples the cosine-weighted average query on the same samples.
+fn probe_counts<const N: usize, F: Footprint>(label: &str, update_reps: u32, query_reps: u32)
 where
-    bmc::Size<N>: probe::ProbeSize,
+    bmc::Size<N>: probe::ProbeTables<F>,
 {
-    let mut p = probe::Probe::<N>::new();
+    let mut p = probe::Probe::<N, f32, F>::new();
     let y: [f32; N] = p.directions().map(|d| 1.0 + 0.5 * d.z + 0.25 * d.x * d.y);
     let n = black_box(Vec3::new(0.3, -0.4, 0.5));
     let update = count(update_reps, || black_box(&mut p).update(black_box(&y)));
@@ -125,18 +133,20 @@ where
     });
     let _ = p.update(&y);
     let query = count(query_reps, || black_box(&p).irradiance(n));
-    let cwa =
-        count(query_reps, || probe::cosine_weighted_average(p.directions(), black_box(&y), n));
-    hprintln!("# count probe_update N={} {} instructions/call", N, update);
-    hprintln!("# count probe_update_one_member N={} {} instructions/call", N, one);
-    hprintln!("# count probe_irradiance N={} {} instructions/call", N, query);
-    hprintln!("# count cosine_weighted_average N={} {} instructions/call", N, cwa);
+    hprintln!("# count {}_update N={} {} instructions/call", label, N, update);
+    hprintln!("# count {}_update_one_member N={} {} instructions/call", label, N, one);
+    hprintln!("# count {}_irradiance N={} {} instructions/call", label, N, query);
+    if F::KIND == Kind::Point {
+        let cwa =
+            count(query_reps, || probe::cosine_weighted_average(p.directions(), black_box(&y), n));
+        hprintln!("# count cosine_weighted_average N={} {} instructions/call", N, cwa);
+    }
     let lobe = sg::SphericalGaussian::phong_moments(Vec3::new(0.6, 0.0, 0.8), 20.0);
     if let Ok(lobe) = lobe {
         let glossy = count(query_reps, || black_box(&p).glossy(black_box(&lobe)));
         let variance = count(update_reps, || black_box(&p).glossy_variance(black_box(&lobe)));
-        hprintln!("# count probe_glossy N={} {} instructions/call", N, glossy);
-        hprintln!("# count probe_glossy_variance N={} {} instructions/call", N, variance);
+        hprintln!("# count {}_glossy N={} {} instructions/call", label, N, glossy);
+        hprintln!("# count {}_glossy_variance N={} {} instructions/call", label, N, variance);
     }
 }
 

@@ -2,9 +2,17 @@
 //! printed as `key index bits` with the exact f32 bits (NaN as `nan`), so the two outputs
 //! can be compared line by line. Shared with the host through `#[path]`
 //! (`examples/device_scenario.rs`); `no_std`, no allocation.
+//!
+//! The photodiode readings of the sensor part are generated on the host
+//! (`examples/sensor_readings.rs`) into `sensor_readings.rs`, next to this file.
 
 use core::fmt::Arguments;
 
+// Relative to this file's directory, so the host twin finds it through its `#[path]` too.
+#[path = "sensor_readings.rs"]
+mod sensor_readings;
+
+use sphere_quadrature::footprint::CosinePower;
 use sphere_quadrature::qmc::{self, LobeSampler};
 use sphere_quadrature::{bmc, probe, sg};
 use sphere_quadrature::{
@@ -173,4 +181,66 @@ pub fn run(out: &mut impl Sink) {
     }
     let r = bmc::Renderer::<64>::new();
     error(out, "renderer64", r.irradiance(Vec3::new(0.2, 0.3, 0.9), 77, sky));
+
+    // Light sensors (issue #11): N photodiodes with a cosine response, readings of a real map
+    // taken on the host and embedded.
+    sensor_probe(out, &sensor_readings::READINGS_16);
+    sensor_probe(out, &sensor_readings::READINGS_32);
+}
+
+/// `sensor{N}_{what} index bits` (NaN as `nan`).
+fn sensor_value<const N: usize>(out: &mut impl Sink, what: &str, index: usize, v: f32) {
+    if v.is_nan() {
+        out.line(format_args!("sensor{N}_{what} {index} nan"));
+    } else {
+        out.line(format_args!("sensor{N}_{what} {index} {:08x}", v.to_bits()));
+    }
+}
+
+/// A probe of `N` photodiodes (`CosinePower<1>`: each reading is the irradiance at the
+/// sensor's normal over π), RGB: update with the embedded readings, then at the eight query
+/// normals the irradiance, its O(1) and exact variances and the relative error against the
+/// exact irradiance; one glossy query; then bad input (the probe keeps its data).
+fn sensor_probe<const N: usize>(out: &mut impl Sink, readings: &[[f32; 3]; N])
+where
+    bmc::Size<N>: probe::ProbeTables<CosinePower<1>>,
+{
+    let mut p = probe::Probe::<N, [f32; 3], CosinePower<1>>::new();
+    let ok = p.update(readings).is_ok();
+    out.line(format_args!("sensor{N}_update 0 {ok} {}", p.selected()));
+    let queries = sensor_readings::NORMALS.iter().zip(&sensor_readings::IRRADIANCE);
+    for (i, (&n, truth)) in queries.enumerate() {
+        let (Ok(e), Ok(exact)) = (p.irradiance(n), p.posterior_variance(n)) else {
+            out.line(format_args!("sensor{N}_query {i} failed"));
+            continue;
+        };
+        for (c, &t) in truth.iter().enumerate() {
+            let (ev, var, ex) = (e.value[c], e.variance[c], exact[c]);
+            sensor_value::<N>(out, "e", 3 * i + c, ev);
+            sensor_value::<N>(out, "var", 3 * i + c, var);
+            sensor_value::<N>(out, "exact_var", 3 * i + c, ex);
+            sensor_value::<N>(out, "rel_err", 3 * i + c, (ev - t) / t);
+        }
+    }
+    // Glossy (the cosine footprint's Legendre-series path): a normalised Phong lobe, e = 5.
+    if let Ok(lobe) = sg::SphericalGaussian::phong_moments(Vec3::new(0.3, -0.4, 0.5), 5.0) {
+        if let (Ok(g), Ok(v)) = (p.glossy(&lobe), p.glossy_variance(&lobe)) {
+            for (c, ((&gv, &fast), &var)) in g.value.iter().zip(&g.variance).zip(&v).enumerate() {
+                sensor_value::<N>(out, "glossy", c, gv);
+                sensor_value::<N>(out, "glossy_fast_var", c, fast);
+                sensor_value::<N>(out, "glossy_var", c, var);
+            }
+        }
+    }
+    let mut bad = *readings;
+    bad[3][1] = f32::NAN;
+    out.line(format_args!("sensor{N}_nan_reading 0 {:?}", p.update(&bad)));
+    out.line(format_args!("sensor{N}_zero_normal 0 {:?}", p.irradiance(Vec3::ZERO).err()));
+    let zero_var = p.posterior_variance(Vec3::ZERO).err();
+    out.line(format_args!("sensor{N}_zero_normal_variance 0 {zero_var:?}"));
+    // Still the data of the good update.
+    let kept = p.irradiance(sensor_readings::NORMALS[0]).map_or([f32::NAN; 3], |e| e.value);
+    for (c, &v) in kept.iter().enumerate() {
+        sensor_value::<N>(out, "e_after_bad", c, v);
+    }
 }

@@ -23,6 +23,7 @@ use core::hint::black_box;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hio};
 use sphere_quadrature::bmc::Renderer;
+use sphere_quadrature::footprint::{CosinePower, Gaussian};
 use sphere_quadrature::probe::{cosine_weighted_average, Probe, Selection};
 use sphere_quadrature::qmc::{self, LobeSampler};
 use sphere_quadrature::sg::{self, SphericalGaussian};
@@ -183,6 +184,30 @@ fn bmc_probe() {
     keep(rgb.glossy_variance(&lobe));
 }
 
+/// Footprint probes (issue #11): photodiodes (`CosinePower<1>`, whose glossy queries go
+/// through the Legendre series) and Gaussian samples (the deconvolved kernel).
+#[inline(never)]
+fn footprint_probes() {
+    let lobe =
+        SphericalGaussian { axis: dir(), sharpness: black_box(21.0), amplitude: black_box(0.5) };
+    let mut p = Probe::<16, f32, CosinePower<1>>::new();
+    keep(p.set_rotation(Mat3::from_axis_angle(dir(), black_box(0.4))));
+    let ys: [f32; 16] = p.directions().map(sky);
+    keep(p.update(black_box(&ys)));
+    keep(p.update_with(black_box(&ys), Selection::Member(black_box(2))));
+    keep(p.irradiance(dir()));
+    keep(p.posterior_variance(dir()));
+    keep(p.glossy(&lobe));
+    keep(p.glossy_variance(&lobe));
+    let mut g = Probe::<64, f32, Gaussian<8>>::new();
+    let ys: [f32; 64] = g.directions().map(sky);
+    keep(g.update(black_box(&ys)));
+    keep(g.irradiance(dir()));
+    keep(g.posterior_variance(dir()));
+    keep(g.glossy(&lobe));
+    keep(g.glossy_variance(&lobe));
+}
+
 #[inline(never)]
 fn metrics_distance(points: &[Vec3]) {
     keep(metrics::energy(points));
@@ -230,6 +255,7 @@ fn main() -> ! {
     spherical_gaussian();
     bmc_renderer();
     bmc_probe();
+    footprint_probes();
     let points = SphericalFibonacci::<32>::new().points();
     let points = black_box(&points[..]);
     metrics_distance(points);
