@@ -23,8 +23,8 @@
 //!
 //! Truth is always the *unfiltered* map, integrated exactly over every pixel. Errors are the
 //! relative RMSE of luminance (RMSE / mean |truth|) per map; the error bar's 2σ coverage is
-//! reported for the BMC estimators (`glossy` with its O(1) variance). The probes run on the
-//! luminance of the samples.
+//! reported for the BMC estimators (`Probe::phong`, the exact Phong-lobe query, with its O(1)
+//! variance). The probes run on the luminance of the samples.
 //!
 //! `--csv FILE` writes one row per (estimator, N, footprint, query, map):
 //! `footprint,<estimator>,<n>,<footprint>,<query>,<map>,<rel_rmse>,<coverage2s>` (coverage
@@ -50,7 +50,6 @@ use sphere_quadrature::bmc::Size;
 use sphere_quadrature::envmap::EquirectMap;
 use sphere_quadrature::footprint::{CosinePower, Footprint, Gaussian, Kind};
 use sphere_quadrature::probe::{cosine_weighted_average, Probe, ProbeSize, ProbeTables};
-use sphere_quadrature::sg::SphericalGaussian;
 use sphere_quadrature::{Mat3, Vec3};
 use std::collections::BTreeMap;
 use std::error::Error;
@@ -223,9 +222,8 @@ fn evaluate<const N: usize, F: Footprint>(
                     pbmc = point.irradiance(nv).expect("unit normal");
                 } else {
                     let e = EXPONENTS[q - 1];
-                    let lobe = SphericalGaussian::phong_moments(nv, e as f32).expect("lobe");
-                    bmc = probe.glossy(&lobe).expect("lobe");
-                    model = point_model.glossy(&lobe).expect("lobe");
+                    bmc = probe.phong(nv, e as f32).expect("valid lobe");
+                    model = point_model.phong(nv, e as f32).expect("valid lobe");
                     let weighted = |ys: &[f32]| {
                         let (mut num, mut den) = (0.0, 0.0);
                         for (x, &v) in xs.iter().zip(ys) {
@@ -243,7 +241,7 @@ fn evaluate<const N: usize, F: Footprint>(
                     let zonal = [1.0, (e + 1.0) / (e + 2.0), e / (e + 3.0)];
                     shv = sh.iter().zip(sh9(n)).map(|(c, (l, v))| zonal[l] * c * v).sum::<f64>();
                     pavg = weighted(&yp);
-                    pbmc = point.glossy(&lobe).expect("lobe");
+                    pbmc = point.phong(nv, e as f32).expect("valid lobe");
                 }
                 let bar = |e: sphere_quadrature::probe::Estimate<f32>| {
                     (f64::from(e.value), Some(f64::from(e.variance)))

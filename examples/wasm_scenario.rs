@@ -13,6 +13,12 @@ mod scenario;
 #[path = "wasm/src/api.rs"]
 mod api;
 
+use sphere_quadrature::bmc::Size;
+use sphere_quadrature::footprint::{Footprint, Gaussian, Kind};
+use sphere_quadrature::probe::{Probe, ProbeSize, ProbeTables};
+use sphere_quadrature::sg::SphericalGaussian;
+use sphere_quadrature::{Error, Vec3};
+
 struct Stdout;
 
 impl scenario::Sink for Stdout {
@@ -161,7 +167,6 @@ fn main() {
     shade::<256>(4, 11, &queries);
     // N = 17 has no baked family (the documented −1 and code 3); more than 1 024 queries is
     // the documented code 3; the other two come from the library.
-    use sphere_quadrature::{sg::SphericalGaussian, Error, Vec3};
     println!("w_shade_bad 0 -1");
     println!("w_shade_bad 1 {}", api::error_code(Error::InvalidParameter));
     println!("w_shade_bad 2 {}", api::error_code(Error::InvalidParameter));
@@ -174,15 +179,15 @@ fn main() {
     ys[1][1] = f32::NAN;
     let nan = api::bmc_probe_n::<16>(1).and_then(|mut p| p.update(&ys));
     println!("w_shade_bad 4 {}", update_code(nan));
+    footprints(&queries);
 }
 
 /// The batch form (`bmc_shade`) for one baked `N`: `(seed, queries)`, printed as the module
 /// does (irradiance RGB, glossy RGB per query; NaN for a bad direction).
 fn shade<const N: usize>(s: usize, seed: u32, queries: &[(usize, usize)])
 where
-    sphere_quadrature::bmc::Size<N>: sphere_quadrature::probe::ProbeSize,
+    Size<N>: ProbeSize,
 {
-    use sphere_quadrature::{sg::SphericalGaussian, Vec3};
     let Ok(mut p) = api::bmc_probe_n::<N>(seed) else {
         println!("w_shade_dirs {s} -1");
         return;
@@ -191,6 +196,18 @@ where
     let samples = p.directions().map(scenario::sky_rgb);
     let code = update_code(p.update(&samples));
     println!("w_shade_code {s} {code}");
+    answer(&p, "w_shade", s, queries);
+}
+
+/// The queries of `bmc_shade`/`footprint_shade` (Phong exponent 20) as `key` values.
+fn answer<const N: usize, F: Footprint>(
+    p: &Probe<N, [f32; 3], F>,
+    key: &str,
+    s: usize,
+    queries: &[(usize, usize)],
+) where
+    Size<N>: ProbeTables<F>,
+{
     let v = |[x, y, z]: [f32; 3]| Vec3::new(x, y, z);
     for (k, &(i, j)) in queries.iter().enumerate() {
         let irr = p.irradiance(v(normal(i))).map_or([f32::NAN; 3], |e| e.value);
@@ -198,9 +215,157 @@ where
             .and_then(|lobe| p.glossy(&lobe).map(|g| g.value))
             .unwrap_or([f32::NAN; 3]);
         for (c, x) in irr.into_iter().chain(glossy).enumerate() {
-            value("w_shade", 6 * queries.len() * s + 6 * k + c, x);
+            value(key, 6 * queries.len() * s + 6 * k + c, x);
         }
     }
+}
+
+/// Width and height of the footprint test map (as `test.mjs`).
+const MW: usize = 256;
+const MH: usize = 128;
+
+/// The footprint test map's pixel `(u, v)` (dyadic values, as `mapPixel` in `test.mjs`).
+fn map_pixel(u: usize, v: usize) -> [f32; 3] {
+    if (40..44).contains(&u) && (20..23).contains(&v) {
+        return [64.0, 60.0, 48.0];
+    }
+    let base = if v < MH / 2 { 2.0 } else { 0.25 };
+    [
+        base + ((u * 3 + v * 5) % 16) as f32 / 16.0,
+        base + ((u ^ v) & 7) as f32 / 8.0,
+        base / 2.0 + (v % 4) as f32 / 4.0,
+    ]
+}
+
+/// `map_footprint_samples` as the module runs it: the pyramid buffer has the module's size.
+fn samples_code(
+    map: &[[f32; 3]],
+    size: (usize, usize),
+    dirs: &[Vec3],
+    sharpness: u32,
+    sampler: u32,
+    out: &mut [[f32; 3]],
+) -> i32 {
+    let mut pyramid = vec![[0.0f32; 3]; api::PYRAMID_MAX];
+    let result = api::map_len(size.0, size.1).and_then(|len| {
+        let pixels = map.get(..len).ok_or(sphere_quadrature::Error::InvalidSize)?;
+        api::map_footprint_samples(pixels, size, dirs, sharpness, sampler, &mut pyramid, out)
+    });
+    result.map_or_else(api::error_code, |()| 0)
+}
+
+/// The footprint probe of one baked `N` (footprint `F`) on the test map: its sharpness and
+/// directions, the pyramid's and the exact samples, then the queries of `bmc_shade`.
+fn footprint<const N: usize, F: Footprint>(
+    s: usize,
+    seed: u32,
+    map: &[[f32; 3]],
+    queries: &[(usize, usize)],
+) where
+    Size<N>: ProbeTables<F>,
+{
+    let sharpness = match F::KIND {
+        Kind::Gaussian { sharpness } => sharpness,
+        _ => 0,
+    };
+    println!("w_fp_sharpness {s} {sharpness}");
+    let Ok(mut p) = api::probe_nf::<N, F>(seed) else {
+        println!("w_fp_dirs {s} -1");
+        return;
+    };
+    println!("w_fp_dirs {s} {N}");
+    let dirs = *p.directions();
+    for (jj, d) in [dirs[0], dirs[N - 1]].into_iter().enumerate() {
+        for (c, x) in [d.x, d.y, d.z].into_iter().enumerate() {
+            value("w_fp_dir", 6 * s + 3 * jj + c, x);
+        }
+    }
+    let mut exact = [[0.0f32; 3]; N];
+    for sampler in [api::PYRAMID, api::EXACT] {
+        let mut out = [[0.0f32; 3]; N];
+        let code = samples_code(map, (MW, MH), &dirs, sharpness, sampler, &mut out);
+        println!("w_fp_sample_code {} {code}", 2 * s + sampler as usize);
+        for (k, &x) in out.iter().flatten().enumerate() {
+            value(&format!("w_fp_sample{sampler}"), 3 * 256 * s + k, x);
+        }
+        if sampler == api::EXACT {
+            exact = out;
+        }
+    }
+    println!("w_fp_shade_code {s} {}", update_code(p.update(&exact)));
+    answer(&p, "w_fp_shade", s, queries);
+}
+
+/// Section 6 of `test.mjs`: footprint probes of every baked `N` on the test map, nearest-pixel
+/// samples, and bad input.
+fn footprints(queries: &[(usize, usize)]) {
+    // The module's map buffer: the test map, then zeros.
+    let mut map = vec![[0.0f32; 3]; api::MAP_MAX];
+    for v in 0..MH {
+        for u in 0..MW {
+            map[v * MW + u] = map_pixel(u, v);
+        }
+    }
+    footprint::<16, Gaussian<2>>(0, 21, &map, queries);
+    footprint::<32, Gaussian<4>>(1, 22, &map, queries);
+    footprint::<64, Gaussian<8>>(2, 23, &map, queries);
+    footprint::<128, Gaussian<16>>(3, 24, &map, queries);
+    footprint::<256, Gaussian<32>>(4, 25, &map, queries);
+    let Ok(dirs) = api::probe_nf::<16, Gaussian<2>>(21).map(|p| *p.directions()) else { return };
+    let mut point = [[0.0f32; 3]; 16];
+    println!(
+        "w_fp_point_code 0 {}",
+        samples_code(&map, (MW, MH), &dirs, 0, api::EXACT, &mut point)
+    );
+    for (k, &x) in point.iter().flatten().enumerate() {
+        value("w_fp_point", k, x);
+    }
+    let mut out = [[0.0f32; 3]; 16];
+    let mut sample = |map: &[[f32; 3]], size, dirs: &[Vec3], sharpness, sampler| {
+        samples_code(map, size, dirs, sharpness, sampler, &mut out)
+    };
+    let invalid = api::error_code(Error::InvalidParameter);
+    // n = 17 has no footprint probe (the documented −1 and code 3), nor are more than 1 024
+    // queries or samples taken (code 3); the rest comes from the library.
+    let exponent = api::probe_nf::<16, Gaussian<2>>(1)
+        .and_then(|mut p| p.update(&point))
+        .and_then(|()| SphericalGaussian::phong_moments(Vec3::Z, -1.0).map(|_| ()));
+    let mut zero = dirs;
+    zero[1] = Vec3::ZERO;
+    let mut nan = map.clone();
+    nan[5][1] = f32::NAN;
+    let bad: [String; 13] = [
+        "-1".into(),
+        "-1".into(),
+        invalid.to_string(),
+        invalid.to_string(),
+        update_code(exponent).to_string(),
+        sample(&map, (0, MH), &dirs, 2, api::EXACT).to_string(),
+        sample(&map, (1024, 256), &dirs, 2, api::EXACT).to_string(),
+        invalid.to_string(),
+        sample(&map, (MW, MH), &dirs, 4097, api::EXACT).to_string(),
+        sample(&map, (MW, MH), &dirs, 2, 2).to_string(),
+        sample(&map, (16384, 8), &dirs, 2, api::PYRAMID).to_string(),
+        format!(
+            "{},{}",
+            sample(&map, (MW, MH), &zero, 2, api::EXACT),
+            sample(&map, (MW, MH), &zero, 2, api::PYRAMID)
+        ),
+        format!(
+            "{},{}",
+            sample(&nan, (MW, MH), &dirs, 2, api::EXACT),
+            sample(&nan, (MW, MH), &dirs, 2, api::PYRAMID)
+        ),
+    ];
+    for (k, code) in bad.iter().enumerate() {
+        println!("w_fp_bad {k} {code}");
+    }
+    println!("w_fp_bad 13 {}", sample(&map, (16384, 8), &dirs, 2, api::EXACT));
+    // The module's sample buffer now holds the 16384×8 map's samples; one NaN.
+    let mut ys = out;
+    ys[1][1] = f32::NAN;
+    let nan_sample = api::probe_nf::<16, Gaussian<2>>(21).and_then(|mut p| p.update(&ys));
+    println!("w_fp_bad 14 {}", update_code(nan_sample));
 }
 
 fn update_code(r: Result<(), sphere_quadrature::Error>) -> i32 {

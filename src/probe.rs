@@ -607,11 +607,115 @@ where
             None => 0.0,
         });
         let vbar = if let Kind::Gaussian { sharpness } = F::KIND {
-            integral * integral * deconvolved_vbar(lambda, f64::from(sharpness), mu)
+            integral * integral * deconvolved_vbar(lambda, sharpness, mu)
         } else {
             amp * amp * glossy_vbar(lambda, mu)
         };
         let v = self.unit_variance(f, &zeta, integral, vbar);
+        Ok(self.signal_variance.scale(v as f32))
+    }
+
+    /// The normalised Phong lobe average `∫ L(x)·(e + 1)/(2π)·max(0, r·x)ᵉ dx` about the mirror
+    /// direction `r`, exact under the model (no spherical-Gaussian stand-in), with a
+    /// direction-averaged posterior variance; O(N·L).
+    ///
+    /// By Funk–Hecke the lobe acts on degree `l` as the gain
+    /// `Φ_l = (e + 1)∫₀¹ tᵉ P_l(t) dt` (two-term recurrence), so the covariance of sample `i`
+    /// with the integral is `zᵢ = Σ_l C_l·Φ_l·P_l(xᵢ·r)`, where `C_l` are the Legendre
+    /// coefficients of the sample's covariance with the radiance: the kernel's spherical
+    /// Gaussian (point samples; of sharpness `ν` for a Gaussian footprint) or that times the
+    /// footprint's gains (cosine power). The sum runs over `L = 16 + ⌈9.1√λ⌉` degrees (past
+    /// them the kernel's coefficients are below `e^{−41}` of the first), once per sample: about
+    /// `L` multiply-adds more per sample than [`Probe::glossy`] (README, Cortex-M4 table).
+    ///
+    /// [`Probe::glossy`] with [`SphericalGaussian::phong_moments`] approximates the same lobe
+    /// by a spherical Gaussian, exact in its integral and first moment only: for broad lobes
+    /// that leaves a floor (about 3 % at `e = 5` on the footprint benchmark's maps) which this
+    /// query does not have. The variance is the baked glossy grid at `μ = e + 2` (the SG of
+    /// the same first moment); [`Probe::phong_variance`] is exact.
+    ///
+    /// # Errors
+    /// [`Error::InvalidDirection`] for a zero or non-finite axis; [`Error::InvalidExponent`]
+    /// for an exponent that is negative, not finite or above [`MAX_GLOSSY_SHARPNESS`].
+    pub fn phong(&self, axis: Vec3, exponent: f32) -> Result<Estimate<T>, Error> {
+        let r = axis.try_normalize().ok_or(Error::InvalidDirection)?;
+        if !(0.0..=MAX_GLOSSY_SHARPNESS).contains(&exponent) {
+            return Err(Error::InvalidExponent);
+        }
+        let f = self.member_in_use()?;
+        let mut h = [0.0f32; MAX_SERIES];
+        let len = match F::KIND {
+            Kind::CosinePower { exponent: p } => cosine_series_f32(f.lambda, p, &mut h),
+            _ => sg_series_f32(f.lambda, &mut h),
+        };
+        let Some(h) = h.get_mut(..len) else { return Err(Error::InvalidParameter) };
+        apply_cosine_power_gains(exponent, h);
+        let rec = legendre_recurrence(len);
+        let mut acc = self.pi_beta.scale(1.0 / PI);
+        for (x, &a) in self.directions.iter().zip(&self.alpha) {
+            acc = acc.mul_add(a, legendre_sum_f32(h, &rec, x.dot(r)));
+        }
+        let unit = glossy_grid_lookup(&f.glossy_variance, exponent + 2.0);
+        Ok(Estimate { value: acc, variance: self.signal_variance.scale(unit) })
+    }
+
+    /// The exact posterior variance of [`Probe::phong`] (σ̂_f² times the unit variance),
+    /// O(N² + N·L), in f64: `V̄ = Σ_l K_l·Φ_l²·(2l + 1)/(4π)` with the kernel's coefficients
+    /// `K_l`.
+    ///
+    /// # Errors
+    /// As [`Probe::phong`].
+    pub fn phong_variance(&self, axis: Vec3, exponent: f32) -> Result<T, Error> {
+        let r = axis.try_normalize().ok_or(Error::InvalidDirection)?;
+        if !(0.0..=MAX_GLOSSY_SHARPNESS).contains(&exponent) {
+            return Err(Error::InvalidExponent);
+        }
+        let f = self.member_in_use()?;
+        let (lambda, e) = (f64::from(f.lambda), f64::from(exponent));
+        let mut k = [0.0f64; MAX_SERIES];
+        let len = kernel_coefficients(F::KIND, lambda, &mut k);
+        let Some(k) = k.get_mut(..len) else { return Err(Error::InvalidParameter) };
+        // Cross-covariance coefficients: SG(λ or ν) for point and Gaussian samples, K·g for
+        // the cosine power; then the lobe's gains.
+        let mut h = [0.0f64; MAX_SERIES];
+        let cross = match F::KIND {
+            Kind::Gaussian { .. } => {
+                let n = (16 + (9.1 * crate::math::sqrt64(lambda)) as usize).min(MAX_SERIES);
+                let Some(h) = h.get_mut(..n) else { return Err(Error::InvalidParameter) };
+                bessel_ratios(lambda, h);
+                let full = glossy_full_integral(lambda);
+                for (l, c) in h.iter_mut().enumerate() {
+                    *c *= full * (2 * l + 1) as f64 / (4.0 * core::f64::consts::PI);
+                }
+                n
+            }
+            Kind::CosinePower { exponent: p } => {
+                for (c, &kl) in h.iter_mut().zip(k.iter()) {
+                    *c = kl;
+                }
+                if let Some(h) = h.get_mut(..len) {
+                    apply_cosine_power_gains_f64(f64::from(p), h);
+                }
+                len
+            }
+            _ => {
+                for (c, &kl) in h.iter_mut().zip(k.iter()) {
+                    *c = kl;
+                }
+                len
+            }
+        };
+        let Some(h) = h.get_mut(..cross) else { return Err(Error::InvalidParameter) };
+        apply_cosine_power_gains_f64(e, h);
+        let zeta: [f64; N] = core::array::from_fn(|i| match self.directions.get(i) {
+            Some(x) => legendre_sum(h, f64::from(x.dot(r))),
+            None => 0.0,
+        });
+        // Applied twice: K_l·Φ_l²·(2l + 1)/(4π).
+        apply_cosine_power_gains_f64(e, k);
+        apply_cosine_power_gains_f64(e, k);
+        let vbar: f64 = k.iter().sum();
+        let v = self.unit_variance(f, &zeta, 1.0, vbar);
         Ok(self.signal_variance.scale(v as f32))
     }
 
@@ -636,9 +740,10 @@ where
         for (h, &p) in h.iter_mut().zip(rho.iter()) {
             *h *= full * p;
         }
+        let rec = legendre_recurrence(len);
         let mut acc = self.pi_beta.scale(full / PI);
         for (x, &a) in self.directions.iter().zip(&self.alpha) {
-            acc = acc.mul_add(a, legendre_sum_f32(&h[..len], x.dot(r)));
+            acc = acc.mul_add(a, legendre_sum_f32(&h[..len], &rec, x.dot(r)));
         }
         let unit = full * full * glossy_grid_lookup(&f.glossy_variance, mu);
         Estimate { value: acc, variance: self.signal_variance.scale(unit) }
@@ -937,23 +1042,42 @@ fn bessel_ratios_f32(x: f32, out: &mut [f32]) {
     }
 }
 
-/// [`cosine_series`] in f32 (the glossy hot path).
-fn cosine_series_f32(lambda: f32, exponent: u32, out: &mut [f32; MAX_SERIES]) -> usize {
+/// `cₗ = S_l(λ)·(2l + 1)/(4π)`, the Legendre coefficients of the unit spherical Gaussian of
+/// sharpness `λ` (`S_l = F(λ)·ρ_l(λ)`), in f32, into `out`; returns the number of terms kept:
+/// `16 + ⌈9.1√λ⌉` (capped at [`MAX_SERIES`]), past which `S_l/S₀ < e^{−41}`.
+fn sg_series_f32(lambda: f32, out: &mut [f32; MAX_SERIES]) -> usize {
     let len = (16 + (9.1 * crate::math::sqrt(lambda)) as usize).min(MAX_SERIES);
     let Some(out) = out.get_mut(..len) else { return 0 };
     bessel_ratios_f32(lambda, out);
     let full = full_integral_unchecked(lambda);
-    let p = exponent as f32;
+    for (l, b) in out.iter_mut().enumerate() {
+        *b *= full * (2 * l + 1) as f32 / (4.0 * PI);
+    }
+    len
+}
+
+/// Multiplies `out` by the gains `(p + 1)∫₀¹ tᵖ P_l(t) dt` of the normalised cosine-power lobe
+/// of any real exponent `p ≥ 0` (a photodiode's response for `p = 1`, the normalised Phong
+/// lobe for `p = e`): `m₀ = 1/(p + 1)`, `m₁ = 1/(p + 2)`, `m_{l+2} = m_l·(p − l)/(p + l + 3)`.
+fn apply_cosine_power_gains(p: f32, out: &mut [f32]) {
     let (mut even, mut odd) = (1.0 / (p + 1.0), 1.0 / (p + 2.0));
     for (l, b) in out.iter_mut().enumerate() {
         let m = if l % 2 == 0 { even } else { odd };
-        *b *= full * (p + 1.0) * m * (2 * l + 1) as f32 / (4.0 * PI);
+        *b *= (p + 1.0) * m;
         let lf = l as f32;
         if l % 2 == 0 {
             even *= (p - lf) / (p + lf + 3.0);
         } else {
             odd *= (p - lf) / (p + lf + 3.0);
         }
+    }
+}
+
+/// [`cosine_series`] in f32 (the glossy hot path).
+fn cosine_series_f32(lambda: f32, exponent: u32, out: &mut [f32; MAX_SERIES]) -> usize {
+    let len = sg_series_f32(lambda, out);
+    if let Some(out) = out.get_mut(..len) {
+        apply_cosine_power_gains(exponent as f32, out);
     }
     len
 }
@@ -983,25 +1107,56 @@ fn cosine_series(lambda: f64, exponent: u32, out: &mut [f64; MAX_SERIES]) -> usi
     len
 }
 
-/// `V̄/F(μ)² = Σ_l K_l·(2l + 1)/(4π)·ρₗ(μ)²` for the Gaussian footprint's deconvolved kernel
-/// `K_l = F(ν)·ρₗ(ν)/ρₗ(S)`, summed over [`MAX_SERIES`] terms (`K_l` falls like `(ν/S)^l`;
-/// `gen/probe.rs` refuses members whose series has not converged by then).
-fn deconvolved_vbar(nu: f64, sharpness: f64, mu: f64) -> f64 {
-    let mut rn = [0.0f64; MAX_SERIES];
-    let mut rs = [0.0f64; MAX_SERIES];
-    bessel_ratios(nu, &mut rn);
-    bessel_ratios(sharpness, &mut rs);
-    // ρₗ(ν)/ρₗ(S) → rn; then ρₗ(μ) → rs.
-    for (a, &b) in rn.iter_mut().zip(&rs) {
-        *a = if b > 0.0 { *a / b } else { 0.0 };
+/// `K_l·(2l + 1)/(4π)`, the kernel's Legendre coefficients, in f64, into `out`; returns the
+/// number of terms. Point and cosine-power footprints: the squared exponential,
+/// `K_l = F(λ)·ρₗ(λ)`, `16 + ⌈9.1√λ⌉` terms. Gaussian footprint of sharpness `S`: the
+/// deconvolved kernel `K_l = F(ν)·ρₗ(ν)/ρₗ(S)` (`λ = ν`), which falls like `(ν/S)^l`:
+/// [`MAX_SERIES`] terms (`gen/probe.rs` refuses members whose series has not converged by
+/// then).
+fn kernel_coefficients(kind: Kind, lambda: f64, out: &mut [f64; MAX_SERIES]) -> usize {
+    let pi4 = 4.0 * core::f64::consts::PI;
+    let full = glossy_full_integral(lambda);
+    if let Kind::Gaussian { sharpness } = kind {
+        let mut rs = [0.0f64; MAX_SERIES];
+        bessel_ratios(lambda, out);
+        bessel_ratios(f64::from(sharpness), &mut rs);
+        for (l, (a, &b)) in out.iter_mut().zip(&rs).enumerate() {
+            *a = if b > 0.0 { full * *a / b * (2 * l + 1) as f64 / pi4 } else { 0.0 };
+        }
+        return MAX_SERIES;
     }
-    bessel_ratios(mu, &mut rs);
-    let full = glossy_full_integral(nu);
-    let mut sum = 0.0;
-    for (l, (&k, &p)) in rn.iter().zip(&rs).enumerate() {
-        sum += full * k * (2 * l + 1) as f64 / (4.0 * core::f64::consts::PI) * p * p;
+    let len = (16 + (9.1 * crate::math::sqrt64(lambda)) as usize).min(MAX_SERIES);
+    let Some(out) = out.get_mut(..len) else { return 0 };
+    bessel_ratios(lambda, out);
+    for (l, a) in out.iter_mut().enumerate() {
+        *a *= full * (2 * l + 1) as f64 / pi4;
     }
-    sum
+    len
+}
+
+/// `V̄/F(μ)² = Σ_l K_l·(2l + 1)/(4π)·ρₗ(μ)²` for the Gaussian footprint's deconvolved kernel.
+fn deconvolved_vbar(nu: f64, sharpness: u32, mu: f64) -> f64 {
+    let mut k = [0.0f64; MAX_SERIES];
+    let len = kernel_coefficients(Kind::Gaussian { sharpness }, nu, &mut k);
+    let mut rho = [0.0f64; MAX_SERIES];
+    bessel_ratios(mu, &mut rho);
+    k.iter().zip(&rho).take(len).map(|(&k, &p)| k * p * p).sum()
+}
+
+/// Multiplies `out` by the normalised cosine-power gains of exponent `p` (see
+/// [`apply_cosine_power_gains`]), in f64.
+fn apply_cosine_power_gains_f64(p: f64, out: &mut [f64]) {
+    let (mut even, mut odd) = (1.0 / (p + 1.0), 1.0 / (p + 2.0));
+    for (l, b) in out.iter_mut().enumerate() {
+        let m = if l % 2 == 0 { even } else { odd };
+        *b *= (p + 1.0) * m;
+        let lf = l as f64;
+        if l % 2 == 0 {
+            even *= (p - lf) / (p + lf + 3.0);
+        } else {
+            odd *= (p - lf) / (p + lf + 3.0);
+        }
+    }
 }
 
 /// `Σ_l hₗ·P_l(t)` by the forward recurrence of `P_l`, in f64.
@@ -1018,15 +1173,27 @@ fn legendre_sum(h: &[f64], t: f64) -> f64 {
     sum
 }
 
-/// `Σ_l hₗ·P_l(t)` by the forward recurrence of `P_l`, in f32 (the glossy hot path).
-fn legendre_sum_f32(h: &[f32], t: f32) -> f32 {
+/// The forward recurrence's coefficients `((2l + 1)/(l + 1), l/(l + 1))` for `l < len`, once
+/// per query so that the per-sample sums do not divide.
+fn legendre_recurrence(len: usize) -> [(f32, f32); MAX_SERIES] {
+    let mut c = [(0.0f32, 0.0f32); MAX_SERIES];
+    for (l, slot) in c.iter_mut().enumerate().take(len) {
+        let lf = l as f32;
+        let inv = 1.0 / (lf + 1.0);
+        *slot = ((2.0 * lf + 1.0) * inv, lf * inv);
+    }
+    c
+}
+
+/// `Σ_l hₗ·P_l(t)` by the forward recurrence of `P_l` with the coefficients of
+/// [`legendre_recurrence`], in f32 (the glossy hot path).
+fn legendre_sum_f32(h: &[f32], rec: &[(f32, f32)], t: f32) -> f32 {
     let t = t.clamp(-1.0, 1.0);
     let (mut p0, mut p1) = (0.0f32, 1.0f32);
     let mut sum = 0.0f32;
-    for (l, &c) in h.iter().enumerate() {
+    for (&c, &(a, b)) in h.iter().zip(rec) {
         sum += c * p1;
-        let lf = l as f32;
-        let next = ((2.0 * lf + 1.0) * t * p1 - lf * p0) / (lf + 1.0);
+        let next = a * t * p1 - b * p0;
         p0 = p1;
         p1 = next;
     }

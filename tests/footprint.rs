@@ -96,6 +96,7 @@ fn sg_coefficients(x: f64, count: usize) -> Vec<f64> {
 /// The footprint's gains `g_l` by quadrature.
 fn gains(kind: Kind, count: usize) -> Vec<f64> {
     match kind {
+        Kind::Point => vec![1.0; count],
         Kind::Gaussian { sharpness } => {
             let a = sg_coefficients(f64::from(sharpness), count);
             a.iter().map(|x| x / a[0]).collect()
@@ -104,7 +105,6 @@ fn gains(kind: Kind, count: usize) -> Vec<f64> {
             let p = f64::from(exponent);
             coefficients(|t| if t > 0.0 { (p + 1.0) / (2.0 * PI) * t.powf(p) } else { 0.0 }, count)
         }
-        _ => unreachable!(),
     }
 }
 
@@ -244,6 +244,18 @@ impl RefProbe {
     /// Posterior mean and unit variance of `∫ L·w` for a zonal weight with Legendre
     /// coefficients `w_l` about `axis`; also `rᵀQ⁻¹r`.
     fn estimate(&self, y: &[f64], w: &[f64], axis: [f64; 3]) -> (f64, f64, f64) {
+        let (value, r2, unit, _) = self.estimate_with_sensitivity(y, w, axis);
+        (value, r2, unit)
+    }
+
+    /// [`RefProbe::estimate`] and `‖Q‖∞·‖Q⁻¹ζ‖²`, the first-order sensitivity of `ζᵀQ⁻¹ζ` to a
+    /// relative perturbation of `Q` (what storing its factor in f32 is).
+    fn estimate_with_sensitivity(
+        &self,
+        y: &[f64],
+        w: &[f64],
+        axis: [f64; 3],
+    ) -> (f64, f64, f64, f64) {
         let len = self.xs.len();
         let qi_y = reference::bmc::lu_solve(&self.q, len, y);
         let qi_1 = reference::bmc::lu_solve(&self.q, len, &vec![1.0; len]);
@@ -266,8 +278,95 @@ impl RefProbe {
             .enumerate()
             .map(|(l, (k, w))| k * w * w * (2 * l + 1) as f64 / (4.0 * PI))
             .sum();
-        (value, r2, vbar - zqz + (integral - one_z).powi(2) / s1)
+        let norm_q = (0..len)
+            .map(|i| self.q[i * len..(i + 1) * len].iter().map(|x| x.abs()).sum::<f64>())
+            .fold(0.0, f64::max);
+        let sensitivity = norm_q * qi_z.iter().map(|x| x * x).sum::<f64>();
+        (value, r2, vbar - zqz + (integral - one_z).powi(2) / s1, sensitivity)
     }
+}
+
+/// The normalised Phong lobe's Legendre coefficients by quadrature.
+fn phong_coefficients(e: f64, count: usize) -> Vec<f64> {
+    coefficients(|t| if t > 0.0 { (e + 1.0) / (2.0 * PI) * t.powf(e) } else { 0.0 }, count)
+}
+
+/// [`Probe::phong`] and [`Probe::phong_variance`] against the f64 twin, every member, Phong
+/// exponents 0…1000; the same bars as `compare_with_reference`.
+fn phong_against_reference<const N: usize, F: Footprint>()
+where
+    Size<N>: ProbeTables<F>,
+{
+    let mut rng = Rng::new(0x0F00_7001 + N as u64);
+    let rotation = rng.uniform_rotation();
+    let field = lights(&mut rng, 2.0, 20.0);
+    for (k, member) in Probe::<N, f32, F>::family().enumerate() {
+        let r =
+            RefProbe::new(rotation, N, F::KIND, f64::from(member.lambda), f64::from(member.sigma));
+        let y = if F::KIND == Kind::Point {
+            r.xs.iter().map(|&x| field.iter().map(|l| l.value(x)).sum()).collect()
+        } else {
+            footprint_samples(&field, F::KIND, &r.xs)
+        };
+        let mut probe = Probe::<N, f32, F>::new();
+        probe.set_rotation(mat3(rotation)).unwrap();
+        let y32: [f32; N] = core::array::from_fn(|i| y[i] as f32);
+        probe.update_with(&y32, Selection::Member(k)).unwrap();
+        let mean = y.iter().sum::<f64>() / N as f64;
+        let (mut value, mut var) = (0.0f64, 0.0f64);
+        for e in [0.0, 1.0, 5.0, 20.0, 100.0, 1000.0] {
+            let axis = rng.uniform_sphere();
+            let w = phong_coefficients(e, 160);
+            let (want, r2, unit, sensitivity) = r.estimate_with_sensitivity(&y, &w, axis);
+            let got = probe.phong(to_vec3(axis), e as f32).unwrap();
+            let v = probe.phong_variance(to_vec3(axis), e as f32).unwrap() as f64;
+            let scale = r2 / (N as f64 - 1.0);
+            let want_var = scale * unit;
+            value = value.max((f64::from(got.value) - want).abs() / want.abs().max(mean.abs()));
+            // The variance is a difference V̄ − ζᵀQ⁻¹ζ: the f32 factor (backward error about
+            // (N/2)·ε₃₂ from storage and the substitutions) moves ζᵀQ⁻¹ζ by up to
+            // (N/2)·ε₃₂·‖Q‖·‖Q⁻¹ζ‖² to first order; beyond that, 1 %.
+            let allowed =
+                1e-2 * want_var + 0.5 * N as f64 * f64::from(f32::EPSILON) * sensitivity * scale;
+            var = var.max((v - want_var).abs() / allowed);
+            if std::env::var_os("FP_DEBUG").is_some() {
+                println!("  e = {e}: variance {v:e} vs {want_var:e}; unit {unit:e}");
+            }
+        }
+        let cond = f64::from(member.condition);
+        println!(
+            "phong N = {N} {:?} member {k} (λ = {}, cond {cond:.1e}): value {value:.1e}, variance {var:.2} of its bound",
+            F::KIND,
+            member.lambda
+        );
+        let bar = if cond <= 1e4 { 1e-5 } else { cond * f64::from(f32::EPSILON) };
+        assert!(value < bar, "N = {N} {:?} member {k}: phong {value:e} (bar {bar:e})", F::KIND);
+        assert!(var < 1.0, "N = {N} {:?} member {k}: phong variance {var:e} of its bound", F::KIND);
+    }
+}
+
+#[test]
+fn phong_queries_match_the_f64_reference() {
+    phong_against_reference::<16, Point>();
+    phong_against_reference::<64, Point>();
+    phong_against_reference::<16, Gaussian<2>>();
+    phong_against_reference::<64, Gaussian<8>>();
+    phong_against_reference::<16, CosinePower<1>>();
+}
+
+#[test]
+fn phong_of_a_constant_is_the_constant() {
+    let mut probe = Probe::<64, f32, Gaussian<8>>::new();
+    probe.update(&[1.75; 64]).unwrap();
+    for e in [0.0f32, 5.0, 300.0] {
+        let p = probe.phong(Vec3::new(0.2, 0.3, -0.9), e).unwrap();
+        assert!((p.value / 1.75 - 1.0).abs() < 1e-6, "e = {e}: {}", p.value);
+        assert_eq!(p.variance, 0.0);
+    }
+    assert_eq!(probe.phong(Vec3::ZERO, 5.0).unwrap_err(), Error::InvalidDirection);
+    assert_eq!(probe.phong(Vec3::Z, -1.0).unwrap_err(), Error::InvalidExponent);
+    assert_eq!(probe.phong(Vec3::Z, f32::NAN).unwrap_err(), Error::InvalidExponent);
+    assert_eq!(probe.phong_variance(Vec3::Z, f32::INFINITY).unwrap_err(), Error::InvalidExponent);
 }
 
 /// Footprint samples of a light with Legendre-expandable structure: sums of SG lights, each

@@ -62,7 +62,7 @@ const browser = await chromium.launch({
 });
 let status = 1;
 try {
-  const page = await browser.newPage({ viewport: { width: 900, height: 900 } });
+  const page = await browser.newPage({ viewport: { width: 1240, height: 900 } });
   const logs = [];
   page.on("console", (m) => logs.push(`console.${m.type()}: ${m.text()}`));
   page.on("pageerror", (e) => logs.push(`pageerror: ${e}`));
@@ -72,6 +72,15 @@ try {
   const stats = await page.$eval("#status", (el) => el.textContent);
   await page.screenshot({ path: SHOT, fullPage: true });
   console.log(r.text);
+  const pct = (x) => `${(100 * x).toFixed(2)} %`;
+  for (const m of JSON.parse(r.perMap ?? "[]")) {
+    console.log(
+      `  ${m.name.padEnd(9)} diffuse: point BMC ${pct(m.bd)}, cos avg ${pct(m.ad)}, footprint BMC ${pct(m.fd)} ` +
+        `(pyramid ${pct(m.pd)}, ratio to cos avg ${(m.fd / m.ad).toFixed(3)}), cos avg of footprint samples ${pct(m.fad)}; ` +
+        `glossy: point BMC ${pct(m.bg)}, lobe avg ${pct(m.ag)}, footprint BMC ${pct(m.fg)} (pyramid ${pct(m.pg)}), ` +
+        `lobe avg of footprint samples ${pct(m.fag)}; pyramid deviation ${(100 * m.dev).toFixed(3)} %`,
+    );
+  }
   console.log(`timing: ${stats}`);
   console.log(`screenshot: ${SHOT}`);
   for (const l of logs) console.log(l);

@@ -1,8 +1,9 @@
 // The browser page of examples/wasm (index.html): shades a sphere from a bundled environment
 // map with one Bayesian Monte Carlo probe of N samples (diffuse irradiance + normalised Phong
-// glossy, N selectable), next to the weighted averages of the same samples, QMC with N
-// samples per pixel, and a brute-force reference over every map pixel, and runs the page's
-// own numeric check (see CHECK).
+// glossy, N selectable), from point samples and from footprint samples (the module filters
+// the map with a spherical Gaussian of sharpness N/8 about each direction), next to the
+// weighted averages of the same samples, QMC with N samples per pixel, and a brute-force
+// reference over every map pixel, and runs the page's own numeric check (see CHECK).
 // Served from the repository root (examples/wasm/browser_test.mjs does that), so the map is at
 // ../envmaps/<name>.hdr and the module at target/… relative to this page.
 
@@ -11,12 +12,25 @@ const MAPS = ["apartment", "bridge", "city", "dawn", "forest", "hall", "lab", "l
 /** Grid of normals per sphere (the reference sums all 131 072 pixels for each). */
 const G = 32;
 /**
- * The page check, over every bundled map at this lighting, N and Phong exponent: the BMC
- * probe's mean relative RMSE of luminance must be below the weighted averages' (diffuse and
- * glossy), and on `map` below the two bounds (sanity: the benchmark measures ≈ 20 % diffuse
- * there).
+ * The page check, over every bundled map at this lighting, N and Phong exponent (means of the
+ * relative RMSE of luminance over the maps):
+ * - point samples: the BMC probe below the weighted averages (diffuse and glossy), and on
+ *   `map` below `diffuseMax` and `glossyMax` (sanity: the benchmark measures ≈ 20 % diffuse
+ *   there);
+ * - footprint samples, exact and from the mip pyramid: the footprint probe's diffuse error at
+ *   most `footprintRatio` times the lower of the point probe's and the cosine-weighted average
+ *   of point samples (issue #11's target ratio at N = 64 against that average; the benchmark
+ *   measures 0.02–0.05, and the point model on footprint samples about 0.5); its glossy error
+ *   below the point probe's and below the lobe-weighted average of the footprint samples;
+ * - every pyramid sample within `pyramidMax` of the exact one (largest channel error over the
+ *   largest channel: src/envmap.rs documents at most 5.7·10⁻³ on clamped maps for S ≤ 64).
  */
-const CHECK = { map: "apartment", lighting: "clamp", n: 64, e: 20, diffuseMax: 0.2, glossyMax: 0.6 };
+const CHECK = {
+  map: "apartment", lighting: "clamp", n: 64, e: 20, diffuseMax: 0.2, glossyMax: 0.6,
+  footprintRatio: 0.1, pyramidMax: 0.01,
+};
+/** `map_footprint_samples` samplers: exact (every pixel) and the mip pyramid (approximate). */
+const SAMPLERS = { exact: 0, pyramid: 1 };
 /** Rotation seeds of the BMC probe (`bmc_shade`); figures are means over them. */
 const SEEDS = [1, 2, 3, 4, 5, 6, 7, 8];
 
@@ -190,10 +204,11 @@ function qmcPerPixel(wasm, map, cells, n, e) {
 
 /**
  * One Bayesian Monte Carlo probe for the whole sphere: wasm gives its N directions (rotation
- * `seed`), JS writes the N RGB radiance samples there, and one `bmc_shade` call updates the
- * probe and answers every cell (irradiance about the normal, Phong glossy about the mirror
- * direction). The same N samples also feed the peers a probe would otherwise use: the
- * cosine-weighted average (diffuse) and the Phong-lobe-weighted average (glossy).
+ * `seed`), JS writes the N RGB radiance samples there (the nearest pixel), and one
+ * `bmc_shade` call updates the probe and answers every cell (irradiance about the normal,
+ * Phong glossy about the mirror direction). The same N samples also feed the peers a probe
+ * would otherwise use: the cosine-weighted average (diffuse) and the Phong-lobe-weighted
+ * average (glossy).
  */
 function bmcProbe(wasm, map, cells, n, e, seed) {
   const w = wasm;
@@ -205,15 +220,73 @@ function bmcProbe(wasm, map, cells, n, e, seed) {
     const i = pixelOf(map, dirs[3 * j], dirs[3 * j + 1], dirs[3 * j + 2]);
     for (let ch = 0; ch < 3; ch++) samples[3 * j + ch] = map.rgb[i + ch];
   }
-  const ys = samples.slice();
+  return shadeAndAverage(wasm, "bmc_shade", cells, n, e, seed, dirs, samples.slice());
+}
+
+/** Writes the map into the module's map buffer (once per map and lighting). */
+let loadedMap = null;
+function loadMap(wasm, map) {
+  if (loadedMap === map) return;
+  if (map.w * map.h > wasm.map_max()) throw new Error(`map larger than map_max() = ${wasm.map_max()}`);
+  new Float32Array(wasm.memory.buffer, wasm.map_ptr(), map.rgb.length).set(map.rgb);
+  loadedMap = map;
+}
+
+/** The footprint samples of the loaded map at the current directions, and the time taken. */
+function footprintSamples(wasm, map, n, sampler) {
+  const w = wasm;
+  const t0 = performance.now();
+  const code = w.map_footprint_samples(map.w, map.h, n, w.footprint_sharpness(n), sampler);
+  const ms = performance.now() - t0;
+  if (code !== 0) throw new Error(`map_footprint_samples returned error code ${code}`);
+  return { ys: new Float32Array(w.memory.buffer, w.samples_ptr(), 3 * n).slice(), ms };
+}
+
+/**
+ * The footprint probe `Probe<N, [f32; 3], Gaussian<N/8>>` for the whole sphere: wasm gives its
+ * directions (rotation `seed`, the same as the point probe's), takes the footprint samples of
+ * the map (each the map filtered by the normalised spherical Gaussian of sharpness N/8 about
+ * its direction) with each sampler of `samplers`, and one `footprint_shade` call per sampler
+ * answers every cell; plus the weighted averages of the same footprint samples. Also the
+ * largest deviation of the pyramid's samples from the exact ones when both were taken.
+ */
+function footprintProbe(wasm, map, cells, n, e, seed, samplers) {
+  const w = wasm;
+  loadMap(w, map);
+  const got = w.footprint_shade_directions(n, seed);
+  if (got !== n) throw new Error(`footprint_shade_directions returned ${got}, expected ${n}`);
+  const dirs = new Float32Array(w.memory.buffer, w.dirs_ptr(), 3 * n).slice();
+  const taken = samplers.map((sampler) => footprintSamples(w, map, n, sampler));
+  let deviation = NaN;
+  if (taken.length === 2) {
+    deviation = 0;
+    const [a, b] = taken.map((t) => t.ys);
+    for (let j = 0; j < n; j++) {
+      const top = Math.max(...a.subarray(3 * j, 3 * j + 3).map(Math.abs));
+      for (let ch = 0; ch < 3; ch++) deviation = Math.max(deviation, Math.abs(b[3 * j + ch] - a[3 * j + ch]) / top);
+    }
+  }
+  const out = taken.map(({ ys, ms }) => ({ ...shadeAndAverage(w, "footprint_shade", cells, n, e, seed, dirs, ys), ms }));
+  return { out, deviation };
+}
+
+/**
+ * Writes `ys` (RGB at `dirs`) into the module's sample buffer and the cells' normal and mirror
+ * direction into its query buffer, calls `shade` (`bmc_shade` or `footprint_shade`), and
+ * returns the probe's pictures (`dp` diffuse, `gp` glossy) and those of the weighted averages
+ * of `ys` (`da`, `ga`).
+ */
+function shadeAndAverage(wasm, shade, cells, n, e, seed, dirs, ys) {
+  const w = wasm;
+  new Float32Array(w.memory.buffer, w.samples_ptr(), 3 * n).set(ys);
   const live = cells.filter((c) => c);
   const queries = new Float32Array(w.memory.buffer, w.queries_ptr(), 6 * live.length);
   live.forEach((c, q) => {
     queries.set(c.n, 6 * q);
     queries.set(c.r, 6 * q + 3);
   });
-  const code = w.bmc_shade(n, seed, live.length, e);
-  if (code !== 0) throw new Error(`bmc_shade returned error code ${code}`);
+  const code = w[shade](n, seed, live.length, e);
+  if (code !== 0) throw new Error(`${shade} returned error code ${code}`);
   const shaded = new Float32Array(w.memory.buffer, w.shaded_ptr(), 6 * live.length);
   const dp = new Float32Array(3 * G * G).fill(NaN);
   const gp = new Float32Array(3 * G * G).fill(NaN);
@@ -343,7 +416,13 @@ function getRef(name, map, e) {
   return refs.get(key);
 }
 
-async function evaluate(wasm, name, lighting, n, e) {
+/**
+ * Every estimator on one map: the mean relative RMSE over SEEDS probe rotations of the point
+ * probe, the footprint probe (one per sampler of `samplers`) and the weighted averages of
+ * their samples, QMC per pixel, and the pictures of the first rotation (footprint: the first
+ * sampler).
+ */
+async function evaluate(wasm, name, lighting, n, e, samplers) {
   const map = await getMap(name, lighting);
   map.lighting = lighting;
   const t0 = performance.now();
@@ -352,27 +431,46 @@ async function evaluate(wasm, name, lighting, n, e) {
   const t1 = performance.now();
   // One probe orientation is one random draw: the figures average SEEDS rotations; the
   // pictures show the first.
-  const b = bmcProbe(wasm, map, cells, n, e, SEEDS[0]);
-  const sums = [0, 0, 0, 0];
+  const mean = () => ({ d: 0, g: 0 });
+  const err = { bmc: mean(), avg: mean(), fpAvg: mean(), fp: samplers.map(mean) };
+  const add = (acc, p) => {
+    acc.d += relRmse(p.dp, dr) / SEEDS.length;
+    acc.g += relRmse(p.gp, gr) / SEEDS.length;
+  };
+  let first = null;
+  let deviation = 0;
+  const ms = { point: 0, samples: samplers.map(() => 0), footprint: 0 };
   for (const seed of SEEDS) {
-    const p = seed === SEEDS[0] ? b : bmcProbe(wasm, map, cells, n, e, seed);
-    sums[0] += relRmse(p.dp, dr) / SEEDS.length;
-    sums[1] += relRmse(p.gp, gr) / SEEDS.length;
-    sums[2] += relRmse(p.da, dr) / SEEDS.length;
-    sums[3] += relRmse(p.ga, gr) / SEEDS.length;
+    const ta = performance.now();
+    const b = bmcProbe(wasm, map, cells, n, e, seed);
+    const tb = performance.now();
+    const f = footprintProbe(wasm, map, cells, n, e, seed, samplers);
+    ms.footprint += (performance.now() - tb) / SEEDS.length;
+    ms.point += (tb - ta) / SEEDS.length;
+    f.out.forEach((o, i) => (ms.samples[i] += o.ms / SEEDS.length));
+    if (samplers.length === 2) deviation = Math.max(deviation, f.deviation);
+    add(err.bmc, b);
+    add(err.avg, { dp: b.da, gp: b.ga });
+    f.out.forEach((o, i) => add(err.fp[i], o));
+    add(err.fpAvg, { dp: f.out[0].da, gp: f.out[0].ga });
+    first ??= { b, f: f.out[0] };
   }
   const t2 = performance.now();
   const dq = qmcPerPixel(wasm, map, cells, n, null);
   const gq = qmcPerPixel(wasm, map, cells, n, e);
   const t3 = performance.now();
+  const sampler = (i) => Object.keys(SAMPLERS).find((k) => SAMPLERS[k] === samplers[i]);
+  const s = wasm.footprint_sharpness(n);
   return {
-    dr, gr, ...b, dq, gq,
+    dr, gr, dq, gq, first, err, deviation, ms,
     rows: [
-      ["BMC probe (N shared samples)", sums[0], sums[1]],
-      ["weighted average of the same samples", sums[2], sums[3]],
+      ["BMC probe, point samples", err.bmc.d, err.bmc.g],
+      ["weighted average of the point samples", err.avg.d, err.avg.g],
+      ...samplers.map((_, i) => [`BMC probe, footprint samples (S = ${s}, ${sampler(i)})`, err.fp[i].d, err.fp[i].g]),
+      [`weighted average of the footprint samples (${sampler(0)})`, err.fpAvg.d, err.fpAvg.g],
       ["QMC per pixel (N samples each)", relRmse(dq, dr), relRmse(gq, gr)],
     ],
-    refMs: t1 - t0, bmcMs: (t2 - t1) / SEEDS.length, qmcMs: t3 - t2,
+    refMs: t1 - t0, qmcMs: t3 - t2,
   };
 }
 
@@ -383,20 +481,26 @@ async function show(wasm) {
   const lighting = $("lighting").value;
   const n = Number($("n").value);
   const e = Number($("e").value);
+  const sampler = $("sampler").value;
   $("status").textContent = `computing ${name} (${lighting}), N = ${n}, e = ${e}…`;
   await new Promise((r) => setTimeout(r, 0));
-  const r = await evaluate(wasm, name, lighting, n, e);
+  const r = await evaluate(wasm, name, lighting, n, e, [SAMPLERS[sampler]]);
+  const { b, f } = r.first;
   const sd = 0.5 / meanLum(r.dr);
   const sg = 0.8 / meanLum(r.gr);
   for (const [id, img, sc] of [
-    ["diffuse-bmc", r.dp, sd], ["diffuse-avg", r.da, sd], ["diffuse-qmc", r.dq, sd], ["diffuse-ref", r.dr, sd],
-    ["glossy-bmc", r.gp, sg], ["glossy-avg", r.ga, sg], ["glossy-qmc", r.gq, sg], ["glossy-ref", r.gr, sg],
+    ["diffuse-bmc", b.dp, sd], ["diffuse-fp", f.dp, sd], ["diffuse-avg", b.da, sd], ["diffuse-fpavg", f.da, sd],
+    ["diffuse-qmc", r.dq, sd], ["diffuse-ref", r.dr, sd],
+    ["glossy-bmc", b.gp, sg], ["glossy-fp", f.gp, sg], ["glossy-avg", b.ga, sg], ["glossy-fpavg", f.ga, sg],
+    ["glossy-qmc", r.gq, sg], ["glossy-ref", r.gr, sg],
   ]) draw($(id), img, sc);
+  $("sharpness").textContent = String(wasm.footprint_sharpness(n));
   $("stats").innerHTML = r.rows
     .map(([what, d, g]) => `<tr><td>${what}</td><td>${name} (${lighting})</td><td>${n}</td><td>${e}</td><td>${pct(d)}</td><td>${pct(g)}</td></tr>`)
     .join("");
   $("status").textContent =
-    `reference ${r.refMs.toFixed(0)} ms (cached after first use), BMC probe ${r.bmcMs.toFixed(0)} ms per orientation, ` +
+    `reference ${r.refMs.toFixed(0)} ms (cached after first use); per orientation: point probe ${r.ms.point.toFixed(0)} ms, ` +
+    `footprint probe ${r.ms.footprint.toFixed(0)} ms (of which ${sampler} sampling ${r.ms.samples[0].toFixed(0)} ms); ` +
     `QMC per pixel ${r.qmcMs.toFixed(0)} ms`;
 }
 
@@ -404,36 +508,68 @@ async function check(wasm) {
   // Every bundled map: one map is one noisy comparison (the benchmark's claim, and the
   // issue's target, are about the mean over maps).
   const rows = [];
+  const samplers = [SAMPLERS.exact, SAMPLERS.pyramid];
+  const ms = [0, 0];
   for (const name of MAPS) {
     $("check").textContent = `check: running (${name})…`;
-    const r = await evaluate(wasm, name, CHECK.lighting, CHECK.n, CHECK.e);
-    const [[, bd, bg], [, ad, ag]] = r.rows;
-    rows.push({ name, bd, bg, ad, ag });
+    const r = await evaluate(wasm, name, CHECK.lighting, CHECK.n, CHECK.e, samplers);
+    const { bmc, avg, fp, fpAvg } = r.err;
+    rows.push({
+      name, bd: bmc.d, bg: bmc.g, ad: avg.d, ag: avg.g, fd: fp[0].d, fg: fp[0].g, pd: fp[1].d, pg: fp[1].g,
+      fad: fpAvg.d, fag: fpAvg.g, dev: r.deviation,
+    });
+    r.ms.samples.forEach((t, i) => (ms[i] += t / MAPS.length));
   }
-  const mean = (k) => rows.reduce((s, r) => s + r[k], 0) / rows.length;
-  const [bd, bg, ad, ag] = ["bd", "bg", "ad", "ag"].map(mean);
+  const keys = ["bd", "bg", "ad", "ag", "fd", "fg", "pd", "pg", "fad", "fag"];
+  const m = Object.fromEntries(keys.map((k) => [k, rows.reduce((s, r) => s + r[k], 0) / rows.length]));
+  m.dev = Math.max(...rows.map((r) => r.dev));
   const home = rows.find((r) => r.name === CHECK.map);
-  const pass = bd < ad && bg < ag && home.bd < CHECK.diffuseMax && home.bg < CHECK.glossyMax;
+  const pointBound = CHECK.footprintRatio * Math.min(m.bd, m.ad);
+  const verdicts = [
+    [m.bd < m.ad && m.bg < m.ag, "point probe below the weighted averages (diffuse and glossy)"],
+    [home.bd < CHECK.diffuseMax && home.bg < CHECK.glossyMax, `point probe on ${CHECK.map} below ${pct(CHECK.diffuseMax)} / ${pct(CHECK.glossyMax)}`],
+    [m.fd <= pointBound && m.pd <= pointBound,
+      `footprint probe diffuse (exact ${pct(m.fd)}, pyramid ${pct(m.pd)}) at most ${CHECK.footprintRatio} × min(point probe, ` +
+      `cosine-weighted average of point samples) = ${pct(pointBound)}`],
+    [m.fg < m.bg && m.fg < m.fag && m.pg < m.bg && m.pg < m.fag,
+      "footprint probe glossy (exact and pyramid) below the point probe's and the lobe-weighted average of the footprint samples"],
+    [m.dev <= CHECK.pyramidMax, `pyramid samples within ${pct(CHECK.pyramidMax)} of the exact ones (worst ${(100 * m.dev).toFixed(3)} %)`],
+  ];
+  const pass = verdicts.every(([ok]) => ok);
+  const ratio = (a, b) => (a / b).toFixed(3);
   $("check-table").innerHTML =
-    "<tr><th>map</th><th>BMC diffuse</th><th>cos-weighted avg</th><th>ratio</th>" +
-    "<th>BMC glossy</th><th>lobe-weighted avg</th><th>ratio</th></tr>" +
-    [...rows, { name: "mean", bd, bg, ad, ag }]
-      .map((r) => `<tr><td>${r.name}</td><td>${pct(r.bd)}</td><td>${pct(r.ad)}</td><td>${(r.bd / r.ad).toFixed(3)}</td>` +
-        `<td>${pct(r.bg)}</td><td>${pct(r.ag)}</td><td>${(r.bg / r.ag).toFixed(3)}</td></tr>`)
+    "<tr><th rowspan=2>map</th><th colspan=6>diffuse</th><th colspan=5>glossy</th><th rowspan=2>pyramid<br>deviation</th></tr>" +
+    "<tr><th>point BMC</th><th>cos avg<br>(point)</th><th>footprint BMC<br>(exact)</th><th>footprint BMC<br>(pyramid)</th>" +
+    "<th>cos avg<br>(footprint)</th><th>footprint /<br>cos avg (point)</th>" +
+    "<th>point BMC</th><th>lobe avg<br>(point)</th><th>footprint BMC<br>(exact)</th><th>footprint BMC<br>(pyramid)</th><th>lobe avg<br>(footprint)</th></tr>" +
+    [...rows, { name: "mean", ...m }]
+      .map((r) => `<tr><td>${r.name}</td><td>${pct(r.bd)}</td><td>${pct(r.ad)}</td><td>${pct(r.fd)}</td><td>${pct(r.pd)}</td>` +
+        `<td>${pct(r.fad)}</td><td>${ratio(r.fd, r.ad)}</td><td>${pct(r.bg)}</td><td>${pct(r.ag)}</td><td>${pct(r.fg)}</td>` +
+        `<td>${pct(r.pg)}</td><td>${pct(r.fag)}</td><td>${(100 * r.dev).toFixed(3)} %</td></tr>`)
       .join("");
   const el = $("check");
-  el.dataset.diffuse = String(bd);
-  el.dataset.glossy = String(bg);
-  el.dataset.diffuseAverage = String(ad);
-  el.dataset.glossyAverage = String(ag);
+  el.dataset.diffuse = String(m.bd);
+  el.dataset.glossy = String(m.bg);
+  el.dataset.diffuseAverage = String(m.ad);
+  el.dataset.glossyAverage = String(m.ag);
+  el.dataset.footprintDiffuse = String(m.fd);
+  el.dataset.footprintGlossy = String(m.fg);
+  el.dataset.pyramidDiffuse = String(m.pd);
+  el.dataset.pyramidGlossy = String(m.pg);
+  el.dataset.footprintAverageDiffuse = String(m.fad);
+  el.dataset.footprintAverageGlossy = String(m.fag);
+  el.dataset.pyramidDeviation = String(m.dev);
+  el.dataset.samplingMs = JSON.stringify({ exact: ms[0], pyramid: ms[1] });
   el.dataset.perMap = JSON.stringify(rows);
   el.dataset.pass = String(pass);
   el.textContent =
-    `check ${pass ? "PASSED" : "FAILED"} (all ${rows.length} maps, ${CHECK.lighting}, N = ${CHECK.n}, e = ${CHECK.e}, ` +
-    `${G}×${G} grid, ${SEEDS.length} probe rotations each): mean relRMSE of the BMC probe ` +
-    `diffuse ${pct(bd)} vs cosine-weighted average ${pct(ad)}, glossy ${pct(bg)} vs lobe-weighted average ` +
-    `${pct(ag)} (BMC must be lower in both); on ${CHECK.map} ${pct(home.bd)} (< ${pct(CHECK.diffuseMax)}) and ` +
-    `${pct(home.bg)} (< ${pct(CHECK.glossyMax)})`;
+    `check ${pass ? "PASSED" : "FAILED"} (all ${rows.length} maps, ${CHECK.lighting}, N = ${CHECK.n}, ` +
+    `footprint S = ${wasm.footprint_sharpness(CHECK.n)}, e = ${CHECK.e}, ${G}×${G} grid, ${SEEDS.length} probe rotations each; ` +
+    `mean relRMSE diffuse / glossy): point probe ${pct(m.bd)} / ${pct(m.bg)}, weighted averages of the point samples ` +
+    `${pct(m.ad)} / ${pct(m.ag)}; footprint probe ${pct(m.fd)} / ${pct(m.fg)} (pyramid samples ${pct(m.pd)} / ${pct(m.pg)}), ` +
+    `weighted averages of the footprint samples ${pct(m.fad)} / ${pct(m.fag)}; sampling ${ms[0].toFixed(0)} ms exact, ` +
+    `${ms[1].toFixed(0)} ms pyramid per probe. ` +
+    verdicts.map(([ok, what]) => `${ok ? "✓" : "✗"} ${what}`).join("; ");
 }
 
 async function main() {
@@ -448,7 +584,7 @@ async function main() {
   await show(wasm);
   await check(wasm);
   $("check").dataset.done = "true";
-  for (const id of ["map", "lighting", "n", "e"]) {
+  for (const id of ["map", "lighting", "n", "e", "sampler"]) {
     $(id).addEventListener("change", () => show(wasm).catch(fail));
   }
 }

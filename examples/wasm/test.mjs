@@ -177,4 +177,90 @@ SHADE_NS.forEach((n, s) => {
   out.push(`w_shade_bad 4 ${w.bmc_shade(16, 1, 1, 20)}`);
 }
 
+// 6. Footprint probes (`Probe<N, [f32; 3], Gaussian<N/8>>`): JavaScript writes a 256×128 RGB
+// test map into the module's map buffer, the module takes footprint samples of it at the
+// probe's directions, exactly and from its mip pyramid, and the footprint probe answers the
+// queries of section 5 from the exact samples; then nearest-pixel samples and bad input.
+const MW = 256;
+const MH = 128;
+// Dyadic values (exact in f32): a bright upper half, a ripple, and a small bright "lamp".
+function mapPixel(u, v) {
+  if (u >= 40 && u < 44 && v >= 20 && v < 23) return [64, 60, 48];
+  const base = v < MH / 2 ? 2 : 0.25;
+  return [base + ((u * 3 + v * 5) % 16) / 16, base + ((u ^ v) & 7) / 8, base / 2 + (v % 4) / 4];
+}
+const mapBuf = new Float32Array(memory.buffer, w.map_ptr(), 3 * w.map_max());
+if (w.map_max() !== 512 * 256) throw new Error(`map_max() = ${w.map_max()}`);
+for (let v = 0; v < MH; v++) for (let u = 0; u < MW; u++) mapBuf.set(mapPixel(u, v), 3 * (v * MW + u));
+SHADE_NS.forEach((n, s) => {
+  const seed = 21 + s;
+  const sharpness = w.footprint_sharpness(n);
+  out.push(`w_fp_sharpness ${s} ${sharpness}`);
+  const got = w.footprint_shade_directions(n, seed);
+  out.push(`w_fp_dirs ${s} ${got}`);
+  if (got !== n) return;
+  const dirs = new Float32Array(memory.buffer, w.dirs_ptr(), 3 * n);
+  for (const j of [0, n - 1]) for (let c = 0; c < 3; c++) value("w_fp_dir", 6 * s + 3 * (j && 1) + c, dirs[3 * j + c]);
+  const samples = new Float32Array(memory.buffer, w.samples_ptr(), 3 * n);
+  // The pyramid's samples first, so that the probe below gets the exact ones.
+  for (const sampler of [1, 0]) {
+    out.push(`w_fp_sample_code ${2 * s + sampler} ${w.map_footprint_samples(MW, MH, n, sharpness, sampler)}`);
+    for (let k = 0; k < 3 * n; k++) value(`w_fp_sample${sampler}`, 3 * 256 * s + k, samples[k]);
+  }
+  const q = new Float32Array(memory.buffer, w.queries_ptr(), 6 * SHADE_Q.length);
+  SHADE_Q.forEach((i, k) => {
+    q.set(normal(i), 6 * k);
+    q.set(normal(mirrorOf(i)), 6 * k + 3);
+  });
+  out.push(`w_fp_shade_code ${s} ${w.footprint_shade(n, seed, SHADE_Q.length, 20)}`);
+  const r = new Float32Array(memory.buffer, w.shaded_ptr(), 6 * SHADE_Q.length);
+  for (let k = 0; k < 6 * SHADE_Q.length; k++) value("w_fp_shade", 6 * SHADE_Q.length * s + k, r[k]);
+});
+{
+  // Nearest-pixel samples (sharpness 0) at the N = 16 directions, seed 21.
+  w.footprint_shade_directions(16, 21);
+  out.push(`w_fp_point_code 0 ${w.map_footprint_samples(MW, MH, 16, 0, 0)}`);
+  const samples = new Float32Array(memory.buffer, w.samples_ptr(), 3 * 16);
+  for (let k = 0; k < 3 * 16; k++) value("w_fp_point", k, samples[k]);
+  // Bad input: error codes, and the sample buffer is left as it was.
+  const before = samples.slice();
+  const dirs = new Float32Array(memory.buffer, w.dirs_ptr(), 3 * 16);
+  const bad = [
+    () => w.footprint_sharpness(17),
+    () => w.footprint_shade_directions(17, 1),
+    () => w.footprint_shade(17, 1, 1, 20),
+    () => w.footprint_shade(16, 1, 1025, 20),
+    () => w.footprint_shade(16, 1, 1, -1),
+    () => w.map_footprint_samples(0, MH, 16, 2, 0),
+    () => w.map_footprint_samples(1024, 256, 16, 2, 0),
+    () => w.map_footprint_samples(MW, MH, 1025, 2, 0),
+    () => w.map_footprint_samples(MW, MH, 16, 4097, 0),
+    () => w.map_footprint_samples(MW, MH, 16, 2, 2),
+    // A legal map whose pyramid does not fit the module's buffer: the exact form still works.
+    () => w.map_footprint_samples(16384, 8, 16, 2, 1),
+    () => {
+      const keep = dirs[4];
+      dirs[3] = dirs[4] = dirs[5] = 0;
+      const code = [0, 1].map((sampler) => w.map_footprint_samples(MW, MH, 16, 2, sampler));
+      w.footprint_shade_directions(16, 21);
+      if (dirs[4] !== keep) throw new Error("directions not restored");
+      return code.join(",");
+    },
+    () => {
+      const keep = mapBuf[3 * 5 + 1];
+      mapBuf[3 * 5 + 1] = NaN;
+      const code = [0, 1].map((sampler) => w.map_footprint_samples(MW, MH, 16, 2, sampler));
+      mapBuf[3 * 5 + 1] = keep;
+      return code.join(",");
+    },
+  ];
+  bad.forEach((f, k) => {
+    out.push(`w_fp_bad ${k} ${f()}`);
+    if (samples.some((x, i) => !Object.is(x, before[i]))) throw new Error(`bad input ${k} changed the samples`);
+  });
+  out.push(`w_fp_bad ${bad.length} ${w.map_footprint_samples(16384, 8, 16, 2, 0)}`);
+  samples[4] = NaN;
+  out.push(`w_fp_bad ${bad.length + 1} ${w.footprint_shade(16, 21, 1, 20)}`);
+}
+
 process.stdout.write(out.join("\n") + "\n");

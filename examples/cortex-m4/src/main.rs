@@ -148,6 +148,11 @@ where
         hprintln!("# count {}_glossy N={} {} instructions/call", label, N, glossy);
         hprintln!("# count {}_glossy_variance N={} {} instructions/call", label, N, variance);
     }
+    let r = Vec3::new(0.6, 0.0, 0.8);
+    let phong = count(query_reps, || black_box(&p).phong(black_box(r), black_box(20.0)));
+    let exact = count(update_reps, || black_box(&p).phong_variance(black_box(r), black_box(20.0)));
+    hprintln!("# count {}_phong N={} {} instructions/call", label, N, phong);
+    hprintln!("# count {}_phong_variance N={} {} instructions/call", label, N, exact);
 }
 
 /// Ends the QEMU run with a status.

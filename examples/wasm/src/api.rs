@@ -4,7 +4,9 @@
 //! declare `mod scenario` (the Cortex-M4 scenario, for its procedural `sky`).
 
 use sphere_quadrature::bmc::Size;
-use sphere_quadrature::probe::{Probe, ProbeSize};
+use sphere_quadrature::envmap::{EquirectMap, MipPyramid};
+use sphere_quadrature::footprint::{Footprint, Kind, Point};
+use sphere_quadrature::probe::{Probe, ProbeSize, ProbeTables};
 use sphere_quadrature::qmc::{self, LobeSampler};
 use sphere_quadrature::{sg, Error, Lobe, RotationSequence, SphericalFibonacci, Vec3};
 
@@ -101,11 +103,71 @@ pub fn bmc_probe_n<const N: usize>(seed: u32) -> Result<Probe<N, [f32; 3]>, Erro
 where
     Size<N>: ProbeSize,
 {
+    probe_nf::<N, Point>(seed)
+}
+
+/// [`bmc_probe_n`] for any baked pair of size `N` and footprint `F`.
+///
+/// # Errors
+/// Those of [`Probe::set_rotation`] (none for the rotations of the sequence).
+pub fn probe_nf<const N: usize, F: Footprint>(seed: u32) -> Result<Probe<N, [f32; 3], F>, Error>
+where
+    Size<N>: ProbeTables<F>,
+{
     let mut p = Probe::new();
     if seed != 0 {
         p.set_rotation(RotationSequence::new(u64::from(seed)).next_rotation())?;
     }
     Ok(p)
+}
+
+/// Most pixels of a map the module samples (the bundled maps are 512×256).
+pub const MAP_MAX: usize = 512 * 256;
+
+/// `[f32; 3]` entries of the mip-pyramid buffer: a 512×256 map's pyramid (524 304 bytes).
+/// Other shapes of at most [`MAP_MAX`] pixels fit unless far from 2:1 (then
+/// [`map_footprint_samples`] fails with [`Error::LengthMismatch`]).
+pub const PYRAMID_MAX: usize = MipPyramid::buffer_len(512, 256);
+
+/// Pixels of a `width`×`height` map the module takes: `width·height`.
+///
+/// # Errors
+/// [`Error::InvalidSize`] for a zero dimension or more than [`MAP_MAX`] pixels.
+pub fn map_len(width: usize, height: usize) -> Result<usize, Error> {
+    width.checked_mul(height).filter(|&len| (1..=MAP_MAX).contains(&len)).ok_or(Error::InvalidSize)
+}
+
+/// [`map_footprint_samples`]'s `sampler`: exact (`EquirectMap::footprint_samples`, every pixel).
+pub const EXACT: u32 = 0;
+/// [`map_footprint_samples`]'s `sampler`: the fast approximation (`MipPyramid::footprint_samples`).
+pub const PYRAMID: u32 = 1;
+
+/// Footprint samples of the `width`×`height` RGB map `pixels` (row-major, row 0 at +z) in the
+/// directions `dirs`, into `out`: each the map filtered by the normalised spherical Gaussian
+/// of sharpness `sharpness` about its direction (0: the nearest pixel), taken exactly
+/// ([`EXACT`]) or from a mip pyramid built in `pyramid` ([`PYRAMID`]).
+///
+/// # Errors
+/// [`Error::InvalidParameter`] for another `sampler` or a sharpness above 4096; those of
+/// [`EquirectMap::new`] (bad size, pixel count, NaN or infinite pixel), of
+/// [`MipPyramid::new`] (`pyramid` too short) and of `footprint_samples` (bad direction,
+/// `out` and `dirs` of different lengths). `out` is left unchanged on error.
+pub fn map_footprint_samples(
+    pixels: &[[f32; 3]],
+    (width, height): (usize, usize),
+    dirs: &[Vec3],
+    sharpness: u32,
+    sampler: u32,
+    pyramid: &mut [[f32; 3]],
+    out: &mut [[f32; 3]],
+) -> Result<(), Error> {
+    let kind = if sharpness == 0 { Kind::Point } else { Kind::Gaussian { sharpness } };
+    let map = EquirectMap::new(width, height, pixels)?;
+    match sampler {
+        EXACT => map.footprint_samples(dirs, kind, out),
+        PYRAMID => MipPyramid::new(&map, pyramid)?.footprint_samples(dirs, kind, out),
+        _ => Err(Error::InvalidParameter),
+    }
 }
 
 /// The status code the exports return for an error (0 means success).
@@ -115,6 +177,7 @@ pub fn error_code(e: Error) -> i32 {
         Error::InvalidRadiance => 2,
         Error::InvalidParameter => 3,
         Error::InvalidExponent | Error::InvalidSharpness => 4,
+        Error::InvalidSize | Error::LengthMismatch => 5,
         _ => 255,
     }
 }

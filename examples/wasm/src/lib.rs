@@ -25,9 +25,10 @@ mod scenario;
 use core::fmt::{Arguments, Write};
 use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering::Relaxed};
 
-use api::{BmcProbe, BMC_N, PROBE_MAX};
+use api::{BmcProbe, BMC_N, MAP_MAX, PROBE_MAX, PYRAMID_MAX};
 use sphere_quadrature::bmc::Size;
-use sphere_quadrature::probe::ProbeSize;
+use sphere_quadrature::footprint::{Footprint, Gaussian, Kind, Point};
+use sphere_quadrature::probe::ProbeTables;
 use sphere_quadrature::qmc::LobeSampler;
 use sphere_quadrature::sg::SphericalGaussian;
 use sphere_quadrature::{Error, Lobe, Vec3};
@@ -60,8 +61,13 @@ static QUERIES: [AtomicU32; 6 * SHADE_MAX] = [const { AtomicU32::new(0) }; 6 * S
 /// `bmc_shade` results: irradiance RGB and glossy RGB per query (6 f32 bits).
 static SHADED: [AtomicU32; 6 * SHADE_MAX] = [const { AtomicU32::new(0) }; 6 * SHADE_MAX];
 
-// `bmc_probe_update` reads its RGB samples from [`SAMPLES`].
-const _: () = assert!(3 * BMC_N <= PROBE_MAX);
+/// An RGB equirectangular map written by JavaScript (r, g, b per pixel, row-major, row 0 at
+/// +z; f32 bits), read by `map_footprint_samples`.
+static MAP: [AtomicU32; 3 * MAP_MAX] = [const { AtomicU32::new(0) }; 3 * MAP_MAX];
+
+// `bmc_probe_update` reads its RGB samples from [`SAMPLES`]; `map_footprint_samples` writes up
+// to `SHADE_MAX` RGB samples there and reads as many directions from [`DIRS`].
+const _: () = assert!(3 * BMC_N <= PROBE_MAX && 3 * SHADE_MAX <= PROBE_MAX);
 
 /// Writes the scenario's lines into [`OUT`].
 struct Buffer {
@@ -259,71 +265,150 @@ fn bmc_glossy(rx: f32, ry: f32, rz: f32, e: f32) -> i32 {
     code
 }
 
-/// Writes the directions of an `n`-sample probe rotated by `seed` (as `bmc_probe_reset`) into
-/// [`DIRS`]; `n`, or −1 for an `n` without a baked family.
-fn shade_directions(n: u32, seed: u32) -> i32 {
-    fn run<const N: usize>(seed: u32) -> i32
-    where
-        Size<N>: ProbeSize,
-    {
-        let Ok(p) = api::bmc_probe_n::<N>(seed) else { return -1 };
-        store_vectors(p.directions().iter().copied());
-        i32::try_from(N).unwrap_or(-1)
-    }
-    match n {
-        16 => run::<16>(seed),
-        32 => run::<32>(seed),
-        64 => run::<64>(seed),
-        128 => run::<128>(seed),
-        256 => run::<256>(seed),
-        _ => -1,
-    }
+/// The footprint probe of `n` samples: `$run::<N, Gaussian<N/8>>($args)` for each baked `N`,
+/// `$other` for any other `n` (const generic arithmetic is not stable, so the sizes are
+/// spelled out once, here).
+macro_rules! with_footprint_probe {
+    ($n:expr, $run:ident($($args:expr),*), $other:expr) => {
+        match $n {
+            16 => $run::<16, Gaussian<2>>($($args),*),
+            32 => $run::<32, Gaussian<4>>($($args),*),
+            64 => $run::<64, Gaussian<8>>($($args),*),
+            128 => $run::<128, Gaussian<16>>($($args),*),
+            256 => $run::<256, Gaussian<32>>($($args),*),
+            _ => $other,
+        }
+    };
 }
 
-/// One update of an `n`-sample RGB probe (rotation `seed`, samples from [`SAMPLES`]), then
-/// `count` queries from [`QUERIES`]: irradiance about each normal and Phong glossy radiance
-/// (exponent `e`) about each reflection direction into [`SHADED`] (NaN for a query with a bad
-/// direction). 0, or an error code (3: `n` without a baked family, `count` above 1024 or a bad
-/// exponent; 2: a NaN or infinite sample).
-fn shade(n: u32, seed: u32, count: u32, e: f32) -> i32 {
-    fn run<const N: usize>(seed: u32, count: usize, e: f32) -> Result<(), Error>
-    where
-        Size<N>: ProbeSize,
-    {
-        let mut p = api::bmc_probe_n::<N>(seed)?;
-        p.update(&load_rgb::<N>(&SAMPLES))?;
-        // Checks the exponent once, before any query.
-        SphericalGaussian::phong_moments(Vec3::Z, e)?;
-        let load = |a: &[AtomicU32]| {
-            let [x, y, z] =
-                [0, 1, 2].map(|i| a.get(i).map_or(f32::NAN, |v| f32::from_bits(v.load(Relaxed))));
-            Vec3::new(x, y, z)
-        };
-        for (q, out) in QUERIES.chunks_exact(6).zip(SHADED.chunks_exact(6)).take(count) {
-            let (nq, rq) = q.split_at(3);
-            let irr = p.irradiance(load(nq)).map_or([f32::NAN; 3], |v| v.value);
-            let glossy = SphericalGaussian::phong_moments(load(rq), e)
-                .and_then(|lobe| p.glossy(&lobe).map(|g| g.value))
-                .unwrap_or([f32::NAN; 3]);
-            for (v, a) in irr.iter().chain(&glossy).zip(out) {
-                a.store(v.to_bits(), Relaxed);
-            }
+/// The point-sample probe of `n` samples, as [`with_footprint_probe`].
+macro_rules! with_point_probe {
+    ($n:expr, $run:ident($($args:expr),*), $other:expr) => {
+        match $n {
+            16 => $run::<16, Point>($($args),*),
+            32 => $run::<32, Point>($($args),*),
+            64 => $run::<64, Point>($($args),*),
+            128 => $run::<128, Point>($($args),*),
+            256 => $run::<256, Point>($($args),*),
+            _ => $other,
         }
-        Ok(())
+    };
+}
+
+/// Writes the directions of an `N`-sample probe of footprint `F` rotated by `seed` (as
+/// `bmc_probe_reset`) into [`DIRS`]; `N`, or −1.
+fn shade_directions<const N: usize, F: Footprint>(seed: u32) -> i32
+where
+    Size<N>: ProbeTables<F>,
+{
+    let Ok(p) = api::probe_nf::<N, F>(seed) else { return -1 };
+    store_vectors(p.directions().iter().copied());
+    i32::try_from(N).unwrap_or(-1)
+}
+
+/// One update of an `N`-sample RGB probe of footprint `F` (rotation `seed`, samples from
+/// [`SAMPLES`]), then `count` queries from [`QUERIES`]: irradiance about each normal and Phong
+/// glossy radiance (exponent `e`) about each reflection direction into [`SHADED`] (NaN for a
+/// query with a bad direction).
+fn shade<const N: usize, F: Footprint>(seed: u32, count: usize, e: f32) -> Result<(), Error>
+where
+    Size<N>: ProbeTables<F>,
+{
+    let mut p = api::probe_nf::<N, F>(seed)?;
+    p.update(&load_rgb::<N>(&SAMPLES))?;
+    // Checks the exponent once, before any query.
+    SphericalGaussian::phong_moments(Vec3::Z, e)?;
+    for (q, out) in QUERIES.chunks_exact(6).zip(SHADED.chunks_exact(6)).take(count) {
+        let (nq, rq) = q.split_at(3);
+        let irr = p.irradiance(load_vector(nq)).map_or([f32::NAN; 3], |v| v.value);
+        let glossy = SphericalGaussian::phong_moments(load_vector(rq), e)
+            .and_then(|lobe| p.glossy(&lobe).map(|g| g.value))
+            .unwrap_or([f32::NAN; 3]);
+        for (v, a) in irr.iter().chain(&glossy).zip(out) {
+            a.store(v.to_bits(), Relaxed);
+        }
     }
+    Ok(())
+}
+
+/// The first three values of `a` as a vector (NaN where missing).
+fn load_vector(a: &[AtomicU32]) -> Vec3 {
+    let [x, y, z] =
+        [0, 1, 2].map(|i| a.get(i).map_or(f32::NAN, |v| f32::from_bits(v.load(Relaxed))));
+    Vec3::new(x, y, z)
+}
+
+/// [`shade`] for the point (`footprint` false) or footprint probe of `n` samples; 0, or an
+/// error code (3: `n` without a baked family, `count` above 1024 or a bad exponent; 2: a NaN
+/// or infinite sample).
+fn shade_code(footprint: bool, n: u32, seed: u32, count: u32, e: f32) -> i32 {
     let count = count as usize;
     if count > SHADE_MAX {
         return api::error_code(Error::InvalidParameter);
     }
-    let result = match n {
-        16 => run::<16>(seed, count, e),
-        32 => run::<32>(seed, count, e),
-        64 => run::<64>(seed, count, e),
-        128 => run::<128>(seed, count, e),
-        256 => run::<256>(seed, count, e),
-        _ => Err(Error::InvalidParameter),
+    let other = Err(Error::InvalidParameter);
+    let result = if footprint {
+        with_footprint_probe!(n, shade(seed, count, e), other)
+    } else {
+        with_point_probe!(n, shade(seed, count, e), other)
     };
     result.map_or_else(api::error_code, |()| 0)
+}
+
+/// The Gaussian footprint sharpness of the `n`-sample footprint probe; −1 for an `n` without
+/// one.
+fn footprint_sharpness(n: u32) -> i32 {
+    fn run<const N: usize, F: Footprint>() -> i32 {
+        match F::KIND {
+            Kind::Gaussian { sharpness } => i32::try_from(sharpness).unwrap_or(-1),
+            _ => -1,
+        }
+    }
+    with_footprint_probe!(n, run(), -1)
+}
+
+/// Footprint samples of the `width`×`height` map in [`MAP`] in the first `count` directions of
+/// [`DIRS`] into [`SAMPLES`] (see [`api::map_footprint_samples`]); 0, or an error code (the
+/// samples are then unchanged).
+fn map_samples(width: u32, height: u32, count: u32, sharpness: u32, sampler: u32) -> i32 {
+    let (w, h, count) = (width as usize, height as usize, count as usize);
+    if count > SHADE_MAX {
+        return api::error_code(Error::InvalidParameter);
+    }
+    let len = match api::map_len(w, h) {
+        Ok(len) => len,
+        Err(e) => return api::error_code(e),
+    };
+    // The crate borrows plain slices: copy the map and directions out of the atomics. These
+    // arrays (2.1 MB) live on the stack, which build.rs makes 4 MiB.
+    let mut pixels = [[0.0f32; 3]; MAP_MAX];
+    for (p, a) in pixels.iter_mut().zip(MAP.chunks_exact(3)).take(len) {
+        *p = [0, 1, 2].map(|c| a.get(c).map_or(f32::NAN, |v| f32::from_bits(v.load(Relaxed))));
+    }
+    let mut dirs = [Vec3::ZERO; SHADE_MAX];
+    for (d, a) in dirs.iter_mut().zip(DIRS.chunks_exact(3)).take(count) {
+        *d = load_vector(a);
+    }
+    let mut pyramid = [[0.0f32; 3]; PYRAMID_MAX];
+    let mut out = [[0.0f32; 3]; SHADE_MAX];
+    let (Some(pixels), Some(dirs), Some(out)) =
+        (pixels.get(..len), dirs.get(..count), out.get_mut(..count))
+    else {
+        return api::error_code(Error::InvalidParameter);
+    };
+    let result =
+        api::map_footprint_samples(pixels, (w, h), dirs, sharpness, sampler, &mut pyramid, out);
+    match result {
+        Ok(()) => {
+            for (y, slot) in out.iter().zip(SAMPLES.chunks_exact(3)) {
+                for (c, a) in y.iter().zip(slot) {
+                    a.store(c.to_bits(), Relaxed);
+                }
+            }
+            0
+        }
+        Err(e) => api::error_code(e),
+    }
 }
 
 /// The BMC probe's selected family member; −1 on error.
@@ -333,7 +418,8 @@ fn bmc_selected() -> i32 {
 
 #[allow(unsafe_code)] // `#[no_mangle]` only; every body is one safe call.
 mod exports {
-    use super::{api, BMC_OUT, DIRS, OUT, QUERIES, SAMPLES, SHADED};
+    use super::{api, shade_directions, Gaussian, Point, BMC_OUT, DIRS, MAP, OUT, QUERIES};
+    use super::{SAMPLES, SHADED};
 
     /// Runs the Cortex-M4 scenario; the text is at `out_ptr()`, this many bytes (−1: overflow).
     #[no_mangle]
@@ -454,7 +540,7 @@ mod exports {
     /// by `bmc_probe_reset(seed)` to `dirs_ptr()`; returns `n`, or −1 for any other `n`.
     #[no_mangle]
     pub extern "C" fn bmc_shade_directions(n: u32, seed: u32) -> i32 {
-        super::shade_directions(n, seed)
+        with_point_probe!(n, shade_directions(seed), -1)
     }
 
     /// Shades many points from one probe: updates an `n`-sample RGB probe (rotation `seed`)
@@ -465,7 +551,61 @@ mod exports {
     /// sample; 3: bad `n` or `count`; 4: bad exponent).
     #[no_mangle]
     pub extern "C" fn bmc_shade(n: u32, seed: u32, count: u32, e: f32) -> i32 {
-        super::shade(n, seed, count, e)
+        super::shade_code(false, n, seed, count, e)
+    }
+
+    /// The Gaussian footprint sharpness `S = n/8` of the footprint probe of `n` samples (n =
+    /// 16, 32, 64, 128 or 256); −1 for any other `n`.
+    #[no_mangle]
+    pub extern "C" fn footprint_sharpness(n: u32) -> i32 {
+        super::footprint_sharpness(n)
+    }
+
+    /// `bmc_shade_directions` for the footprint probe `Probe<n, [f32; 3], Gaussian<n/8>>`.
+    #[no_mangle]
+    pub extern "C" fn footprint_shade_directions(n: u32, seed: u32) -> i32 {
+        with_footprint_probe!(n, shade_directions(seed), -1)
+    }
+
+    /// `bmc_shade` for the footprint probe `Probe<n, [f32; 3], Gaussian<n/8>>`: the `3n`
+    /// samples at `samples_ptr()` are the map filtered by the normalised spherical Gaussian of
+    /// sharpness `footprint_sharpness(n)` about each direction of
+    /// `footprint_shade_directions` (as `map_footprint_samples` takes them).
+    #[no_mangle]
+    pub extern "C" fn footprint_shade(n: u32, seed: u32, count: u32, e: f32) -> i32 {
+        super::shade_code(true, n, seed, count, e)
+    }
+
+    /// Address of the map buffer (`3·map_max()` f32: r, g, b per pixel, row-major, row 0 at
+    /// +z), written by JavaScript.
+    #[no_mangle]
+    pub extern "C" fn map_ptr() -> usize {
+        MAP.as_ptr() as usize
+    }
+
+    /// Capacity of the map buffer in pixels (512·256).
+    #[no_mangle]
+    pub extern "C" fn map_max() -> u32 {
+        api::MAP_MAX as u32
+    }
+
+    /// Footprint samples of the `width`×`height` map at `map_ptr()` in the first `count` ≤ 1024
+    /// directions at `dirs_ptr()`, RGB into `samples_ptr()`: each the map filtered by the
+    /// normalised spherical Gaussian of sharpness `sharpness` (0: the nearest pixel), exact
+    /// over every pixel (`sampler` 0, `EquirectMap::footprint_samples`) or from a mip pyramid
+    /// (`sampler` 1, `MipPyramid::footprint_samples`, fast and approximate). 0, or an error
+    /// code (1: a bad direction; 2: a NaN or infinite pixel; 3: bad `count`, `sharpness` or
+    /// `sampler`; 5: a zero size, more than `map_max()` pixels, or a shape whose pyramid does
+    /// not fit); the samples are then unchanged.
+    #[no_mangle]
+    pub extern "C" fn map_footprint_samples(
+        width: u32,
+        height: u32,
+        count: u32,
+        sharpness: u32,
+        sampler: u32,
+    ) -> i32 {
+        super::map_samples(width, height, count, sharpness, sampler)
     }
 
     /// Address of the `bmc_shade` query buffer (6·1024 f32).

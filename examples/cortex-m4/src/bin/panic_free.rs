@@ -176,6 +176,8 @@ fn bmc_probe() {
         SphericalGaussian { axis: dir(), sharpness: black_box(21.0), amplitude: black_box(0.5) };
     keep(p.glossy(&lobe));
     keep(p.glossy_variance(&lobe));
+    keep(p.phong(dir(), black_box(20.0)));
+    keep(p.phong_variance(dir(), black_box(20.0)));
     let mut rgb = Probe::<16, [f32; 3]>::new();
     keep(rgb.update(black_box(&[[1.0, 2.0, 3.0]; 16])));
     keep(rgb.irradiance(dir()));
@@ -199,6 +201,8 @@ fn footprint_probes() {
     keep(p.posterior_variance(dir()));
     keep(p.glossy(&lobe));
     keep(p.glossy_variance(&lobe));
+    keep(p.phong(dir(), black_box(20.0)));
+    keep(p.phong_variance(dir(), black_box(20.0)));
     let mut g = Probe::<64, f32, Gaussian<8>>::new();
     let ys: [f32; 64] = g.directions().map(sky);
     keep(g.update(black_box(&ys)));
@@ -206,6 +210,8 @@ fn footprint_probes() {
     keep(g.posterior_variance(dir()));
     keep(g.glossy(&lobe));
     keep(g.glossy_variance(&lobe));
+    keep(g.phong(dir(), black_box(20.0)));
+    keep(g.phong_variance(dir(), black_box(20.0)));
 }
 
 #[inline(never)]
