@@ -46,6 +46,11 @@ fn main() {
     let fixed = gen::bmc::render_fixed(&sets);
     write_if_changed(&out_dir.join("bmc_fixed_tables.rs"), &fixed);
 
+    let (glossy_file, text) = config(gen::glossy::CONFIG_FILE, GLOSSY_ENV);
+    let specs = gen::glossy::parse(&text).unwrap_or_else(|e| panic!("{glossy_file}: {e}"));
+    let sets = gen::glossy::bake_all(&specs).unwrap_or_else(|e| panic!("{glossy_file}: {e}"));
+    write_if_changed(&out_dir.join("glossy_tables.rs"), &gen::glossy::render(&sets));
+
     let (probe_file, text) = config(gen::probe::CONFIG_FILE, PROBE_ENV);
     let mut specs = gen::probe::parse(&text).unwrap_or_else(|e| panic!("{probe_file}: {e}"));
     // The feature `footprint-sweep` adds the footprint benchmark's extra footprints.
@@ -65,6 +70,8 @@ fn main() {
 
 /// Environment variable naming a file that replaces `tables/bmc.txt` (renderer weights).
 const BMC_ENV: &str = "SPHERE_QUADRATURE_BMC_TABLE";
+/// Environment variable naming a file that replaces `tables/glossy.txt` (glossy renderer).
+const GLOSSY_ENV: &str = "SPHERE_QUADRATURE_GLOSSY_TABLE";
 /// Environment variable naming a file that replaces `tables/probe.txt` (probe families).
 const PROBE_ENV: &str = "SPHERE_QUADRATURE_PROBE_TABLE";
 

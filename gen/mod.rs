@@ -4,5 +4,6 @@
 //! must compile fast and run fast even in the unoptimised build-script profile.
 
 pub mod bmc;
+pub mod glossy;
 pub mod probe;
 pub mod sg;

@@ -94,6 +94,9 @@
 //! A zero, NaN or infinite normal gives [`Error::InvalidDirection`]; NaN radiance propagates
 //! to a NaN estimate.
 
+pub mod glossy;
+pub use glossy::{GlossyRenderer, GlossySize};
+
 use crate::error::Error;
 use crate::qmc::LobeSampler;
 use crate::radiance::Radiance;

@@ -21,7 +21,8 @@
 //!   `N`, with exact integer phase, rotations, and the inverse mapping.
 //! - [`warp`]: orthonormal frames and the lobe morphs (cosine, Phong).
 //! - [`qmc`]: QMC estimators of irradiance and normalised Phong glossy radiance.
-//! - [`bmc`]: Bayesian Monte Carlo irradiance with build-time weights (renderer form).
+//! - [`bmc`]: Bayesian Monte Carlo with build-time weights, the renderer forms: diffuse
+//!   irradiance, and the Phong lobe with the cosine factor ([`bmc::GlossyRenderer`]).
 //! - [`probe`]: a Bayesian Monte Carlo lighting probe: N samples in, irradiance with a
 //!   posterior variance for any normal out, with per-probe kernel selection by marginal
 //!   likelihood. On the held-out maps of `examples/accuracy.rs` it has 0.76–0.87× the error of

@@ -14,3 +14,7 @@ include!(concat!(env!("OUT_DIR"), "/bmc_tables.rs"));
 // `PROBE_SIZES`, the probe families and the `probe::ProbeSize` impls of the baked sizes
 // (generator `gen/probe.rs`, families in `tables/probe.txt`).
 include!(concat!(env!("OUT_DIR"), "/probe_tables.rs"));
+
+// `GLOSSY_SETS`, the glossy renderer's weights and the `bmc::GlossySize` impls (generator
+// `gen/glossy.rs`, sets in `tables/glossy.txt`).
+include!(concat!(env!("OUT_DIR"), "/glossy_tables.rs"));

@@ -98,6 +98,16 @@ fn main() -> ! {
     report!("renderer_w_dot_y", 16, 200, || r16.estimate(black_box(y16)));
     report!("renderer_w_dot_y", 64, 100, || r64.estimate(black_box(y64)));
     report!("renderer_w_dot_y", 256, 50, || r256.estimate(black_box(&ys)));
+    // Issue #12: the glossy renderer's estimate (weight interpolation in θₙ + w·Y), Phong
+    // e = 50, next to the QMC slice-form estimate above.
+    let (gn, gr) = (Vec3::new(0.0, 0.3, 0.95), Vec3::new(0.5, 0.1, 0.86));
+    let g16 = bmc::GlossyRenderer::<16, 50>::new();
+    let g64 = bmc::GlossyRenderer::<64, 50>::new();
+    let g80 = bmc::GlossyRenderer::<80, 50>::new();
+    let y80: &[f32; 80] = ys.first_chunk().unwrap_or(&[1.0; 80]);
+    report!("glossy_renderer_estimate", 16, 100, || g16.estimate(gn, gr, black_box(y16)));
+    report!("glossy_renderer_estimate", 64, 50, || g64.estimate(gn, gr, black_box(y64)));
+    report!("glossy_renderer_estimate", 80, 50, || g80.estimate(gn, gr, black_box(y80)));
     probe_counts::<16, Point>("probe", 20, 200);
     probe_counts::<64, Point>("probe", 4, 100);
     probe_counts::<256, Point>("probe", 1, 50);

@@ -160,6 +160,15 @@ fn bmc_renderer() {
     keep(r.directions(dir(), black_box(11), &mut out));
     keep(r.estimate(black_box(&[1.5f32; 64])));
     keep(r.irradiance(dir(), black_box(11), sky));
+    let g = sphere_quadrature::bmc::GlossyRenderer::<64, 50>::new();
+    keep(g.directions(dir(), dir2(), &mut out));
+    keep(g.estimate(dir(), dir2(), black_box(&[1.5f32; 64])));
+}
+
+/// A second black-box direction.
+#[inline(never)]
+fn dir2() -> Vec3 {
+    black_box(Vec3::new(0.4, -0.2, 0.9))
 }
 
 #[inline(never)]

@@ -1,0 +1,350 @@
+//! Generator of the *glossy* Bayesian Monte Carlo renderer weights (issue #12), in f64.
+//!
+//! The integral: `I(n, r) = ∫ L(x)·p(x) dx` with `p(x) = (e+1)/(2π)·max(0, r·x)ᵉ·max(0, n·x)`,
+//! the normalised Phong lobe about the mirror direction `r` with the cosine factor and the
+//! horizon at the normal `n` (QMC-SF estimates it as `(1/N)·Σ L(xⱼ)·max(0, n·xⱼ)` on the
+//! lobe-morphed set).
+//!
+//! # The sample set and why one table per `r·n` suffices
+//! The `N`-point hemisphere spherical Fibonacci set about `r`, morphed onto the lobe
+//! (`cos θ′ = u^{1/(e+1)}`, `u = 1 − (2j + 1)/(2N)`, golden azimuth: exactly the crate's
+//! `LobeSampler` with `Lobe::Phong(e)` and phase 0), placed in the frame `(t₁, t₂, r)` with
+//! `t₁` along `n − (n·r)r`. In that frame `n = (sin θₙ, 0, cos θₙ)` with `cos θₙ = r·n`, so
+//! `Q` depends on nothing and `z`, `∫p` and the weights only on `θₙ`: the weights are baked
+//! on [`GRID`] nodes `θₙ = (π/2)·sin((π/2)·k/(GRID − 1))` and the library interpolates
+//! quadratically in the node index (near normal incidence a weight moves linearly in `θₙ`, not in
+//! `r·n`: the cosine factor at a sample off the axis changes to first order; near grazing the
+//! horizon sweeps across the lobe, hence the grading).
+//!
+//! # `zᵢ` (the seed's step 4)
+//! `zᵢ = ∫ k(xᵢ, x)·p(x) dx` through spherical Gaussians: the Phong lobe is fitted by
+//! [`FIT_TERMS`] SGs `Σ aₖ·exp(λₖ(r·x − 1))` (sharpnesses `(e+1)·ρ^{k−2}`, `ρ` =
+//! [`FIT_RATIO`], amplitudes by least squares over the sphere), each term's product with the
+//! kernel SG is an SG (closed form), and its clamped-cosine integral about `n` comes from the
+//! f64 generator of the crate's tables ([`super::sg::clamped_fraction`]). `∫p` is the fit's
+//! own integral, so constants are integrated exactly *for the fitted lobe*; the fit's relative
+//! L2 error is measured by `tests/glossy.rs` (e = 10: 5·10⁻⁴, e = 50: 8·10⁻⁶).
+//!
+//! Weights: `w = Q⁻¹z + (∫p − 1ᵀQ⁻¹z)·Q⁻¹1/(1ᵀQ⁻¹1)` (GLS constant mean, as [`super::bmc`]);
+//! the estimate is `Σ wⱼ·L(xⱼ)`.
+
+use std::f64::consts::PI;
+use std::fmt::Write as _;
+
+/// The file in `tables/` that says what to bake.
+pub const CONFIG_FILE: &str = "tables/glossy.txt";
+
+/// Nodes of `θₙ = acos(r·n)` over `[0, π/2]`, graded towards grazing.
+pub const GRID: usize = 49;
+
+/// SG terms of the Phong-lobe fit.
+pub const FIT_TERMS: usize = 5;
+
+/// Ratio of consecutive fit sharpnesses.
+pub const FIT_RATIO: f64 = 1.2;
+
+/// The largest N.
+pub const MAX_N: usize = 512;
+
+/// `round(2⁶⁴/Φ)`.
+const GOLDEN_PHASE: u64 = 0x9E37_79B9_7F4A_7C16;
+
+/// One set to bake.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spec {
+    /// Samples.
+    pub n: usize,
+    /// Phong exponent.
+    pub e: u32,
+    /// Kernel length scale `l` (`λ = 2/l²`), rounded to f32 first.
+    pub length_scale: f32,
+    /// Noise ratio `σ′`, rounded to f32 first.
+    pub noise: f32,
+}
+
+impl Spec {
+    /// `λ = 2/l²`.
+    pub fn lambda(&self) -> f64 {
+        2.0 / f64::from(self.length_scale).powi(2)
+    }
+}
+
+/// Parses `glossy = N e l sigma` lines; `#` starts a comment. `N` in 1..=[`MAX_N`], `e` in
+/// 1..=10⁴, no `(N, e)` twice, `l` and `σ′` finite and positive. An empty file bakes nothing.
+pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
+    let mut specs: Vec<Spec> = Vec::new();
+    for (no, raw) in text.lines().enumerate() {
+        let line = raw.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let at = |m: String| format!("line {}: {m}", no + 1);
+        let f: Vec<&str> = line
+            .strip_prefix("glossy")
+            .and_then(|r| r.trim_start().strip_prefix('='))
+            .ok_or_else(|| at(format!("expected `glossy = N e l sigma`, found `{line}`")))?
+            .split_whitespace()
+            .collect();
+        if f.len() != 4 {
+            return Err(at("expected `glossy = N e l sigma`".into()));
+        }
+        let n: usize = f[0].parse().map_err(|e| at(format!("N `{}`: {e}", f[0])))?;
+        if !(1..=MAX_N).contains(&n) {
+            return Err(at(format!("N = {n} must be in 1..={MAX_N}")));
+        }
+        let e: u32 = f[1].parse().map_err(|x| at(format!("e `{}`: {x}", f[1])))?;
+        if !(1..=10_000).contains(&e) {
+            return Err(at(format!("e = {e} must be in 1..=10000")));
+        }
+        if specs.iter().any(|s| s.n == n && s.e == e) {
+            return Err(at(format!("N = {n}, e = {e} appears twice")));
+        }
+        let pos = |s: &str, what: &str| -> Result<f32, String> {
+            let x: f32 = s.parse().map_err(|e| at(format!("{what}: {e}")))?;
+            if x.is_finite() && x > 0.0 {
+                Ok(x)
+            } else {
+                Err(at(format!("{what} = {s} must be finite and positive")))
+            }
+        };
+        specs.push(Spec { n, e, length_scale: pos(f[2], "l")?, noise: pos(f[3], "sigma")? });
+    }
+    Ok(specs)
+}
+
+/// Direction `j` of the morphed set in the lobe frame (pole = `r`).
+pub fn local_direction(j: usize, n: usize, e: u32) -> [f64; 3] {
+    let a = (2 * j + 1) as f64 / (2 * n) as f64; // 1 − u
+                                                 // cos θ′ = u^{1/(e+1)}, 1 − cos θ′ without cancellation.
+    let omc = -((-a).ln_1p() / (f64::from(e) + 1.0)).exp_m1();
+    let c = 1.0 - omc;
+    let s = (omc * (1.0 + c)).sqrt();
+    let turns = (j as u64).wrapping_mul(GOLDEN_PHASE) as f64 / 18_446_744_073_709_551_616.0;
+    let (sp, cp) = (2.0 * PI * turns).sin_cos();
+    [s * cp, s * sp, c]
+}
+
+/// `θₙ` of grid node `k`: `(π/2)·sin((π/2)·k/(GRID − 1))` — uniform near normal incidence,
+/// dense near grazing (where the horizon sweeps across the lobe).
+pub fn grid_angle(k: usize) -> f64 {
+    0.5 * PI * (0.5 * PI * k as f64 / (GRID - 1) as f64).sin()
+}
+
+/// The least-squares SG fit `Σ aₖ·exp(λₖ(t − 1))` of the normalised Phong lobe
+/// `(e+1)/(2π)·max(0, t)ᵉ` over `t ∈ [−1, 1]` (the sphere's measure is `2π·dt`):
+/// `(λₖ, aₖ)` pairs.
+pub fn phong_fit(e: u32) -> Vec<(f64, f64)> {
+    let ef = f64::from(e);
+    let lambdas: Vec<f64> = (0..FIT_TERMS)
+        .map(|k| (ef + 1.0) * FIT_RATIO.powf(k as f64 - (FIT_TERMS - 1) as f64 / 2.0))
+        .collect();
+    // Normal equations on a composite Gauss–Legendre rule in t (panels graded towards t = 1).
+    let (xs, ws) = super::sg::gauss_legendre(24);
+    let mut edges = vec![-1.0, 0.0];
+    for k in 1..16 {
+        edges.push(1.0 - 0.5f64.powi(k));
+    }
+    edges.push(1.0);
+    // Weighted least squares by modified Gram–Schmidt QR (the SG columns are nearly
+    // collinear: normal equations lose half the digits).
+    let m = FIT_TERMS;
+    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); m];
+    let mut rhs = Vec::new();
+    for p in edges.windows(2) {
+        let (lo, hi) = (p[0], p[1]);
+        for (x, w) in xs.iter().zip(&ws) {
+            let t = 0.5 * (lo + hi) + 0.5 * (hi - lo) * x;
+            let sw = (0.5 * (hi - lo) * w).sqrt();
+            let f = if t > 0.0 { (ef + 1.0) / (2.0 * PI) * t.powf(ef) } else { 0.0 };
+            rhs.push(sw * f);
+            for (c, l) in cols.iter_mut().zip(&lambdas) {
+                c.push(sw * (l * (t - 1.0)).exp());
+            }
+        }
+    }
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let mut r = vec![0.0; m * m];
+    for j in 0..m {
+        for i in 0..j {
+            let (qi, cj) = (cols[i].clone(), &mut cols[j]);
+            let rij = dot(&qi, cj);
+            r[i * m + j] = rij;
+            for (c, q) in cj.iter_mut().zip(&qi) {
+                *c -= rij * q;
+            }
+        }
+        let norm = dot(&cols[j], &cols[j]).sqrt();
+        r[j * m + j] = norm;
+        cols[j].iter_mut().for_each(|c| *c /= norm);
+    }
+    let qtb: Vec<f64> = cols.iter().map(|q| dot(q, &rhs)).collect();
+    let mut amp = vec![0.0; m];
+    for i in (0..m).rev() {
+        let s: f64 = (i + 1..m).map(|j| r[i * m + j] * amp[j]).sum();
+        amp[i] = (qtb[i] - s) / r[i * m + i];
+    }
+    lambdas.into_iter().zip(amp).collect()
+}
+
+/// `∫ exp(λ(μ·x − 1))·max(0, n·x) dx` for `μ·n = t`: `F(λ)·C/F(λ, t)`.
+fn clamped(lambda: f64, t: f64) -> f64 {
+    super::sg::full_integral(lambda) * super::sg::clamped_fraction(lambda, t.clamp(-1.0, 1.0))
+}
+
+/// `∫ p(x) dx` of the fitted lobe for `r·n = cos θₙ`.
+pub fn lobe_integral(fit: &[(f64, f64)], theta_n: f64) -> f64 {
+    fit.iter().map(|&(l, a)| a * clamped(l, theta_n.cos())).sum()
+}
+
+/// `zᵢ = ∫ exp(λ(xᵢ·x − 1))·p(x) dx` (fitted lobe) for a direction `x` in the lobe frame and
+/// `n = (sin θₙ, 0, cos θₙ)`.
+pub fn kernel_mean(lambda: f64, fit: &[(f64, f64)], x: [f64; 3], theta_n: f64) -> f64 {
+    let n = [theta_n.sin(), 0.0, theta_n.cos()];
+    fit.iter()
+        .map(|&(lk, ak)| {
+            // Product of exp(λ(x·y − 1)) and aₖ·exp(λₖ(ẑ·y − 1)): u = λx + λₖẑ.
+            let u = [lambda * x[0], lambda * x[1], lambda * x[2] + lk];
+            let lm = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
+            // exp(λₘ − λ − λₖ), stable: −λλₖ|x − ẑ|²/(λₘ + λ + λₖ).
+            let d2 = x[0] * x[0] + x[1] * x[1] + (x[2] - 1.0) * (x[2] - 1.0);
+            let am = ak * (-lambda * lk * d2 / (lm + lambda + lk)).exp();
+            let t = if lm > 0.0 { (u[0] * n[0] + u[2] * n[2]) / lm } else { 0.0 };
+            am * clamped(lm, t)
+        })
+        .sum()
+}
+
+/// The baked weights of one set.
+#[derive(Clone, Debug)]
+pub struct Baked {
+    /// What was baked.
+    pub spec: Spec,
+    /// Weights, node-major: `weights[k·N + j]`.
+    pub weights: Vec<f64>,
+    /// The fit's `∫p` per node.
+    pub integral: Vec<f64>,
+}
+
+/// The factorised kernel matrix of one set, for weights at any `θₙ`.
+pub struct System {
+    spec: Spec,
+    xs: Vec<[f64; 3]>,
+    q: Vec<f64>,
+    l: Vec<f64>,
+    ones: Vec<f64>,
+    fit: Vec<(f64, f64)>,
+}
+
+impl System {
+    /// `Q = K + σ′²I` of the set, factorised.
+    pub fn new(spec: &Spec) -> Result<System, String> {
+        let n = spec.n;
+        let lambda = spec.lambda();
+        let xs: Vec<[f64; 3]> = (0..n).map(|j| local_direction(j, n, spec.e)).collect();
+        let nugget = f64::from(spec.noise).powi(2);
+        let mut q = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                let d2: f64 = (0..3).map(|c| (xs[i][c] - xs[j][c]).powi(2)).sum();
+                q[i * n + j] = (-0.5 * lambda * d2).exp() + if i == j { nugget } else { 0.0 };
+            }
+        }
+        let l = super::bmc::cholesky(&q, n).map_err(|e| format!("N = {n}, e = {}: {e}", spec.e))?;
+        let mut sys = System { spec: *spec, xs, q, l, ones: Vec::new(), fit: phong_fit(spec.e) };
+        sys.ones = sys.solve(&vec![1.0; n]);
+        Ok(sys)
+    }
+
+    /// `Q⁻¹b` with one step of iterative refinement.
+    pub fn solve(&self, b: &[f64]) -> Vec<f64> {
+        let n = self.spec.n;
+        let mut x = super::bmc::chol_solve(&self.l, n, b);
+        let r: Vec<f64> =
+            (0..n).map(|i| b[i] - (0..n).map(|j| self.q[i * n + j] * x[j]).sum::<f64>()).collect();
+        for (x, d) in x.iter_mut().zip(super::bmc::chol_solve(&self.l, n, &r)) {
+            *x += d;
+        }
+        x
+    }
+
+    /// The sample directions in the lobe frame.
+    pub fn directions(&self) -> &[[f64; 3]] {
+        &self.xs
+    }
+
+    /// The lobe fit.
+    pub fn fit(&self) -> &[(f64, f64)] {
+        &self.fit
+    }
+
+    /// The weights at `θₙ` and the fitted lobe's `∫p` there.
+    pub fn weights_at(&self, theta_n: f64) -> (Vec<f64>, f64) {
+        let lambda = self.spec.lambda();
+        let z: Vec<f64> =
+            self.xs.iter().map(|&x| kernel_mean(lambda, &self.fit, x, theta_n)).collect();
+        let a = self.solve(&z);
+        let ip = lobe_integral(&self.fit, theta_n);
+        let s1: f64 = self.ones.iter().sum();
+        let gls = (ip - a.iter().sum::<f64>()) / s1;
+        (a.iter().zip(&self.ones).map(|(a, b)| a + gls * b).collect(), ip)
+    }
+}
+
+/// Bakes one set.
+pub fn bake(spec: &Spec) -> Result<Baked, String> {
+    let sys = System::new(spec)?;
+    let mut weights = Vec::with_capacity(spec.n * GRID);
+    let mut integral = Vec::with_capacity(GRID);
+    for k in 0..GRID {
+        let (w, ip) = sys.weights_at(grid_angle(k));
+        weights.extend(w);
+        integral.push(ip);
+    }
+    Ok(Baked { spec: *spec, weights, integral })
+}
+
+/// Bakes every set.
+pub fn bake_all(specs: &[Spec]) -> Result<Vec<Baked>, String> {
+    specs.iter().map(bake).collect()
+}
+
+/// The Rust source that `build.rs` writes to `$OUT_DIR/glossy_tables.rs`.
+pub fn render(sets: &[Baked]) -> String {
+    let mut s = String::new();
+    s.push_str("// @generated by build.rs; do not edit\n");
+    let _ = writeln!(s, "// From gen/glossy.rs and {CONFIG_FILE}.");
+    let pairs: Vec<String> = sets.iter().map(|b| format!("({}, {})", b.spec.n, b.spec.e)).collect();
+    let _ = writeln!(s, "\n/// The baked (N, e) pairs of the glossy renderer.");
+    let _ = writeln!(
+        s,
+        "pub(crate) const GLOSSY_SETS: [(usize, u32); {}] = [{}];",
+        pairs.len(),
+        pairs.join(", ")
+    );
+    for b in sets {
+        let (n, e) = (b.spec.n, b.spec.e);
+        let _ = writeln!(
+            s,
+            "\n/// N = {n}, e = {e}, l = {:?}, σ′ = {:?}: weights node-major, {GRID} nodes of θₙ.",
+            b.spec.length_scale, b.spec.noise
+        );
+        let _ = writeln!(s, "static GLOSSY_{n}_{e}: [u32; {}] = [", b.weights.len());
+        for row in b.weights.chunks(8) {
+            let items: Vec<String> =
+                row.iter().map(|&x| format!("0x{:08x}", (x as f32).to_bits())).collect();
+            let _ = writeln!(s, "    {},", items.join(", "));
+        }
+        s.push_str("];\n");
+        let _ = writeln!(
+            s,
+            "impl crate::bmc::glossy::sealed::Sealed<{e}> for crate::bmc::Size<{n}> {{\n    \
+             const SET: crate::bmc::glossy::sealed::Set = crate::bmc::glossy::sealed::Set {{\n        \
+             weights: &GLOSSY_{n}_{e},\n        length_scale: f32::from_bits(0x{:08x}),\n        \
+             noise: f32::from_bits(0x{:08x}),\n    }};\n}}",
+            b.spec.length_scale.to_bits(),
+            b.spec.noise.to_bits()
+        );
+        let _ = writeln!(s, "impl crate::bmc::GlossySize<{e}> for crate::bmc::Size<{n}> {{}}");
+    }
+    s
+}
