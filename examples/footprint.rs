@@ -437,6 +437,9 @@ fn main() -> Result<(), Box<dyn Error>> {
                 sums.coverage()
             );
         }
+        if let Some(dir) = csv.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir)?;
+        }
         std::fs::write(csv, s)?;
     }
     let report = report(&table, &args, tier, &sizes);
