@@ -79,8 +79,8 @@ fn generator_sg_route_matches_quadrature_and_the_fit_error_is_small() {
         let fit = gen::glossy::phong_fit(e);
         let mut worst_z = 0.0f64;
         for theta_n in [0.0, 0.6, 1.2, 1.5] {
-            for x in [[0.0, 0.0, 1.0], [0.3, -0.2, 0.93], [0.0, 0.6, 0.8]] {
-                let norm = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2] as f64).sqrt();
+            for x in [[0.0f64, 0.0, 1.0], [0.3, -0.2, 0.93], [0.0, 0.6, 0.8]] {
+                let norm = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
                 let x = [x[0] / norm, x[1] / norm, x[2] / norm];
                 let got = gen::glossy::kernel_mean(lambda, &fit, x, theta_n);
                 let kernel = |d: [f64; 3]| (lambda * (reference::vec::dot(d, x) - 1.0)).exp();
