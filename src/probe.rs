@@ -694,7 +694,7 @@ where
                     *c = kl;
                 }
                 if let Some(h) = h.get_mut(..len) {
-                    apply_cosine_power_gains_f64(f64::from(p), h);
+                    apply_cosine_power_gains(f64::from(p), h);
                 }
                 len
             }
@@ -706,14 +706,14 @@ where
             }
         };
         let Some(h) = h.get_mut(..cross) else { return Err(Error::InvalidParameter) };
-        apply_cosine_power_gains_f64(e, h);
+        apply_cosine_power_gains(e, h);
         let zeta: [f64; N] = core::array::from_fn(|i| match self.directions.get(i) {
             Some(x) => legendre_sum(h, f64::from(x.dot(r))),
             None => 0.0,
         });
         // Applied twice: K_l·Φ_l²·(2l + 1)/(4π).
-        apply_cosine_power_gains_f64(e, k);
-        apply_cosine_power_gains_f64(e, k);
+        apply_cosine_power_gains(e, k);
+        apply_cosine_power_gains(e, k);
         let vbar: f64 = k.iter().sum();
         let v = self.unit_variance(f, &zeta, 1.0, vbar);
         Ok(self.signal_variance.scale(v as f32))
@@ -736,7 +736,7 @@ where
         let Some(rho) = rho.get_mut(..len) else {
             return Estimate { value: T::ZERO, variance: T::ZERO };
         };
-        bessel_ratios_f32(mu, rho);
+        bessel_ratios(mu, rho);
         for (h, &p) in h.iter_mut().zip(rho.iter()) {
             *h *= full * p;
         }
@@ -961,81 +961,92 @@ fn forward_substitution(packed: &[u32], x: &mut [f64]) {
 /// The most Legendre terms a baked series may have (`gen/probe.rs` refuses longer ones).
 const MAX_SERIES: usize = 256;
 
-/// `ρ_l(x) = i_l(x)/i₀(x)` for `l < out.len()` (modified spherical Bessel functions), in f64.
-///
-/// Large `x` (`x ≥ 40` and `x ≥ L²/36`, `L = out.len() − 1`): the forward recurrence
-/// `ρ_{l+1} = ρ_{l−1} − (2l + 1)/x·ρ_l` from `ρ₁ = coth x − 1/x`, whose rounding grows like
-/// `e^{l²/(2x)} ≤ e^{18}` relative to `ρ₀` (below 10⁻⁸). Otherwise the backward continued
-/// fraction `r_k = x/(2k + 1 + x·r_{k+1})` for `r_k = ρ_k/ρ_{k−1}`, started at
-/// `max(L, x) + 32` (for `k ≥ x`, `r_k < 1/2`, so every step damps the start's error by
-/// `r² < 1/4`: 32 steps give 10⁻¹⁹), at most `L + L²/36 + 72` steps.
-fn bessel_ratios(x: f64, out: &mut [f64]) {
-    let Some((first, rest)) = out.split_first_mut() else { return };
-    *first = 1.0;
-    if x.is_nan() || x <= 0.0 {
-        rest.iter_mut().for_each(|r| *r = 0.0);
-        return;
+/// The float types the series helpers run in: f32 on the glossy hot path, f64 for the exact
+/// variances.
+trait Real:
+    Copy
+    + PartialOrd
+    + core::ops::Add<Output = Self>
+    + core::ops::Sub<Output = Self>
+    + core::ops::Mul<Output = Self>
+    + core::ops::Div<Output = Self>
+    + core::ops::MulAssign
+{
+    const ZERO: Self;
+    const ONE: Self;
+    fn of(x: f64) -> Self;
+    fn of_usize(n: usize) -> Self;
+    fn to_f64(self) -> f64;
+}
+
+impl Real for f32 {
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    fn of(x: f64) -> Self {
+        x as f32
     }
-    let top = rest.len() as f64;
-    if x >= 40.0 && 36.0 * x >= top * top {
-        // coth x − 1/x with e^{−2x} < 2⁻¹¹⁵: 1 − 1/x to f64 rounding.
-        let mut prev = 1.0;
-        let mut cur = 1.0 - 1.0 / x;
-        for (l, r) in rest.iter_mut().enumerate() {
-            *r = cur;
-            let next = prev - (2 * l + 3) as f64 / x * cur;
-            prev = cur;
-            cur = next;
-        }
-        return;
+    fn of_usize(n: usize) -> Self {
+        n as f32
     }
-    let start = rest.len().max(x as usize) + 32;
-    let mut ratio = 0.0;
-    for k in (1..=start).rev() {
-        ratio = x / ((2 * k + 1) as f64 + x * ratio);
-        if let Some(r) = rest.get_mut(k - 1) {
-            *r = ratio;
-        }
-    }
-    let mut product = 1.0;
-    for r in rest.iter_mut() {
-        product *= *r;
-        *r = product;
+    fn to_f64(self) -> f64 {
+        f64::from(self)
     }
 }
 
-/// [`bessel_ratios`] in f32 for the glossy hot path: the backward continued fraction in f32
-/// (stable: each ratio to a few ulp, `ρ_l` to about `l` ulp), the forward recurrence in f64
-/// where it applies.
-fn bessel_ratios_f32(x: f32, out: &mut [f32]) {
+impl Real for f64 {
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    fn of(x: f64) -> Self {
+        x
+    }
+    fn of_usize(n: usize) -> Self {
+        n as f64
+    }
+    fn to_f64(self) -> f64 {
+        self
+    }
+}
+
+/// `ρ_l(x) = i_l(x)/i₀(x)` for `l < out.len()` (modified spherical Bessel functions), in the
+/// precision of `R` (f32 on the glossy hot path: each ratio to a few ulp, `ρ_l` to about `l`
+/// ulp; f64 for the exact variances).
+///
+/// Large `x` (`x ≥ 40` and `x ≥ L²/36`, `L = out.len() − 1`): the forward recurrence
+/// `ρ_{l+1} = ρ_{l−1} − (2l + 1)/x·ρ_l` from `ρ₁ = coth x − 1/x`, always in f64, whose
+/// rounding grows like `e^{l²/(2x)} ≤ e^{18}` relative to `ρ₀` (below 10⁻⁸). Otherwise the
+/// backward continued fraction `r_k = x/(2k + 1 + x·r_{k+1})` for `r_k = ρ_k/ρ_{k−1}`, started
+/// at `max(L, x) + 32` (for `k ≥ x`, `r_k < 1/2`, so every step damps the start's error by
+/// `r² < 1/4`: 32 steps give 10⁻¹⁹), at most `L + L²/36 + 72` steps.
+fn bessel_ratios<R: Real>(x: R, out: &mut [R]) {
     let Some((first, rest)) = out.split_first_mut() else { return };
-    *first = 1.0;
-    if x.is_nan() || x <= 0.0 {
-        rest.iter_mut().for_each(|r| *r = 0.0);
+    *first = R::ONE;
+    let xf = x.to_f64();
+    if xf.is_nan() || xf <= 0.0 {
+        rest.iter_mut().for_each(|r| *r = R::ZERO);
         return;
     }
-    let top = rest.len() as f32;
-    if x >= 40.0 && 36.0 * x >= top * top {
-        let x = f64::from(x);
+    let top = rest.len() as f64;
+    if xf >= 40.0 && 36.0 * xf >= top * top {
+        // coth x − 1/x with e^{−2x} < 2⁻¹¹⁵: 1 − 1/x to f64 rounding.
         let mut prev = 1.0;
-        let mut cur = 1.0 - 1.0 / x;
+        let mut cur = 1.0 - 1.0 / xf;
         for (l, r) in rest.iter_mut().enumerate() {
-            *r = cur as f32;
-            let next = prev - (2 * l + 3) as f64 / x * cur;
+            *r = R::of(cur);
+            let next = prev - (2 * l + 3) as f64 / xf * cur;
             prev = cur;
             cur = next;
         }
         return;
     }
-    let start = rest.len().max(x as usize) + 32;
-    let mut ratio = 0.0f32;
+    let start = rest.len().max(xf as usize) + 32;
+    let mut ratio = R::ZERO;
     for k in (1..=start).rev() {
-        ratio = x / ((2 * k + 1) as f32 + x * ratio);
+        ratio = x / (R::of_usize(2 * k + 1) + x * ratio);
         if let Some(r) = rest.get_mut(k - 1) {
             *r = ratio;
         }
     }
-    let mut product = 1.0f32;
+    let mut product = R::ONE;
     for r in rest.iter_mut() {
         product *= *r;
         *r = product;
@@ -1048,7 +1059,7 @@ fn bessel_ratios_f32(x: f32, out: &mut [f32]) {
 fn sg_series_f32(lambda: f32, out: &mut [f32; MAX_SERIES]) -> usize {
     let len = (16 + (9.1 * crate::math::sqrt(lambda)) as usize).min(MAX_SERIES);
     let Some(out) = out.get_mut(..len) else { return 0 };
-    bessel_ratios_f32(lambda, out);
+    bessel_ratios(lambda, out);
     let full = full_integral_unchecked(lambda);
     for (l, b) in out.iter_mut().enumerate() {
         *b *= full * (2 * l + 1) as f32 / (4.0 * PI);
@@ -1059,16 +1070,17 @@ fn sg_series_f32(lambda: f32, out: &mut [f32; MAX_SERIES]) -> usize {
 /// Multiplies `out` by the gains `(p + 1)∫₀¹ tᵖ P_l(t) dt` of the normalised cosine-power lobe
 /// of any real exponent `p ≥ 0` (a photodiode's response for `p = 1`, the normalised Phong
 /// lobe for `p = e`): `m₀ = 1/(p + 1)`, `m₁ = 1/(p + 2)`, `m_{l+2} = m_l·(p − l)/(p + l + 3)`.
-fn apply_cosine_power_gains(p: f32, out: &mut [f32]) {
-    let (mut even, mut odd) = (1.0 / (p + 1.0), 1.0 / (p + 2.0));
+fn apply_cosine_power_gains<R: Real>(p: R, out: &mut [R]) {
+    let (one, two, three) = (R::ONE, R::of(2.0), R::of(3.0));
+    let (mut even, mut odd) = (one / (p + one), one / (p + two));
     for (l, b) in out.iter_mut().enumerate() {
         let m = if l % 2 == 0 { even } else { odd };
-        *b *= (p + 1.0) * m;
-        let lf = l as f32;
+        *b *= (p + one) * m;
+        let lf = R::of_usize(l);
         if l % 2 == 0 {
-            even *= (p - lf) / (p + lf + 3.0);
+            even *= (p - lf) / (p + lf + three);
         } else {
-            odd *= (p - lf) / (p + lf + 3.0);
+            odd *= (p - lf) / (p + lf + three);
         }
     }
 }
@@ -1141,22 +1153,6 @@ fn deconvolved_vbar(nu: f64, sharpness: u32, mu: f64) -> f64 {
     let mut rho = [0.0f64; MAX_SERIES];
     bessel_ratios(mu, &mut rho);
     k.iter().zip(&rho).take(len).map(|(&k, &p)| k * p * p).sum()
-}
-
-/// Multiplies `out` by the normalised cosine-power gains of exponent `p` (see
-/// [`apply_cosine_power_gains`]), in f64.
-fn apply_cosine_power_gains_f64(p: f64, out: &mut [f64]) {
-    let (mut even, mut odd) = (1.0 / (p + 1.0), 1.0 / (p + 2.0));
-    for (l, b) in out.iter_mut().enumerate() {
-        let m = if l % 2 == 0 { even } else { odd };
-        *b *= (p + 1.0) * m;
-        let lf = l as f64;
-        if l % 2 == 0 {
-            even *= (p - lf) / (p + lf + 3.0);
-        } else {
-            odd *= (p - lf) / (p + lf + 3.0);
-        }
-    }
 }
 
 /// `Σ_l hₗ·P_l(t)` by the forward recurrence of `P_l`, in f64.
