@@ -11,10 +11,10 @@
 //! `LobeSampler` with `Lobe::Phong(e)` and phase 0), placed in the frame `(t₁, t₂, r)` with
 //! `t₁` along `n − (n·r)r`. In that frame `n = (sin θₙ, 0, cos θₙ)` with `cos θₙ = r·n`, so
 //! `Q` depends on nothing and `z`, `∫p` and the weights only on `θₙ`: the weights are baked
-//! on [`GRID`] nodes `θₙ = (π/2)·sin((π/2)·k/(GRID − 1))` and the library interpolates
-//! quadratically in the node index (near normal incidence a weight moves linearly in `θₙ`, not in
-//! `r·n`: the cosine factor at a sample off the axis changes to first order; near grazing the
-//! horizon sweeps across the lobe, hence the grading).
+//! on [`GRID`] nodes ([`grid_angle`]) and the library interpolates between two neighbours with
+//! `sin(θₖ₊₁ − θₙ)` and `sin(θₙ − θₖ)`. While the horizon misses the lobe, `z` and `∫p` are
+//! linear in `n`, so the weights are `A·cos θₙ + B·sin θₙ` and that interpolation is exact;
+//! near grazing the horizon sweeps across the lobe, hence nodes graded towards `r·n = 0`.
 //!
 //! # `zᵢ` (the seed's step 4)
 //! `zᵢ = ∫ k(xᵢ, x)·p(x) dx` through spherical Gaussians: the Phong lobe is fitted by
@@ -34,8 +34,8 @@ use std::fmt::Write as _;
 /// The file in `tables/` that says what to bake.
 pub const CONFIG_FILE: &str = "tables/glossy.txt";
 
-/// Nodes of `θₙ = acos(r·n)` over `[0, π/2]`, graded towards grazing.
-pub const GRID: usize = 49;
+/// Nodes of `θₙ = acos(r·n)` over `[0, π/2]`, graded towards grazing ([`grid_angle`]).
+pub const GRID: usize = 97;
 
 /// SG terms of the Phong-lobe fit.
 pub const FIT_TERMS: usize = 5;
@@ -124,10 +124,15 @@ pub fn local_direction(j: usize, n: usize, e: u32) -> [f64; 3] {
     [s * cp, s * sp, c]
 }
 
-/// `θₙ` of grid node `k`: `(π/2)·sin((π/2)·k/(GRID − 1))` — uniform near normal incidence,
-/// dense near grazing (where the horizon sweeps across the lobe).
+/// `θₙ` of grid node `k`: `cos θₙ = (1 − g)/(1 + 2.5g)`, `g = k/(GRID − 1)`, so the library
+/// finds the interval from `r·n` by one division (`g = (1 − r·n)/(1 + 2.5·r·n)`). Nodes are
+/// spaced like `√g` in `θₙ` near normal incidence (where the interpolation is exact) and 12.25
+/// times denser in `r·n` at grazing than at normal incidence (the horizon sweeps across the
+/// lobe there); the grading is the best of this form for e = 10 and is within a factor 2 of
+/// the optimal placement for e = 10 … 200 (`tests/glossy.rs` measures the error).
 pub fn grid_angle(k: usize) -> f64 {
-    0.5 * PI * (0.5 * PI * k as f64 / (GRID - 1) as f64).sin()
+    let g = k as f64 / (GRID - 1) as f64;
+    ((1.0 - g) / (1.0 + 2.5 * g)).acos()
 }
 
 /// The least-squares SG fit `Σ aₖ·exp(λₖ(t − 1))` of the normalised Phong lobe

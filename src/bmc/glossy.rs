@@ -7,9 +7,12 @@
 //! normal `n`. [`GlossyRenderer::directions`] places the `N`-point hemisphere spherical
 //! Fibonacci set morphed onto the lobe (the QMC-SF samples, at phase 0) in the frame whose first
 //! axis points from `r` towards `n`; in that frame the kernel matrix is fixed and the weights
-//! depend on the query only through `θₙ = acos(r·n)`, so they are baked on 49 nodes of
-//! `θₙ ∈ [0, π/2]` graded towards grazing and interpolated quadratically in the node index
-//! ([`GlossyRenderer::estimate`], O(N); 196·N bytes per `(N, e)`).
+//! depend on the query only through `θₙ = acos(r·n)`, so they are baked on [`GRID`] nodes of
+//! `θₙ ∈ [0, π/2]` graded towards grazing (388·N bytes per `(N, e)`).
+//! [`GlossyRenderer::estimate`] (O(N), no transcendental function) finds the interval from
+//! `r·n` and interpolates between its two weight rows with `sin(θₖ₊₁ − θₙ)` and
+//! `sin(θₙ − θₖ)`: exact while the horizon misses the lobe (there the weights are
+//! `A·cos θₙ + B·sin θₙ`), second order near grazing (error: `tests/glossy.rs`).
 //! `zᵢ` comes from the seed's spherical-Gaussian route (a 5-SG fit of the lobe, SG products,
 //! the clamped-cosine integral's f64 generator), so constants are integrated exactly for the
 //! fitted lobe (fit error: `tests/glossy.rs`).
@@ -38,9 +41,10 @@ use crate::sf::FibonacciPoints;
 use crate::vec3::Vec3;
 use crate::warp::{Frame, Lobe};
 
-/// Nodes of `θₙ = acos(r·n)` over `[0, π/2]`, at `θₙ = (π/2)·sin((π/2)·k/(GRID − 1))`
-/// (`gen/glossy.rs` emits tables of `GRID·N` weights).
-pub const GRID: usize = 49;
+/// Nodes of `θₙ = acos(r·n)` over `[0, π/2]`, at `cos θₙ = (1 − g)/(1 + 2.5g)`,
+/// `g = k/(GRID − 1)`: node 0 at normal incidence, node `GRID − 1` at grazing, 12.25 times
+/// denser in `r·n` there (`gen/glossy.rs` emits tables of `GRID·N` weights).
+pub const GRID: usize = 97;
 
 /// Implemented for exactly the sizes `N` whose glossy weights are baked for exponent `E`;
 /// sealed.
@@ -137,26 +141,14 @@ where
         Ok(())
     }
 
-    /// The three weight rows around `θₙ` and their quadratic interpolation coefficients.
-    #[allow(clippy::type_complexity)]
-    fn rows(
-        normal: Vec3,
-        mirror: Vec3,
-    ) -> Result<((&'static [u32], &'static [u32], &'static [u32]), [f32; 3]), Error> {
-        let (_, c) = Self::frame(normal, mirror)?;
-        // Node index k(θₙ) = (GRID − 1)·asin(θₙ/(π/2))/(π/2), θₙ = acos(c).
-        let ratio = (crate::math::acos(c) * core::f32::consts::FRAC_2_PI).min(1.0);
-        let u = libm::asinf(ratio) * ((GRID - 1) as f32 * core::f32::consts::FRAC_2_PI);
-        // Quadratic interpolation through the nearest node and its neighbours.
-        let k = (crate::math::floor(u + 0.5) as usize).clamp(1, GRID - 2);
-        let f = u - k as f32;
-        let w = Self::SET.weights;
-        let rows =
-            (w.get((k - 1) * N..k * N), w.get(k * N..(k + 1) * N), w.get((k + 1) * N..(k + 2) * N));
-        let (Some(a), Some(b), Some(c)) = rows else {
+    /// The two weight rows around `θₙ` and their interpolation coefficients `(α, β)`.
+    #[inline(always)]
+    fn rows(normal: Vec3, mirror: Vec3) -> Result<(Rows, [f32; 2]), Error> {
+        let (k, coefficients) = interval(normal, mirror)?;
+        let Some(rows) = Self::SET.weights.get(k * N..(k + 2) * N) else {
             return Err(Error::InvalidParameter);
         };
-        Ok(((a, b, c), [0.5 * f * (f - 1.0), 1.0 - f * f, 0.5 * f * (f + 1.0)]))
+        Ok((rows.split_at(N), coefficients))
     }
 
     /// The interpolated weights for `(n, r)`, in the order of [`GlossyRenderer::directions`].
@@ -164,9 +156,9 @@ where
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite vector.
     pub fn weights(&self, normal: Vec3, mirror: Vec3, out: &mut [f32; N]) -> Result<(), Error> {
-        let ((a, b, c), [c0, c1, c2]) = Self::rows(normal, mirror)?;
-        for (((o, &a), &b), &c) in out.iter_mut().zip(a).zip(b).zip(c) {
-            *o = c0 * f32::from_bits(a) + c1 * f32::from_bits(b) + c2 * f32::from_bits(c);
+        let ((a, b), [alpha, beta]) = Self::rows(normal, mirror)?;
+        for ((o, &a), &b) in out.iter_mut().zip(a).zip(b) {
+            *o = alpha * f32::from_bits(a) + beta * f32::from_bits(b);
         }
         Ok(())
     }
@@ -182,14 +174,147 @@ where
         mirror: Vec3,
         samples: &[T; N],
     ) -> Result<T, Error> {
-        let ((a, b, c), [c0, c1, c2]) = Self::rows(normal, mirror)?;
-        // Σ wⱼYⱼ = c₀·Σ aⱼYⱼ + c₁·Σ bⱼYⱼ + c₂·Σ cⱼYⱼ.
-        let (mut sa, mut sb, mut sc) = (T::ZERO, T::ZERO, T::ZERO);
-        for (((&y, &a), &b), &c) in samples.iter().zip(a).zip(b).zip(c) {
-            sa = sa.mul_add(y, f32::from_bits(a));
-            sb = sb.mul_add(y, f32::from_bits(b));
-            sc = sc.mul_add(y, f32::from_bits(c));
+        let ((a, b), [alpha, beta]) = Self::rows(normal, mirror)?;
+        // Σ wⱼYⱼ = α·Σ aⱼYⱼ + β·Σ bⱼYⱼ. The sums start from the first products, and run in
+        // blocks of 32 (unrolled: the loop's own instructions are negligible per sample).
+        let (Some((&y0, y)), Some((&a0, a)), Some((&b0, b))) =
+            (samples.split_first(), a.split_first(), b.split_first())
+        else {
+            return Ok(T::ZERO);
+        };
+        let (mut sa, mut sb) = (y0.scale(f32::from_bits(a0)), y0.scale(f32::from_bits(b0)));
+        let mut step = |y: &[T], a: &[u32], b: &[u32]| {
+            for ((&y, &a), &b) in y.iter().zip(a).zip(b) {
+                sa = sa.mul_add(y, f32::from_bits(a));
+                sb = sb.mul_add(y, f32::from_bits(b));
+            }
+        };
+        let (y32, a32, b32) = (y.chunks_exact(32), a.chunks_exact(32), b.chunks_exact(32));
+        let (yr, ar, br) = (y32.remainder(), a32.remainder(), b32.remainder());
+        for ((y, a), b) in y32.zip(a32).zip(b32) {
+            step(y, a, b);
         }
-        Ok(sa.scale(c0).add(sb.scale(c1)).add(sc.scale(c2)))
+        step(yr, ar, br);
+        Ok(sa.scale(alpha).add(sb.scale(beta)))
     }
 }
+
+/// Two weight rows (f32 bits).
+type Rows = (&'static [u32], &'static [u32]);
+
+/// The interval `k` (nodes `k`, `k + 1`) holding `θₙ`, the angle between `normal` and
+/// `mirror`, and the coefficients `(α, β)` of its two weight rows:
+/// `w(θₙ) ≈ α·w_k + β·w_{k+1}` with `α = sin(θ_{k+1} − θₙ)/sin Δ`, `β = sin(θₙ − θ_k)/sin Δ`,
+/// exact for weights of the form `A·cos θₙ + B·sin θₙ`. Neither vector is normalised:
+/// `c = cos θₙ = n·r/R`, `s = sin θₙ = |n×r|/R` with `R = √(|n|²|r|²)` (two square roots, no
+/// other function; `s` from the cross product stays accurate near normal incidence). `r·n ≤ 0`
+/// is grazing (`θₙ = π/2`).
+#[inline(always)]
+fn interval(normal: Vec3, mirror: Vec3) -> Result<(usize, [f32; 2]), Error> {
+    let (nn, rr) = (normal.length_squared(), mirror.length_squared());
+    // Fast path: |n|² and |r|² in [2⁻¹⁶, 2¹⁶), both tested by one unsigned comparison of their
+    // bits (the range is 2²⁸ bit patterns wide; l² ≥ 0 or NaN, whose bits are above ∞'s).
+    // There n·r, |n×r|² and |n|²|r|² are finite and, where |n×r|² is subnormal or 0 (where
+    // `sqrt` is only good to ~10⁻¹⁹ absolute), sin θₙ < 10⁻¹⁴.
+    const LOW: u32 = 0x3780_0000; // 2⁻¹⁶
+    const SPAN: u32 = 0x1000_0000; // 32 binades, to 2¹⁶
+    let (n, r, p) = if (nn.to_bits().wrapping_sub(LOW) | rr.to_bits().wrapping_sub(LOW)) < SPAN {
+        (normal, mirror, nn * rr)
+    } else {
+        // Scalars: a `Vec3` argument would be passed through a copy on the stack, made on the
+        // fast path too.
+        let ([nx, ny, nz], [rx, ry, rz]) = (normal.to_array(), mirror.to_array());
+        normalised(nx, ny, nz, rx, ry, rz)?
+    };
+    let d = n.dot(r);
+    if d <= 0.0 {
+        // Grazing (θₙ = π/2: node GRID − 1, whose cos θ is 0).
+        return Ok((GRID - 2, [0.0, 1.0]));
+    }
+    let root = sqrt(p);
+    let (c, s) = (d / root, sqrt(r.cross(n).length_squared()) / root);
+    // Node index u = (GRID − 1)·(1 − c)/(1 + a·c) = (K₁/a)/(c + 1/a) − K₂, K₁ = (GRID − 1)(1 + a)/a,
+    // K₂ = (GRID − 1)/a; K₁ a hair small so that c → 0 stays below GRID − 1 (the formula
+    // holds a little outside its interval: choosing the neighbour costs nothing). `as`
+    // saturates (c > 1 by rounding: 0).
+    const A: f64 = GRADING;
+    const Q: f32 = ((GRID - 1) as f64 * (1.0 + A) / A * (1.0 - 1.0 / 65536.0) / A) as f32;
+    const K2: f32 = ((GRID - 1) as f64 / A) as f32;
+    let k = (Q / (c + (1.0 / A) as f32) - K2) as usize;
+    let Some(&[p0, p1, p2, p3]) = INTERVALS.get(k) else {
+        return Err(Error::InvalidParameter);
+    };
+    Ok((k, [p0 * c - p1 * s, p2 * s - p3 * c]))
+}
+
+/// The slow path of [`interval`]: `Vec3::try_normalize`'s checks (`1e-30 ≤ l² < ∞`), then both
+/// vectors normalised, and `|n|²|r|²` of the results.
+#[cold]
+#[inline(never)]
+fn normalised(
+    nx: f32,
+    ny: f32,
+    nz: f32,
+    rx: f32,
+    ry: f32,
+    rz: f32,
+) -> Result<(Vec3, Vec3, f32), Error> {
+    let n = Vec3::new(nx, ny, nz).try_normalize().ok_or(Error::InvalidDirection)?;
+    let r = Vec3::new(rx, ry, rz).try_normalize().ok_or(Error::InvalidDirection)?;
+    Ok((n, r, n.length_squared() * r.length_squared()))
+}
+
+/// `√x` for finite `x ≥ 0`, relative error below 4·10⁻⁷ for normal `x` (a few instructions:
+/// no FPU square root is reachable from stable `no_std` Rust, and `libm::sqrtf` is integer
+/// code): a first guess from the bits (halving the exponent; the offset minimises the largest
+/// relative error, ±3.5 %), then two Heron steps `y ← (x/2)/y + y/2` (3.5 % → 6·10⁻⁴ →
+/// 2·10⁻⁷). `√0` gives ~2·10⁻²⁰.
+#[inline(always)]
+fn sqrt(x: f32) -> f32 {
+    let h = 0.5 * x;
+    let y = f32::from_bits((x.to_bits() >> 1) + 0x1FBB_4F1C);
+    let y = h / y + 0.5 * y;
+    h / y + 0.5 * y
+}
+
+/// The grading `a` of the nodes: node `k` at `cos θₖ = (1 − g)/(1 + a·g)`, `g = k/(GRID − 1)`
+/// (as `gen/glossy.rs`).
+const GRADING: f64 = 2.5;
+
+/// `(cos θₖ, sin θₖ)` of node `k`, in f64.
+const fn node(k: usize) -> (f64, f64) {
+    let g = k as f64 / (GRID - 1) as f64;
+    let a = GRADING;
+    // 1 − c = g(1 + a)/(1 + a·g), 1 + c = (2 + (a − 1)g)/(1 + a·g).
+    let den = 1.0 + a * g;
+    let sin2 = g * (1.0 + a) * (2.0 + (a - 1.0) * g) / (den * den);
+    (((1.0 - g) / den), const_sqrt(sin2))
+}
+
+/// `√x` for `x ∈ [0, 1]` in a `const` context (Newton's method from above, to convergence).
+const fn const_sqrt(x: f64) -> f64 {
+    if x <= 0.0 {
+        return 0.0;
+    }
+    let mut y = 1.0;
+    loop {
+        let next = 0.5 * (y + x / y);
+        if next >= y {
+            return y;
+        }
+        y = next;
+    }
+}
+
+/// Per interval `k`: `[sin θₖ₊₁, cos θₖ₊₁, cos θₖ, sin θₖ]/sin(θₖ₊₁ − θₖ)`.
+static INTERVALS: [[f32; 4]; GRID - 1] = {
+    let mut out = [[0.0; 4]; GRID - 1];
+    let mut k = 0;
+    while k < GRID - 1 {
+        let ((c0, s0), (c1, s1)) = (node(k), node(k + 1));
+        let d = s1 * c0 - c1 * s0;
+        out[k] = [(s1 / d) as f32, (c1 / d) as f32, (c0 / d) as f32, (s0 / d) as f32];
+        k += 1;
+    }
+    out
+};
