@@ -8,7 +8,8 @@
 //! Fibonacci set morphed onto the lobe (the QMC-SF samples, at phase 0) in the frame whose first
 //! axis points from `r` towards `n`; in that frame the kernel matrix is fixed and the weights
 //! depend on the query only through `θₙ = acos(r·n)`, so they are baked on [`GRID`] nodes of
-//! `θₙ ∈ [0, π/2]` graded towards grazing (388·N bytes per `(N, e)`).
+//! `θₙ ∈ [0, π/2]` graded towards grazing (388·N bytes per `(N, e)`, and 1.5 KB of
+//! per-interval constants shared by all sets).
 //! [`GlossyRenderer::estimate`] (O(N), no transcendental function) finds the interval from
 //! `r·n` and interpolates between its two weight rows with `sin(θₖ₊₁ − θₙ)` and
 //! `sin(θₙ − θₖ)`: exact while the horizon misses the lobe (there the weights are
