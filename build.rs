@@ -47,7 +47,14 @@ fn main() {
     write_if_changed(&out_dir.join("bmc_fixed_tables.rs"), &fixed);
 
     let (glossy_file, text) = config(gen::glossy::CONFIG_FILE, GLOSSY_ENV);
-    let specs = gen::glossy::parse(&text).unwrap_or_else(|e| panic!("{glossy_file}: {e}"));
+    // (Every file in tables/ is already a rerun trigger.)
+    let learned_file = gen::glossy::LEARNED_FILE;
+    let learned = std::fs::read_to_string(learned_file)
+        .map_err(|e| e.to_string())
+        .and_then(|t| gen::glossy::parse_learned(&t))
+        .unwrap_or_else(|e| panic!("{learned_file}: {e}"));
+    let specs =
+        gen::glossy::parse(&text, &learned).unwrap_or_else(|e| panic!("{glossy_file}: {e}"));
     let sets = gen::glossy::bake_all(&specs).unwrap_or_else(|e| panic!("{glossy_file}: {e}"));
     write_if_changed(&out_dir.join("glossy_tables.rs"), &gen::glossy::render(&sets));
 

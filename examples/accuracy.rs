@@ -35,8 +35,9 @@
 //! - `Sobol`: Owen-scrambled Sobol points through the same cosine map (`reference::peers`);
 //! - `QMC-SF`: `sphere_quadrature::qmc::irradiance` (cosine-morphed hemisphere SF set, a new
 //!   random rotation about the normal per query);
-//! - `BMC renderer`: `sphere_quadrature::bmc::Renderer` (uniform hemisphere SF set, baked
-//!   weights, a random phase per query).
+//! - `BMC renderer`: `sphere_quadrature::bmc::Renderer` (the hemisphere SF set of
+//!   `tables/bmc.txt` — cosine-morphed since issue #12 — baked weights, a random phase per
+//!   query).
 //!
 //! Probe form, the same N samples answer all 256 normals: the crate's sphere SF set under a
 //! random rotation, 32 seeded rotations per map, RMSE pooled over rotations × normals:

@@ -42,7 +42,9 @@
 //! truth is known) and, for the ladder, ℓ beyond the σ′ grid (diagnostic only).
 //!
 //! With `--write` it writes `tables/probe.txt` (`probe = N sigma lambda1 …`),
-//! `tables/bmc.txt` (`set = N l sigma`) and the report `docs/hyperparameters.md`; without it,
+//! `tables/bmc_smooth.txt` (`set = N l sigma`: the renderer's smooth-light preset, which a user
+//! selects with `SPHERE_QUADRATURE_BMC_TABLE`; the shipped `tables/bmc.txt` is learned on real
+//! maps by `examples/renderer.rs --learn`) and the report `docs/hyperparameters.md`; without it,
 //! it only prints the report. Q depends only on the point set's dot products, so one Cholesky
 //! factor per (N, λ, σ′) serves every rotation.
 
@@ -1006,7 +1008,7 @@ fn main() {
         let bmc_txt = bmc_table(&render_results);
         for (rel, text) in [
             ("tables/probe.txt", probe_txt),
-            ("tables/bmc.txt", bmc_txt),
+            ("tables/bmc_smooth.txt", bmc_txt),
             ("docs/hyperparameters.md", rep.clone()),
         ] {
             let path = root.join(rel);
@@ -1085,12 +1087,20 @@ fn probe_table(results: &[ProbeResult], names: &[String]) -> String {
     s
 }
 
-/// `tables/bmc.txt`: the renderer-form ML (l, σ′) per N.
+/// `tables/bmc_smooth.txt`: the renderer-form ML (l, σ′) per N on synthetic fields.
 fn bmc_table(results: &[RenderResult]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "# Bayesian Monte Carlo weights (issue #6), read by build.rs through gen/bmc.rs."
+        "# Bayesian Monte Carlo weights for SMOOTH light (issue #6): the diffuse renderer's preset for"
+    );
+    let _ = writeln!(
+        s,
+        "# lighting as smooth as its training fields. Not read by default: build.rs bakes tables/bmc.txt"
+    );
+    let _ = writeln!(
+        s,
+        "# (learned on real maps); point SPHERE_QUADRATURE_BMC_TABLE at this file to bake these instead."
     );
     let _ = writeln!(
         s,

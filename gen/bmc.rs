@@ -41,6 +41,8 @@ pub struct Spec {
     pub length_scale: f32,
     /// Noise ratio `σ′ = σ_n/σ_f` (rounded to f32 first).
     pub noise: f32,
+    /// The cosine-morphed set (`cosine`) rather than the uniform one (`uniform`, the default).
+    pub cosine: bool,
 }
 
 impl Spec {
@@ -50,8 +52,9 @@ impl Spec {
     }
 }
 
-/// Parses `set = N l sigma` lines; `#` starts a comment. N must be in 1..=[`MAX_N`] and
-/// strictly increasing; `l` and `σ′` finite and positive.
+/// Parses `set = N l sigma [uniform|cosine]` lines; `#` starts a comment. N must be in
+/// 1..=[`MAX_N`] and strictly increasing; `l` and `σ′` finite and positive; the sample set is
+/// the uniform hemisphere spherical Fibonacci set unless `cosine` says the cosine-morphed one.
 pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
     let mut specs: Vec<Spec> = Vec::new();
     for (no, raw) in text.lines().enumerate() {
@@ -65,9 +68,14 @@ pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
             return Err(at(format!("unknown key `{}`", k.trim())));
         }
         let f: Vec<&str> = v.split_whitespace().collect();
-        if f.len() != 3 {
-            return Err(at("expected `set = N l sigma`".into()));
+        if f.len() != 3 && f.len() != 4 {
+            return Err(at("expected `set = N l sigma [uniform|cosine]`".into()));
         }
+        let cosine = match f.get(3) {
+            None | Some(&"uniform") => false,
+            Some(&"cosine") => true,
+            Some(x) => return Err(at(format!("sample set `{x}`: expected uniform or cosine"))),
+        };
         let n: usize = f[0].parse().map_err(|e| at(format!("N: {e}")))?;
         if !(1..=MAX_N).contains(&n) {
             return Err(at(format!("N = {n} must be in 1..={MAX_N}")));
@@ -83,7 +91,7 @@ pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
                 Err(at(format!("{what} = {x} must be finite and positive")))
             }
         };
-        specs.push(Spec { n, length_scale: pos(f[1], "l")?, noise: pos(f[2], "sigma")? });
+        specs.push(Spec { n, length_scale: pos(f[1], "l")?, noise: pos(f[2], "sigma")?, cosine });
     }
     if specs.is_empty() {
         return Err("no `set = N l sigma` line".into());
@@ -108,12 +116,13 @@ pub struct Baked {
     pub condition: f64,
 }
 
-/// Direction j of the N-point hemisphere SF set in the normal's frame (normal = +z).
-pub fn direction(j: usize, n: usize) -> [f64; 3] {
+/// Direction j of the N-point hemisphere SF set in the normal's frame (normal = +z): height
+/// `u = 1 − (2j + 1)/(2N)`, or `cos θ = √u` for the cosine-morphed set.
+pub fn direction(j: usize, n: usize, cosine: bool) -> [f64; 3] {
     let d = 2.0 * n as f64;
-    let a = (2 * j + 1) as f64 / d; // 1 − z
-    let z = 1.0 - a;
-    let s = (a * (2.0 - a)).sqrt();
+    let a = (2 * j + 1) as f64 / d; // 1 − u
+    let (z, s) =
+        if cosine { ((1.0 - a).sqrt(), a.sqrt()) } else { (1.0 - a, (a * (2.0 - a)).sqrt()) };
     let turns = (j as u64).wrapping_mul(GOLDEN_PHASE) as f64 / 18_446_744_073_709_551_616.0;
     let (sp, cp) = (2.0 * PI * turns).sin_cos();
     [s * cp, s * sp, z]
@@ -144,7 +153,7 @@ pub fn kernel_mean_mean(lambda: f64) -> f64 {
 pub fn gram(spec: &Spec) -> Vec<f64> {
     let n = spec.n;
     let lambda = spec.lambda();
-    let xs: Vec<[f64; 3]> = (0..n).map(|j| direction(j, n)).collect();
+    let xs: Vec<[f64; 3]> = (0..n).map(|j| direction(j, n, spec.cosine)).collect();
     let nugget = f64::from(spec.noise).powi(2);
     let mut q = vec![0.0; n * n];
     for i in 0..n {
@@ -238,7 +247,8 @@ pub fn bake(spec: &Spec) -> Result<Baked, String> {
     let lambda = spec.lambda();
     let q = gram(spec);
     let l = cholesky(&q, n)?;
-    let z: Vec<f64> = (0..n).map(|j| kernel_mean(lambda, direction(j, n)[2])).collect();
+    let z: Vec<f64> =
+        (0..n).map(|j| kernel_mean(lambda, direction(j, n, spec.cosine)[2])).collect();
     let a = solve(&q, &l, n, &z);
     let b = solve(&q, &l, n, &vec![1.0; n]);
     let sa: f64 = a.iter().sum();
@@ -292,6 +302,7 @@ pub fn render(sets: &[Baked]) -> String {
         let _ = writeln!(s, "impl crate::bmc::sealed::Sealed for crate::bmc::Size<{n}> {{");
         s.push_str("    const SET: crate::bmc::sealed::Set = crate::bmc::sealed::Set {\n");
         let _ = writeln!(s, "        weights: &BMC_WEIGHTS_{n},");
+        let _ = writeln!(s, "        cosine: {},", b.spec.cosine);
         for (name, x) in [
             ("variance", b.variance as f32),
             ("length_scale", b.spec.length_scale),

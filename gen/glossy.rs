@@ -25,8 +25,9 @@
 //! own integral, so constants are integrated exactly *for the fitted lobe*; the fit's relative
 //! L2 error is measured by `tests/glossy.rs` (e = 10: 5·10⁻⁴, e = 50: 8·10⁻⁶).
 //!
-//! Weights: `w = Q⁻¹z + (∫p − 1ᵀQ⁻¹z)·Q⁻¹1/(1ᵀQ⁻¹1)` (GLS constant mean, as [`super::bmc`]);
-//! the estimate is `Σ wⱼ·L(xⱼ)`.
+//! Weights: `w = Q⁻¹z̃ + (∫p − 1ᵀQ⁻¹z̃)·Q⁻¹1/(1ᵀQ⁻¹1)` (GLS constant mean, as [`super::bmc`])
+//! with `z̃ = z + σ′²q`, the nugget read as a rough part of the radiance that the set's QMC
+//! weights `q` integrate ([`System::weights_at`]); the estimate is `Σ wⱼ·L(xⱼ)`.
 
 use std::f64::consts::PI;
 use std::fmt::Write as _;
@@ -69,9 +70,76 @@ impl Spec {
     }
 }
 
-/// Parses `glossy = N e l sigma` lines; `#` starts a comment. `N` in 1..=[`MAX_N`], `e` in
-/// 1..=10⁴, no `(N, e)` twice, `l` and `σ′` finite and positive. An empty file bakes nothing.
-pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
+/// The learned hyperparameters `tables/glossy.txt` refers to (`err` rows of the renderer
+/// benchmark's `--learn`).
+pub const LEARNED_FILE: &str = "tables/renderer_hyperparameters.txt";
+
+/// One learned row `err phongE N l sigma`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Learned {
+    /// Phong exponent.
+    pub e: u32,
+    /// Samples.
+    pub n: usize,
+    /// Length scale.
+    pub l: f64,
+    /// Noise ratio σ′.
+    pub sigma: f64,
+}
+
+/// The `err phongE N l sigma` rows of [`LEARNED_FILE`] (other rows and comments skipped).
+pub fn parse_learned(text: &str) -> Result<Vec<Learned>, String> {
+    let mut out = Vec::new();
+    for (no, raw) in text.lines().enumerate() {
+        let f: Vec<&str> = raw.split('#').next().unwrap_or("").split_whitespace().collect();
+        if f.first() != Some(&"err") {
+            continue;
+        }
+        let Some(e) = f.get(1).and_then(|k| k.strip_prefix("phong")) else { continue };
+        let at = |m: &str| format!("{LEARNED_FILE} line {}: {m}", no + 1);
+        if f.len() != 5 {
+            return Err(at("expected `err phongE N l sigma`"));
+        }
+        let e: u32 = e.parse().map_err(|x| at(&format!("exponent: {x}")))?;
+        let n: usize = f[2].parse().map_err(|x| at(&format!("N: {x}")))?;
+        let l: f64 = f[3].parse().map_err(|x| at(&format!("l: {x}")))?;
+        let sigma: f64 = f[4].parse().map_err(|x| at(&format!("sigma: {x}")))?;
+        if !(l.is_finite() && l > 0.0 && sigma.is_finite() && sigma > 0.0) {
+            return Err(at("l and sigma must be finite and positive"));
+        }
+        out.push(Learned { e, n, l, sigma });
+    }
+    Ok(out)
+}
+
+/// `(l, σ′)` for `(N, e)` from the learned rows of the same `N`: `ln l` and `ln σ′`
+/// interpolated linearly in `ln e` between the nearest learned exponents (the end values
+/// outside them).
+pub fn interpolate(learned: &[Learned], n: usize, e: u32) -> Result<(f64, f64), String> {
+    let mut rows: Vec<&Learned> = learned.iter().filter(|r| r.n == n).collect();
+    rows.sort_by_key(|r| r.e);
+    let (Some(first), Some(last)) = (rows.first(), rows.last()) else {
+        return Err(format!(
+            "no learned hyperparameters for N = {n} in {LEARNED_FILE}: give `l sigma`"
+        ));
+    };
+    if e <= first.e {
+        return Ok((first.l, first.sigma));
+    }
+    if e >= last.e {
+        return Ok((last.l, last.sigma));
+    }
+    let k = rows.iter().position(|r| r.e >= e).unwrap_or(rows.len() - 1);
+    let (a, b) = (rows[k - 1], rows[k]);
+    let t = (f64::from(e).ln() - f64::from(a.e).ln()) / (f64::from(b.e).ln() - f64::from(a.e).ln());
+    let mix = |x: f64, y: f64| (x.ln() + t * (y.ln() - x.ln())).exp();
+    Ok((mix(a.l, b.l), mix(a.sigma, b.sigma)))
+}
+
+/// Parses `glossy = N e [l sigma]` lines; `#` starts a comment. `N` in 1..=[`MAX_N`], `e` in
+/// 1..=10⁴, no `(N, e)` twice, `l` and `σ′` finite and positive; without them the learned
+/// rows give them ([`interpolate`]). An empty file bakes nothing.
+pub fn parse(text: &str, learned: &[Learned]) -> Result<Vec<Spec>, String> {
     let mut specs: Vec<Spec> = Vec::new();
     for (no, raw) in text.lines().enumerate() {
         let line = raw.split('#').next().unwrap_or("").trim();
@@ -82,11 +150,11 @@ pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
         let f: Vec<&str> = line
             .strip_prefix("glossy")
             .and_then(|r| r.trim_start().strip_prefix('='))
-            .ok_or_else(|| at(format!("expected `glossy = N e l sigma`, found `{line}`")))?
+            .ok_or_else(|| at(format!("expected `glossy = N e [l sigma]`, found `{line}`")))?
             .split_whitespace()
             .collect();
-        if f.len() != 4 {
-            return Err(at("expected `glossy = N e l sigma`".into()));
+        if f.len() != 2 && f.len() != 4 {
+            return Err(at("expected `glossy = N e [l sigma]`".into()));
         }
         let n: usize = f[0].parse().map_err(|e| at(format!("N `{}`: {e}", f[0])))?;
         if !(1..=MAX_N).contains(&n) {
@@ -107,7 +175,13 @@ pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
                 Err(at(format!("{what} = {s} must be finite and positive")))
             }
         };
-        specs.push(Spec { n, e, length_scale: pos(f[2], "l")?, noise: pos(f[3], "sigma")? });
+        let (length_scale, noise) = if f.len() == 4 {
+            (pos(f[2], "l")?, pos(f[3], "sigma")?)
+        } else {
+            let (l, s) = interpolate(learned, n, e).map_err(at)?;
+            (l as f32, s as f32)
+        };
+        specs.push(Spec { n, e, length_scale, noise });
     }
     Ok(specs)
 }
@@ -283,10 +357,25 @@ impl System {
     }
 
     /// The weights at `θₙ` and the fitted lobe's `∫p` there.
+    ///
+    /// The nugget is read as a rough component `ε` of the radiance (white at the sample
+    /// spacing, variance `σ′²`) whose integral the QMC rule of the set estimates:
+    /// `∫ε·p ≈ Σ qᵢεᵢ` with `qᵢ = max(0, n·xᵢ)/N` (the lobe-morphed set's importance weights),
+    /// so `Cov(∫ε·p, εᵢ) = σ′²qᵢ` and `z` becomes `z + σ′²q`. The estimate is
+    /// `β∫p + (z + σ′²q)ᵀQ⁻¹(Y − β1)`: plain BMC as σ′ → 0, the QMC average as σ′ → ∞.
     pub fn weights_at(&self, theta_n: f64) -> (Vec<f64>, f64) {
         let lambda = self.spec.lambda();
-        let z: Vec<f64> =
-            self.xs.iter().map(|&x| kernel_mean(lambda, &self.fit, x, theta_n)).collect();
+        let nugget = f64::from(self.spec.noise).powi(2);
+        let (sn, cn) = theta_n.sin_cos();
+        let inv_n = 1.0 / self.spec.n as f64;
+        let z: Vec<f64> = self
+            .xs
+            .iter()
+            .map(|&x| {
+                let q = (sn * x[0] + cn * x[2]).max(0.0) * inv_n;
+                kernel_mean(lambda, &self.fit, x, theta_n) + nugget * q
+            })
+            .collect();
         let a = self.solve(&z);
         let ip = lobe_integral(&self.fit, theta_n);
         let s1: f64 = self.ones.iter().sum();

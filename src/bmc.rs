@@ -10,10 +10,12 @@
 //! - Kernel `k(x, x′) = σ_f²·exp(−|x − x′|²/l²) + σ_n²δ`, σ_f = 1, `σ′ = σ_n/σ_f`. On unit
 //!   vectors `|x − x′|² = 2 − 2x·x′`, so `k(x, ·)` is a spherical Gaussian with axis `x` and
 //!   sharpness `λ = 2/l²`.
-//! - Samples: the `N`-point *uniform* hemisphere spherical Fibonacci set about the normal
-//!   (`zⱼ = 1 − (2j + 1)/(2N)`, golden azimuth, rotated about the normal by a phase). The
-//!   cosine is the known part `p(x) = cos θ/π` of the integrand, so the set is not
-//!   cosine-morphed. `Q = K + σ′²I` depends only on the set, not on the normal or the phase.
+//! - Samples: the `N`-point hemisphere spherical Fibonacci set about the normal
+//!   (`uⱼ = 1 − (2j + 1)/(2N)`, golden azimuth, rotated about the normal by a phase), morphed
+//!   onto the cosine (`cos θⱼ = √uⱼ`: the QMC-SF samples of irradiance) in the shipped tables
+//!   or left uniform (`zⱼ = uⱼ`) in a table that says `uniform` ([`Renderer::lobe`]). The cosine
+//!   is the known part `p(x) = cos θ/π` of the integrand either way. `Q = K + σ′²I` depends
+//!   only on the set, not on the normal or the phase.
 //! - `zᵢ = ∫ k(xᵢ, x) p(x) dx = C(λ, zᵢ)/π`, with `C` the spherical-Gaussian × clamped-cosine
 //!   integral ([`crate::sg`]), `∫p = 1`.
 //! - Constant prior mean estimated from the data by generalised least squares (Rasmussen and
@@ -24,10 +26,14 @@
 //!
 //! `build.rs` solves in f64 (Cholesky with one step of iterative refinement; generator
 //! `gen/bmc.rs`, sets in `tables/bmc.txt`) and bakes `w` rounded once to f32, one `static`
-//! array per size. Only the baked sizes compile: `N` ∈ {16, 32, 64, 128, 256}. The
-//! hyperparameters are **learned** offline by maximum marginal likelihood on synthetic
-//! training fields (mixtures of spherical Gaussians of sharpness 2…20;
-//! `examples/learn_hyperparameters.rs`, report in `docs/hyperparameters.md`). For a probe
+//! array per size. Only the baked sizes compile: `N` ∈ {16, 32, 64, 80, 128, 256}. The
+//! hyperparameters are **learned** offline on real maps (`examples/renderer.rs --learn`, issue
+//! #12: the (l, σ′) whose estimates have the smallest RMSE ratio to QMC-SF over the clamp and
+//! smooth tiers of four training maps; the report is `docs/renderer.md`). On point-sampled
+//! real lighting this renderer ties QMC-SF on the same samples; for light as smooth as
+//! mixtures of spherical Gaussians of sharpness 2…20, the preset `tables/bmc_smooth.txt`
+//! (uniform set, learned by `examples/learn_hyperparameters.rs`) is many times better than
+//! QMC-SF (`docs/hyperparameters.md`) — select it with the variable below. For a probe
 //! that shares its samples among many normals, see [`crate::probe`].
 //!
 //! To bake other sizes or hyperparameters without forking the crate, point the environment
@@ -112,7 +118,7 @@ pub struct Size<const N: usize>;
 #[diagnostic::on_unimplemented(
     message = "no Bayesian Monte Carlo weights are baked for `{Self}`",
     label = "this sample count has no baked weights",
-    note = "the baked sizes are N = 16, 32, 64, 128, 256 (tables/bmc.txt)"
+    note = "the baked sizes are N = 16, 32, 64, 80, 128, 256 (tables/bmc.txt)"
 )]
 pub trait BakedSize: sealed::Sealed {}
 
@@ -121,6 +127,8 @@ pub(crate) mod sealed {
     #[derive(Clone, Copy, Debug)]
     pub struct Set {
         pub weights: &'static [f32],
+        /// The cosine-morphed set rather than the uniform one.
+        pub cosine: bool,
         pub variance: f32,
         pub length_scale: f32,
         pub noise: f32,
@@ -161,6 +169,8 @@ where
     Size<N>: BakedSize,
 {
     const SET: sealed::Set = <Size<N> as sealed::Sealed>::SET;
+    /// The lobe the set is morphed onto.
+    const LOBE: Lobe = if Self::SET.cosine { Lobe::Cosine } else { Lobe::Uniform };
     const WEIGHTS: &'static [f32; N] = match Self::SET.weights.first_chunk::<N>() {
         Some(w) => w,
         None => panic!("baked weight count differs from N"),
@@ -173,7 +183,8 @@ where
     }
 
     /// Writes the `N` sample directions about `normal` (normalised first), rotated about it by
-    /// `phase_bits / 2⁶⁴` turn: the uniform hemisphere spherical Fibonacci set.
+    /// `phase_bits / 2⁶⁴` turn: the hemisphere spherical Fibonacci set morphed onto
+    /// [`Renderer::lobe`].
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite normal.
@@ -183,7 +194,14 @@ where
         phase_bits: u64,
         out: &mut [Vec3; N],
     ) -> Result<(), Error> {
-        LobeSampler::new(normal, Lobe::Uniform, N, phase_bits)?.fill(out)
+        LobeSampler::new(normal, Self::LOBE, N, phase_bits)?.fill(out)
+    }
+
+    /// The lobe the baked set is morphed onto: [`Lobe::Cosine`] (the shipped tables: the
+    /// QMC-SF samples of irradiance) or [`Lobe::Uniform`] (`uniform` in a user table).
+    #[must_use]
+    pub const fn lobe() -> Lobe {
+        Self::LOBE
     }
 
     /// The weights `w` (`Σw = 1` to f32 rounding), in the order of [`Renderer::directions`].
@@ -212,7 +230,7 @@ where
         phase_bits: u64,
         mut radiance: F,
     ) -> Result<T, Error> {
-        let s = LobeSampler::new(normal, Lobe::Uniform, N, phase_bits)?;
+        let s = LobeSampler::new(normal, Self::LOBE, N, phase_bits)?;
         Ok(s.iter()
             .zip(Self::WEIGHTS)
             .fold(T::ZERO, |acc, (d, &w)| acc.mul_add(radiance(d), w))

@@ -138,7 +138,7 @@ pub fn weighted_sum<const N: usize>(weights_q31: &[u32; N], samples: &[U16F16; N
 #[diagnostic::on_unimplemented(
     message = "no fixed-point Bayesian Monte Carlo weights are baked for `{Self}`",
     label = "this sample count has no baked weights",
-    note = "the baked sizes are N = 16, 32, 64, 128, 256 (tables/bmc.txt)"
+    note = "the baked sizes are N = 16, 32, 64, 80, 128, 256 (tables/bmc.txt)"
 )]
 pub trait FixedSize: sealed::FixedSet {}
 

@@ -14,7 +14,16 @@ use gen::bmc;
 use reference::analytic::sg_queries;
 use reference::rng::Rng;
 use sphere_quadrature::bmc::{Renderer, BAKED_SIZES, TABLE_BYTES};
-use sphere_quadrature::{qmc, Error, Vec3};
+use sphere_quadrature::qmc::LobeSampler;
+use sphere_quadrature::{qmc, Error, Lobe, Vec3};
+
+const PI64: f64 = std::f64::consts::PI;
+/// The shipped renderer's RMSE on the SG lights stays below this multiple of QMC-SF's: a
+/// regression guard set from the measurement (1.248, 1.285, 1.035, 1.213, 0.821, 0.831 at
+/// N = 16, 32, 64, 80, 128, 256 with the weights learned on real maps, whose kernel, l = 0.905,
+/// is broader than these lights of sharpness up to 20), not a quality claim: that is the
+/// renderer benchmark's (docs/renderer.md) and, for smooth light, the preset's below.
+const RENDERER_VS_QMC: f64 = 1.4;
 
 const PI: f32 = core::f32::consts::PI;
 
@@ -37,6 +46,7 @@ fn baked(n: usize) -> &'static [f32] {
         16 => Renderer::<16>::weights(),
         32 => Renderer::<32>::weights(),
         64 => Renderer::<64>::weights(),
+        80 => Renderer::<80>::weights(),
         128 => Renderer::<128>::weights(),
         256 => Renderer::<256>::weights(),
         _ => unreachable!(),
@@ -47,10 +57,10 @@ fn baked(n: usize) -> &'static [f32] {
 fn baked_sets_equal_the_generator_bit_for_bit() {
     let specs = specs();
     assert_eq!(BAKED_SIZES, specs.iter().map(|s| s.n).collect::<Vec<_>>());
-    assert_eq!(BAKED_SIZES, &[16, 32, 64, 128, 256]);
+    assert_eq!(BAKED_SIZES, &[16, 32, 64, 80, 128, 256]);
     let t = std::time::Instant::now();
     let sets = bmc::bake_all(&specs).unwrap();
-    println!("generator, 5 sets: {:?} (test profile)", t.elapsed());
+    println!("generator, {} sets: {:?} (test profile)", sets.len(), t.elapsed());
     for b in &sets {
         let w = baked(b.spec.n);
         assert_eq!(w.len(), b.weights.len());
@@ -123,7 +133,8 @@ fn generator_and_baked_weights_agree_with_the_independent_reference() {
     println!("N    |w32−wref|/max|wref|  |w64−wref|/max|wref|  var rel diff  Σw32−1");
     for b in bmc::bake_all(&specs()).unwrap() {
         let n = b.spec.n;
-        let r = reference::bmc::weights(n, f64::from(b.spec.length_scale), f64::from(b.spec.noise));
+        let (l, s) = (f64::from(b.spec.length_scale), f64::from(b.spec.noise));
+        let r = reference::bmc::weights_on(n, l, s, b.spec.cosine);
         let scale = r.w.iter().fold(0.0f64, |m, w| m.max(w.abs()));
         let d32 =
             baked(n).iter().zip(&r.w).fold(0.0f64, |m, (a, b)| m.max((f64::from(*a) - b).abs()))
@@ -147,13 +158,29 @@ fn generator_and_baked_weights_agree_with_the_independent_reference() {
 }
 
 #[test]
-fn directions_are_the_uniform_hemisphere_sf_set() {
-    // Normal +z, phase 0: exactly the reference hemisphere points.
+fn directions_are_the_hemisphere_sf_set_of_the_baked_lobe() {
+    // The reference hemisphere point j has height u and azimuth φ; the cosine-morphed set
+    // keeps φ and takes cos θ = √u.
+    let expected = |j: u64, n: u64, cosine: bool| -> [f64; 3] {
+        let r = reference::sf::hemisphere_point(j, n);
+        if !cosine {
+            return r;
+        }
+        let u = r[2];
+        let k = ((1.0 - u) / (1.0 - u * u)).sqrt();
+        [r[0] * k, r[1] * k, u.sqrt()]
+    };
+    // Normal +z, phase 0: exactly the reference points.
     for_each_size!(N => {
+        let cosine = match Renderer::<N>::lobe() {
+            Lobe::Cosine => true,
+            Lobe::Uniform => false,
+            other => panic!("N = {N}: unexpected lobe {other:?}"),
+        };
         let mut d = [Vec3::Z; N];
         Renderer::<N>::new().directions(Vec3::Z, 0, &mut d).unwrap();
         for (j, d) in d.iter().enumerate() {
-            let r = reference::sf::hemisphere_point(j as u64, N as u64);
+            let r = expected(j as u64, N as u64, cosine);
             let e = reference::vec::norm(reference::vec::sub(v64(*d), r));
             assert!(e < 1e-6, "N = {N}, j = {j}: {e:e}");
         }
@@ -161,12 +188,13 @@ fn directions_are_the_uniform_hemisphere_sf_set() {
     // Any normal: every direction has the same height along it as with +z.
     let mut rng = Rng::new(5);
     let r = Renderer::<64>::new();
+    let cosine = Renderer::<64>::lobe() == Lobe::Cosine;
     for _ in 0..20 {
         let n = rng.uniform_sphere();
         let mut d = [Vec3::Z; 64];
         r.directions(v32(n), rng.next_u64(), &mut d).unwrap();
         for (j, d) in d.iter().enumerate() {
-            let want = reference::sf::hemisphere_z(j as u64, 64);
+            let want = expected(j as u64, 64, cosine)[2];
             assert!((reference::vec::dot(v64(*d), n) - want).abs() < 1e-6);
             assert!((d.length() - 1.0).abs() < 1e-6);
         }
@@ -195,6 +223,8 @@ fn constants_are_integrated_exactly() {
 #[test]
 fn bmc_against_qmc_on_sg_lights_and_variance_calibration() {
     let qs = sg_queries(400, 11);
+    // 1. The shipped renderer: weights learned on real maps (tables/bmc.txt).
+    println!("shipped renderer (tables/bmc.txt)");
     println!("N     BMC rel RMS  QMC-SF rel RMS  BMC/QMC  σ(E), σ_f = 1  |err| ≤ 2σ  σ_f fit");
     // (N, variance, BMC rel RMS, QMC rel RMS)
     let mut rows: Vec<(usize, f32, f64, f64)> = Vec::new();
@@ -222,17 +252,45 @@ fn bmc_against_qmc_on_sg_lights_and_variance_calibration() {
         );
         rows.push((N, var, rb, rq));
     });
-    for w in rows.windows(2) {
-        assert!(w[1].1 > 0.0 && w[1].1 < w[0].1, "variance must fall with N: {w:?}");
+    // The hyperparameters differ per N (learned per N), so the variance need not fall with N.
+    for r in &rows {
+        assert!(r.1.is_finite() && r.1 > 0.0, "{r:?}");
     }
-    assert!(rows[0].1 > 0.0);
-    // On this smooth tier (lights as sharp as the kernel, λ = 8) BMC beats QMC-SF from N = 32 on
-    // (measured ratios 0.94, 0.55, 0.13, 0.009, 0.003); N = 16 is a tie and not asserted.
-    for &(n, _, rb, rq) in &rows[1..] {
-        assert!(rb < 0.7 * rq, "N = {n}: BMC {rb:e} vs QMC {rq:e}");
+    for &(n, _, rb, rq) in &rows {
+        assert!(rb < RENDERER_VS_QMC * rq, "N = {n}: BMC {rb:e} vs QMC {rq:e}");
     }
-    let (_, _, rb64, rq64) = rows[2];
-    assert!(rb64 < 0.2 * rq64 && rb64 > 1e-4, "N = 64: BMC {rb64:e} vs QMC {rq64:e}");
+    // 2. The model with hyperparameters that fit this light: the smooth-light preset
+    //    (tables/bmc_smooth.txt, uniform set, learned on synthetic fields), f64 weights from
+    //    the generator on the crate's uniform hemisphere set.
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/bmc_smooth.txt");
+    let specs = bmc::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
+    println!("smooth-light preset (tables/bmc_smooth.txt)");
+    let mut ratios = Vec::new();
+    for spec in &specs {
+        assert!(!spec.cosine);
+        let b = bmc::bake(spec).unwrap();
+        let n = spec.n;
+        let (mut se_b, mut se_q) = (0.0, 0.0);
+        for q in &qs {
+            let s = LobeSampler::new(v32(q.normal), Lobe::Uniform, n, q.phase).unwrap();
+            let ys: Vec<f64> = s.iter().map(|d| q.light.value(v64(d))).collect();
+            let e: f64 = PI64 * ys.iter().zip(&b.weights_f64).map(|(y, w)| y * w).sum::<f64>();
+            let qs_ = LobeSampler::new(v32(q.normal), Lobe::Cosine, n, q.phase).unwrap();
+            let m = PI64 * qs_.iter().map(|d| q.light.value(v64(d))).sum::<f64>() / n as f64;
+            se_b += ((e - q.truth) / q.truth).powi(2);
+            se_q += ((m - q.truth) / q.truth).powi(2);
+        }
+        let ratio = (se_b / se_q).sqrt();
+        println!("N = {n:<4} BMC / QMC-SF = {ratio:.4}");
+        ratios.push((n, ratio));
+    }
+    // On this smooth tier (lights as sharp as the kernel, λ = 8) BMC with fitting
+    // hyperparameters beats QMC-SF from N = 32 on (measured ratios 0.94, 0.55, 0.13, 0.009,
+    // 0.003 with the f32 renderer before #12); N = 16 is a tie and not asserted.
+    for &(n, r) in &ratios[1..] {
+        assert!(r < 0.7, "N = {n}: BMC / QMC-SF = {r}");
+    }
+    assert!(ratios[2].0 == 64 && ratios[2].1 < 0.2, "N = 64: {:?}", ratios[2]);
 }
 
 #[test]
@@ -258,8 +316,8 @@ fn bad_input_is_refused_and_nan_propagates() {
 
 #[test]
 fn footprint_is_pinned() {
-    // 16 + 32 + 64 + 128 + 256 f32 weights: growth must be a decision.
-    assert_eq!(TABLE_BYTES, 1_984);
+    // 16 + 32 + 64 + 80 + 128 + 256 f32 weights: growth must be a decision.
+    assert_eq!(TABLE_BYTES, 2_304);
     let total: usize = BAKED_SIZES.iter().map(|&n| std::mem::size_of_val(baked(n))).sum();
     assert_eq!(total, TABLE_BYTES);
     assert_eq!(std::mem::size_of::<Renderer<256>>(), 0);
@@ -271,7 +329,7 @@ fn negative_weights_get_no_fixed_point_form_instead_of_a_build_failure() {
     // N = 1…39 and l = 0.03…20 found negative ones only at N = 17 with a very long length scale
     // and almost no nugget. The Q1.31 form cannot hold them, so that size is skipped with a
     // comment, while its float weights are still baked.
-    let spec = bmc::Spec { n: 17, length_scale: 5.0, noise: 1e-6 };
+    let spec = bmc::Spec { n: 17, length_scale: 5.0, noise: 1e-6, cosine: false };
     let b = bmc::bake(&spec).unwrap();
     println!("l = 5, σ′ = 1e-6, N = 17: Σ|w|/Σw = {}", b.abs_weight_ratio);
     assert!(b.abs_weight_ratio > 1.0, "expected negative weights");

@@ -330,8 +330,8 @@ fn glossy_table_bytes_are_pinned() {
     let bytes: usize =
         sphere_quadrature::bmc::glossy::BAKED_SETS.iter().map(|&(n, _)| 4 * 97 * n).sum();
     assert_eq!(sphere_quadrature::bmc::glossy::TABLE_BYTES, bytes);
-    // tables/glossy.txt: (16, 32, 64) × e = 10, (16, 32, 64, 80, 128) × 50, (16, 64) × 200.
-    assert_eq!(bytes, 4 * 97 * (16 + 32 + 64 + 16 + 32 + 64 + 80 + 128 + 16 + 64));
+    // tables/glossy.txt: (16, 32, 64, 80, 128) × e ∈ {10, 50, 200}.
+    assert_eq!(bytes, 4 * 97 * 3 * (16 + 32 + 64 + 80 + 128));
 }
 
 /// The error of interpolating the weights in `θₙ`, at off-grid angles, against the generator's
@@ -427,28 +427,33 @@ where
 /// The interpolation in `θₙ` loses little. Measured (`cargo test --release --test glossy
 /// interpolation -- --nocapture`; largest over the 1 000 angles, relative):
 ///
-/// | set | weights L1 | constant | smooth lights | before (49 nodes, quadratic): weights L1 |
-/// |---|---|---|---|---|
-/// | N = 16, e = 10 | 3.1·10⁻⁵ | 3.1·10⁻⁵ | 4.0·10⁻⁵ | 3.2·10⁻⁵ |
-/// | N = 64, e = 50 | 7.1·10⁻⁵ | 5.8·10⁻⁵ | 5.8·10⁻⁵ | 1.7·10⁻⁴ |
-/// | N = 128, e = 50 | 7.5·10⁻⁵ | 5.8·10⁻⁵ | 5.8·10⁻⁵ | 1.8·10⁻⁴ |
-/// | N = 64, e = 200 | 2.6·10⁻⁴ | 2.2·10⁻⁴ | 2.2·10⁻⁴ | 4.4·10⁻⁴ |
+/// | set | weights L1 | constant | smooth lights | plain-BMC weights (before the rough part): L1 | 49 nodes, quadratic: L1 |
+/// |---|---|---|---|---|---|
+/// | N = 16, e = 10 | 4.7·10⁻⁴ | 3.1·10⁻⁵ | 4.5·10⁻⁵ | 3.1·10⁻⁵ | 3.2·10⁻⁵ |
+/// | N = 64, e = 50 | 7.1·10⁻⁴ | 5.8·10⁻⁵ | 5.8·10⁻⁵ | 7.1·10⁻⁵ | 1.7·10⁻⁴ |
+/// | N = 128, e = 50 | 3.5·10⁻⁴ | 5.8·10⁻⁵ | 5.8·10⁻⁵ | 7.5·10⁻⁵ | 1.8·10⁻⁴ |
+/// | N = 64, e = 200 | 8.2·10⁻⁴ | 2.2·10⁻⁴ | 2.2·10⁻⁴ | 2.6·10⁻⁴ | 4.4·10⁻⁴ |
 ///
-/// The bounds are those figures times 1.5, rounded up (room for the generator's weights to
-/// change a little). They fail for nearest-node weights (errors of 10⁻²) and for the old
-/// 49-node grid's density (e = 50 and 200 above).
+/// The weights' largest L1 error is near grazing (θₙ ≈ 1.45–1.54): the rough part's QMC
+/// weights `max(0, n·xᵢ)/N` have a kink in θₙ where a sample crosses the horizon, which the
+/// two-row interpolation follows only to first order; the estimates of a constant and of
+/// smooth lights are as accurate as before. The bounds are those figures times 1.5, rounded
+/// up. They fail for nearest-node weights (errors of 10⁻²).
 #[test]
 fn interpolation_error_in_theta_is_small() {
-    for (label, e, [l1, constant, smooth]) in [
-        ("N = 16, e = 10", interpolation_error::<16, 10>(), [5e-5, 5e-5, 6e-5]),
-        ("N = 64, e = 50", interpolation_error::<64, 50>(), [1.1e-4, 9e-5, 9e-5]),
-        ("N = 128, e = 50", interpolation_error::<128, 50>(), [1.2e-4, 9e-5, 9e-5]),
-        ("N = 64, e = 200", interpolation_error::<64, 200>(), [4e-4, 3.3e-4, 3.3e-4]),
-    ] {
+    let measured = [
+        ("N = 16, e = 10", interpolation_error::<16, 10>(), [7.1e-4, 5e-5, 7e-5]),
+        ("N = 64, e = 50", interpolation_error::<64, 50>(), [1.1e-3, 9e-5, 9e-5]),
+        ("N = 128, e = 50", interpolation_error::<128, 50>(), [5.3e-4, 9e-5, 9e-5]),
+        ("N = 64, e = 200", interpolation_error::<64, 200>(), [1.3e-3, 3.3e-4, 3.4e-4]),
+    ];
+    for (label, e, _) in &measured {
         println!(
             "{label}: weights L1 max {:.2e} (θₙ = {:.4}), RMS {:.2e}; constant {:.2e}, smooth lights {:.2e}",
             e.l1_max, e.worst_theta, e.l1_rms, e.constant, e.smooth
         );
+    }
+    for (label, e, [l1, constant, smooth]) in measured {
         assert!(e.l1_max < l1, "{label}: weights L1 {:e}", e.l1_max);
         assert!(e.constant < constant, "{label}: constant {:e}", e.constant);
         assert!(e.smooth < smooth, "{label}: smooth lights {:e}", e.smooth);

@@ -75,10 +75,27 @@ pub fn lu_solve(a: &[f64], n: usize, b: &[f64]) -> Vec<f64> {
     x
 }
 
-/// BMC irradiance weights for `n` samples, length scale `l` and noise ratio `sigma`.
+/// BMC irradiance weights for `n` samples of the uniform hemisphere set, length scale `l` and
+/// noise ratio `sigma`.
 pub fn weights(n: usize, l: f64, sigma: f64) -> Weights {
+    weights_on(n, l, sigma, false)
+}
+
+/// [`weights`] on the uniform set, or on the cosine-morphed one (`cosine`): the reference
+/// point of height `u` moved to height `√u` along its meridian.
+pub fn weights_on(n: usize, l: f64, sigma: f64, cosine: bool) -> Weights {
     let lambda = 2.0 / (l * l);
-    let xs: Vec<[f64; 3]> = (0..n as u64).map(|j| hemisphere_point(j, n as u64)).collect();
+    let xs: Vec<[f64; 3]> = (0..n as u64)
+        .map(|j| {
+            let p = hemisphere_point(j, n as u64);
+            if !cosine {
+                return p;
+            }
+            let (u, h) = (p[2], (p[0] * p[0] + p[1] * p[1]).sqrt());
+            let s = (1.0 - u).sqrt();
+            [p[0] / h * s, p[1] / h * s, u.sqrt()]
+        })
+        .collect();
     let mut q = vec![0.0; n * n];
     for i in 0..n {
         for j in 0..n {

@@ -18,6 +18,18 @@
 //! the clamped-cosine integral's f64 generator), so constants are integrated exactly for the
 //! fitted lobe (fit error: `tests/glossy.rs`).
 //!
+//! # Model and hyperparameters
+//! Squared-exponential kernel `exp(−|x − x′|²/l²)` plus a nugget σ′², constant prior mean by
+//! generalised least squares. The nugget is read as a rough part of the radiance (white at the
+//! sample spacing, the aliasing of point samples of a real map) whose integral the set's own
+//! QMC rule estimates, `Σ max(0, n·xᵢ)/N·εᵢ`: `z` becomes `z + σ′²q`. So the weights tend to
+//! QMC-SF's as σ′ grows and to plain BMC's as σ′ → 0 (`gen/glossy.rs`). `(l, σ′)` per
+//! `(N, e)` are learned on real maps (`examples/renderer.rs --learn`, the `err` rows of
+//! `tables/renderer_hyperparameters.txt`: the smallest geometric-mean RMSE ratio to QMC-SF over
+//! the clamp and smooth tiers of four training maps), interpolated in `ln e` for exponents
+//! that were not learned ([`GlossyRenderer::hyperparameters`]). Accuracy on held-out maps:
+//! `docs/renderer.md`.
+//!
 //! ```
 //! use sphere_quadrature::{bmc::GlossyRenderer, Vec3};
 //!

@@ -17,6 +17,10 @@ macro_rules! for_each_size {
             $body
         }
         {
+            const $n: usize = 80;
+            $body
+        }
+        {
             const $n: usize = 128;
             $body
         }
