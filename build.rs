@@ -53,9 +53,15 @@ fn main() {
         .map_err(|e| e.to_string())
         .and_then(|t| gen::glossy::parse_learned(&t))
         .unwrap_or_else(|e| panic!("{learned_file}: {e}"));
-    let specs =
-        gen::glossy::parse(&text, &learned).unwrap_or_else(|e| panic!("{glossy_file}: {e}"));
-    let sets = gen::glossy::bake_all(&specs).unwrap_or_else(|e| panic!("{glossy_file}: {e}"));
+    let optimal_file = gen::glossy::OPTIMAL_FILE;
+    let optimal = std::fs::read_to_string(optimal_file)
+        .map_err(|e| e.to_string())
+        .and_then(|t| gen::glossy::parse_optimal(&t))
+        .unwrap_or_else(|e| panic!("{optimal_file}: {e}"));
+    let specs = gen::glossy::parse(&text, &learned, &optimal)
+        .unwrap_or_else(|e| panic!("{glossy_file}: {e}"));
+    let sets =
+        gen::glossy::bake_all(&specs, &optimal).unwrap_or_else(|e| panic!("{glossy_file}: {e}"));
     write_if_changed(&out_dir.join("glossy_tables.rs"), &gen::glossy::render(&sets));
 
     let (probe_file, text) = config(gen::probe::CONFIG_FILE, PROBE_ENV);

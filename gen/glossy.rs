@@ -61,6 +61,9 @@ pub struct Spec {
     pub length_scale: f32,
     /// Noise ratio `σ′`, rounded to f32 first.
     pub noise: f32,
+    /// The optimal set of [`OPTIMAL_FILE`] for `(N, e)` (plain BMC, its own `(l, σ′)`) rather
+    /// than the lobe-morphed spherical Fibonacci set.
+    pub optimal: bool,
 }
 
 impl Spec {
@@ -136,10 +139,70 @@ pub fn interpolate(learned: &[Learned], n: usize, e: u32) -> Result<(f64, f64), 
     Ok((mix(a.l, b.l), mix(a.sigma, b.sigma)))
 }
 
+/// The optimal sample sets `optimal = N e` lines refer to (`examples/optimal_sets.rs`).
+pub const OPTIMAL_FILE: &str = "tables/optimal_sets.txt";
+
+/// One optimal set of [`OPTIMAL_FILE`]: `set phongE N l sigma var_sf var_opt` and `N` lines
+/// `x y z` in the lobe frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OptimalSet {
+    /// Phong exponent.
+    pub e: u32,
+    /// Length scale the set was optimised for.
+    pub l: f64,
+    /// Noise ratio the set was optimised for.
+    pub sigma: f64,
+    /// Directions (lobe frame, `(t₁, t₂, r)`), normalised in f64.
+    pub directions: Vec<[f64; 3]>,
+}
+
+/// The `phongE` sets of [`OPTIMAL_FILE`] (the `diffuse` ones are skipped).
+pub fn parse_optimal(text: &str) -> Result<Vec<OptimalSet>, String> {
+    let mut out: Vec<OptimalSet> = Vec::new();
+    let mut lines = text.lines().enumerate().filter_map(|(no, raw)| {
+        let line = raw.split('#').next().unwrap_or("").trim();
+        (!line.is_empty()).then_some((no + 1, line))
+    });
+    while let Some((no, line)) = lines.next() {
+        let at = |m: &str| format!("{OPTIMAL_FILE} line {no}: {m}");
+        let f: Vec<&str> = line.split_whitespace().collect();
+        if f.len() != 7 || f[0] != "set" {
+            return Err(at("expected `set <key> <N> <l> <sigma> <var_sf> <var_opt>`"));
+        }
+        let n: usize = f[2].parse().map_err(|x| at(&format!("N: {x}")))?;
+        let l: f64 = f[3].parse().map_err(|x| at(&format!("l: {x}")))?;
+        let sigma: f64 = f[4].parse().map_err(|x| at(&format!("sigma: {x}")))?;
+        let valid = (1..=MAX_N).contains(&n) && l > 0.0 && l.is_finite() && sigma > 0.0;
+        if !(valid && sigma.is_finite()) {
+            return Err(at("N in 1..=512, l and sigma finite and positive"));
+        }
+        let mut directions = Vec::with_capacity(n);
+        for _ in 0..n {
+            let (no, line) = lines.next().ok_or_else(|| at("the set ends early"))?;
+            let v: Vec<f32> = line
+                .split_whitespace()
+                .map(str::parse::<f32>)
+                .collect::<Result<_, _>>()
+                .map_err(|x| format!("{OPTIMAL_FILE} line {no}: {x}"))?;
+            let norm = v.iter().map(|&c| f64::from(c).powi(2)).sum::<f64>().sqrt();
+            if v.len() != 3 || !(norm - 1.0).abs().lt(&1e-5) {
+                return Err(format!("{OPTIMAL_FILE} line {no}: expected a unit `x y z`"));
+            }
+            directions.push([0, 1, 2].map(|k| f64::from(v[k]) / norm));
+        }
+        if let Some(e) = f[1].strip_prefix("phong") {
+            let e: u32 = e.parse().map_err(|x| at(&format!("exponent: {x}")))?;
+            out.push(OptimalSet { e, l, sigma, directions });
+        }
+    }
+    Ok(out)
+}
+
 /// Parses `glossy = N e [l sigma]` lines; `#` starts a comment. `N` in 1..=[`MAX_N`], `e` in
 /// 1..=10⁴, no `(N, e)` twice, `l` and `σ′` finite and positive; without them the learned
-/// rows give them ([`interpolate`]). An empty file bakes nothing.
-pub fn parse(text: &str, learned: &[Learned]) -> Result<Vec<Spec>, String> {
+/// rows give them ([`interpolate`]), and `optimal = N e` lines (the optimal set of
+/// [`OPTIMAL_FILE`] with the `(l, σ′)` it was optimised for). An empty file bakes nothing.
+pub fn parse(text: &str, learned: &[Learned], optimal: &[OptimalSet]) -> Result<Vec<Spec>, String> {
     let mut specs: Vec<Spec> = Vec::new();
     for (no, raw) in text.lines().enumerate() {
         let line = raw.split('#').next().unwrap_or("").trim();
@@ -147,6 +210,28 @@ pub fn parse(text: &str, learned: &[Learned]) -> Result<Vec<Spec>, String> {
             continue;
         }
         let at = |m: String| format!("line {}: {m}", no + 1);
+        if let Some(rest) =
+            line.strip_prefix("optimal").and_then(|r| r.trim_start().strip_prefix('='))
+        {
+            let f: Vec<&str> = rest.split_whitespace().collect();
+            let (Some(n), Some(e), 2) = (
+                f.first().and_then(|x| x.parse::<usize>().ok()),
+                f.get(1).and_then(|x| x.parse::<u32>().ok()),
+                f.len(),
+            ) else {
+                return Err(at("expected `optimal = N e`".into()));
+            };
+            let set = optimal
+                .iter()
+                .find(|s| s.e == e && s.directions.len() == n)
+                .ok_or_else(|| at(format!("no optimal set phong{e} N = {n} in {OPTIMAL_FILE}")))?;
+            if specs.iter().any(|s| s.n == n && s.e == e && s.optimal) {
+                return Err(at(format!("optimal N = {n}, e = {e} appears twice")));
+            }
+            let (length_scale, noise) = (set.l as f32, set.sigma as f32);
+            specs.push(Spec { n, e, length_scale, noise, optimal: true });
+            continue;
+        }
         let f: Vec<&str> = line
             .strip_prefix("glossy")
             .and_then(|r| r.trim_start().strip_prefix('='))
@@ -164,7 +249,7 @@ pub fn parse(text: &str, learned: &[Learned]) -> Result<Vec<Spec>, String> {
         if !(1..=10_000).contains(&e) {
             return Err(at(format!("e = {e} must be in 1..=10000")));
         }
-        if specs.iter().any(|s| s.n == n && s.e == e) {
+        if specs.iter().any(|s| s.n == n && s.e == e && !s.optimal) {
             return Err(at(format!("N = {n}, e = {e} appears twice")));
         }
         let pos = |s: &str, what: &str| -> Result<f32, String> {
@@ -181,7 +266,7 @@ pub fn parse(text: &str, learned: &[Learned]) -> Result<Vec<Spec>, String> {
             let (l, s) = interpolate(learned, n, e).map_err(at)?;
             (l as f32, s as f32)
         };
-        specs.push(Spec { n, e, length_scale, noise });
+        specs.push(Spec { n, e, length_scale, noise, optimal: false });
     }
     Ok(specs)
 }
@@ -302,6 +387,8 @@ pub struct Baked {
     pub weights: Vec<f64>,
     /// The fit's `∫p` per node.
     pub integral: Vec<f64>,
+    /// The optimal set's directions (lobe frame); empty for the Fibonacci set.
+    pub directions: Vec<[f64; 3]>,
 }
 
 /// The factorised kernel matrix of one set, for weights at any `θₙ`.
@@ -315,11 +402,16 @@ pub struct System {
 }
 
 impl System {
-    /// `Q = K + σ′²I` of the set, factorised.
+    /// `Q = K + σ′²I` of the lobe-morphed spherical Fibonacci set, factorised.
     pub fn new(spec: &Spec) -> Result<System, String> {
+        let xs: Vec<[f64; 3]> = (0..spec.n).map(|j| local_direction(j, spec.n, spec.e)).collect();
+        Self::with_directions(spec, xs)
+    }
+
+    /// `Q = K + σ′²I` of the set `xs` (lobe frame), factorised.
+    pub fn with_directions(spec: &Spec, xs: Vec<[f64; 3]>) -> Result<System, String> {
         let n = spec.n;
         let lambda = spec.lambda();
-        let xs: Vec<[f64; 3]> = (0..n).map(|j| local_direction(j, n, spec.e)).collect();
         let nugget = f64::from(spec.noise).powi(2);
         let mut q = vec![0.0; n * n];
         for i in 0..n {
@@ -363,9 +455,11 @@ impl System {
     /// `∫ε·p ≈ Σ qᵢεᵢ` with `qᵢ = max(0, n·xᵢ)/N` (the lobe-morphed set's importance weights),
     /// so `Cov(∫ε·p, εᵢ) = σ′²qᵢ` and `z` becomes `z + σ′²q`. The estimate is
     /// `β∫p + (z + σ′²q)ᵀQ⁻¹(Y − β1)`: plain BMC as σ′ → 0, the QMC average as σ′ → ∞.
+    /// An optimal set has no QMC rule: its weights are plain BMC's (`q = 0`), as it was
+    /// optimised.
     pub fn weights_at(&self, theta_n: f64) -> (Vec<f64>, f64) {
         let lambda = self.spec.lambda();
-        let nugget = f64::from(self.spec.noise).powi(2);
+        let nugget = if self.spec.optimal { 0.0 } else { f64::from(self.spec.noise).powi(2) };
         let (sn, cn) = theta_n.sin_cos();
         let inv_n = 1.0 / self.spec.n as f64;
         let z: Vec<f64> = self
@@ -385,8 +479,16 @@ impl System {
 }
 
 /// Bakes one set.
-pub fn bake(spec: &Spec) -> Result<Baked, String> {
-    let sys = System::new(spec)?;
+pub fn bake(spec: &Spec, optimal: &[OptimalSet]) -> Result<Baked, String> {
+    let sys = if spec.optimal {
+        let set = optimal
+            .iter()
+            .find(|s| s.e == spec.e && s.directions.len() == spec.n)
+            .ok_or_else(|| format!("no optimal set phong{} N = {}", spec.e, spec.n))?;
+        System::with_directions(spec, set.directions.clone())?
+    } else {
+        System::new(spec)?
+    };
     let mut weights = Vec::with_capacity(spec.n * GRID);
     let mut integral = Vec::with_capacity(GRID);
     for k in 0..GRID {
@@ -394,51 +496,78 @@ pub fn bake(spec: &Spec) -> Result<Baked, String> {
         weights.extend(w);
         integral.push(ip);
     }
-    Ok(Baked { spec: *spec, weights, integral })
+    let directions = if spec.optimal { sys.directions().to_vec() } else { Vec::new() };
+    Ok(Baked { spec: *spec, weights, integral, directions })
 }
 
 /// Bakes every set.
-pub fn bake_all(specs: &[Spec]) -> Result<Vec<Baked>, String> {
-    specs.iter().map(bake).collect()
+pub fn bake_all(specs: &[Spec], optimal: &[OptimalSet]) -> Result<Vec<Baked>, String> {
+    specs.iter().map(|s| bake(s, optimal)).collect()
 }
 
 /// The Rust source that `build.rs` writes to `$OUT_DIR/glossy_tables.rs`.
 pub fn render(sets: &[Baked]) -> String {
     let mut s = String::new();
     s.push_str("// @generated by build.rs; do not edit\n");
-    let _ = writeln!(s, "// From gen/glossy.rs and {CONFIG_FILE}.");
-    let pairs: Vec<String> = sets.iter().map(|b| format!("({}, {})", b.spec.n, b.spec.e)).collect();
-    let _ = writeln!(s, "\n/// The baked (N, e) pairs of the glossy renderer.");
-    let _ = writeln!(
-        s,
-        "pub(crate) const GLOSSY_SETS: [(usize, u32); {}] = [{}];",
-        pairs.len(),
-        pairs.join(", ")
-    );
-    for b in sets {
-        let (n, e) = (b.spec.n, b.spec.e);
+    let _ = writeln!(s, "// From gen/glossy.rs, {CONFIG_FILE} and {OPTIMAL_FILE}.");
+    let list = |optimal: bool| -> Vec<String> {
+        sets.iter()
+            .filter(|b| b.spec.optimal == optimal)
+            .map(|b| format!("({}, {})", b.spec.n, b.spec.e))
+            .collect()
+    };
+    for (name, optimal, what) in
+        [("GLOSSY_SETS", false, "spherical Fibonacci"), ("GLOSSY_OPTIMAL_SETS", true, "optimal")]
+    {
+        let pairs = list(optimal);
+        let _ = writeln!(s, "\n/// The baked (N, e) pairs of the glossy renderer, {what} sets.");
         let _ = writeln!(
             s,
-            "\n/// N = {n}, e = {e}, l = {:?}, σ′ = {:?}: weights node-major, {GRID} nodes of θₙ.",
+            "pub(crate) const {name}: [(usize, u32); {}] = [{}];",
+            pairs.len(),
+            pairs.join(", ")
+        );
+    }
+    for b in sets {
+        let (n, e) = (b.spec.n, b.spec.e);
+        let (tag, kind) = if b.spec.optimal { ("OPT_", "Optimal") } else { ("", "Fibonacci") };
+        let _ = writeln!(
+            s,
+            "\n/// N = {n}, e = {e}, {kind} set, l = {:?}, σ′ = {:?}: weights node-major, {GRID} nodes of θₙ.",
             b.spec.length_scale, b.spec.noise
         );
-        let _ = writeln!(s, "static GLOSSY_{n}_{e}: [u32; {}] = [", b.weights.len());
+        let _ = writeln!(s, "static GLOSSY_{tag}{n}_{e}: [u32; {}] = [", b.weights.len());
         for row in b.weights.chunks(8) {
             let items: Vec<String> =
                 row.iter().map(|&x| format!("0x{:08x}", (x as f32).to_bits())).collect();
             let _ = writeln!(s, "    {},", items.join(", "));
         }
         s.push_str("];\n");
+        let dirs = if b.spec.optimal {
+            let _ = writeln!(s, "static GLOSSY_{tag}DIRS_{n}_{e}: [u32; {}] = [", 3 * n);
+            for d in &b.directions {
+                let items: Vec<String> =
+                    d.iter().map(|&x| format!("0x{:08x}", (x as f32).to_bits())).collect();
+                let _ = writeln!(s, "    {},", items.join(", "));
+            }
+            s.push_str("];\n");
+            format!("&GLOSSY_{tag}DIRS_{n}_{e}")
+        } else {
+            "&[]".to_string()
+        };
         let _ = writeln!(
             s,
-            "impl crate::bmc::glossy::sealed::Sealed<{e}> for crate::bmc::Size<{n}> {{\n    \
+            "impl crate::bmc::glossy::sealed::Sealed<{e}, crate::bmc::glossy::{kind}> for crate::bmc::Size<{n}> {{\n    \
              const SET: crate::bmc::glossy::sealed::Set = crate::bmc::glossy::sealed::Set {{\n        \
-             weights: &GLOSSY_{n}_{e},\n        length_scale: f32::from_bits(0x{:08x}),\n        \
+             weights: &GLOSSY_{tag}{n}_{e},\n        directions: {dirs},\n        length_scale: f32::from_bits(0x{:08x}),\n        \
              noise: f32::from_bits(0x{:08x}),\n    }};\n}}",
             b.spec.length_scale.to_bits(),
             b.spec.noise.to_bits()
         );
-        let _ = writeln!(s, "impl crate::bmc::GlossySize<{e}> for crate::bmc::Size<{n}> {{}}");
+        let _ = writeln!(
+            s,
+            "impl crate::bmc::GlossySize<{e}, crate::bmc::glossy::{kind}> for crate::bmc::Size<{n}> {{}}"
+        );
     }
     s
 }

@@ -4,6 +4,7 @@
 
 use reference::analytic::SgLight;
 use reference::rng::Rng;
+use sphere_quadrature::bmc::glossy::{Fibonacci, Optimal, SampleSet};
 use sphere_quadrature::bmc::{GlossyRenderer, GlossySize, Size};
 use sphere_quadrature::qmc::LobeSampler;
 use sphere_quadrature::{Error, Lobe, Vec3};
@@ -114,14 +115,23 @@ fn generator_sg_route_matches_quadrature_and_the_fit_error_is_small() {
 
 /// The baked weights interpolated at the nodes are the generator's, and between nodes close to
 /// the generator's exact weights at that angle.
-fn check_set<const N: usize, const E: u32>()
+fn check_set<const N: usize, const E: u32, S: SampleSet>(optimal: bool)
 where
-    Size<N>: GlossySize<E>,
+    Size<N>: GlossySize<E, S>,
 {
-    let r = GlossyRenderer::<N, E>::new();
-    let (l, s) = GlossyRenderer::<N, E>::hyperparameters();
-    let spec = gen::glossy::Spec { n: N, e: E, length_scale: l, noise: s };
-    let sys = gen::glossy::System::new(&spec).unwrap();
+    let r = GlossyRenderer::<N, E, S>::new();
+    let (l, s) = GlossyRenderer::<N, E, S>::hyperparameters();
+    let spec = gen::glossy::Spec { n: N, e: E, length_scale: l, noise: s, optimal };
+    let sys = if optimal {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/optimal_sets.txt");
+        let sets = gen::glossy::parse_optimal(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let set = sets.iter().find(|s| s.e == E && s.directions.len() == N).unwrap();
+        // The baked (l, σ′) are the ones the set was optimised for.
+        assert_eq!((l, s), (set.l as f32, set.sigma as f32));
+        gen::glossy::System::with_directions(&spec, set.directions.clone()).unwrap()
+    } else {
+        gen::glossy::System::new(&spec).unwrap()
+    };
     let mut rng = Rng::new(u64::from(E) * 1000 + N as u64);
     let mut worst_node = 0.0f64;
     let mut worst_mid = 0.0f64;
@@ -195,7 +205,7 @@ where
         }
     }
     println!(
-        "N = {N}, e = {E}: weights at nodes {worst_node:.1e} of the largest; estimates between nodes {worst_mid:.1e} relative; directions {worst_dir:.1e}"
+        "N = {N}, e = {E}, optimal = {optimal}: weights at nodes {worst_node:.1e} of the largest; estimates between nodes {worst_mid:.1e} relative; directions {worst_dir:.1e}"
     );
     // At the nodes: f32 rounding and the f32 angle (acos of an f32 dot product).
     assert!(worst_node < 2e-4, "N = {N}, e = {E}: node weights {worst_node:e}");
@@ -207,10 +217,18 @@ where
 
 #[test]
 fn baked_weights_match_the_generator() {
-    check_set::<16, 10>();
-    check_set::<64, 50>();
-    check_set::<128, 50>();
-    check_set::<64, 200>();
+    check_set::<16, 10, Fibonacci>(false);
+    check_set::<64, 50, Fibonacci>(false);
+    check_set::<128, 50, Fibonacci>(false);
+    check_set::<64, 200, Fibonacci>(false);
+    // The optimal sets: weights, and directions equal to the table's (f32).
+    check_set::<16, 50, Optimal>(true);
+    check_set::<64, 50, Optimal>(true);
+    check_set::<64, 200, Optimal>(true);
+    assert_eq!(
+        sphere_quadrature::bmc::glossy::BAKED_OPTIMAL_SETS,
+        &[(16, 50), (64, 50), (80, 50), (32, 10), (64, 200)]
+    );
 }
 
 #[test]
@@ -257,11 +275,11 @@ fn constants_and_bad_input() {
 /// the same N (random phase) for random (n, r): both against quadrature truth.
 #[test]
 fn bmc_beats_qmc_on_smooth_light() {
-    fn run<const N: usize, const E: u32>(rng: &mut Rng) -> (f64, f64)
+    fn run<const N: usize, const E: u32, S: SampleSet>(rng: &mut Rng) -> (f64, f64)
     where
-        Size<N>: GlossySize<E>,
+        Size<N>: GlossySize<E, S>,
     {
-        let r = GlossyRenderer::<N, E>::new();
+        let r = GlossyRenderer::<N, E, S>::new();
         let (mut eb, mut eq, mut tt) = (0.0, 0.0, 0.0);
         for _ in 0..24 {
             let light = SgLight {
@@ -313,9 +331,11 @@ fn bmc_beats_qmc_on_smooth_light() {
         ((eb / 24.0).sqrt() / m, (eq / 24.0).sqrt() / m)
     }
     let mut rng = Rng::new(99);
-    for (label, (b, q)) in
-        [("N = 64, e = 50", run::<64, 50>(&mut rng)), ("N = 16, e = 10", run::<16, 10>(&mut rng))]
-    {
+    for (label, (b, q)) in [
+        ("N = 64, e = 50", run::<64, 50, Fibonacci>(&mut rng)),
+        ("N = 16, e = 10", run::<16, 10, Fibonacci>(&mut rng)),
+        ("N = 64, e = 50, optimal set", run::<64, 50, Optimal>(&mut rng)),
+    ] {
         println!("{label}: BMC {b:.2e}, QMC-SF {q:.2e} relative RMSE");
         assert!(b < q, "{label}: BMC {b} vs QMC-SF {q}");
     }
@@ -355,7 +375,7 @@ where
 {
     let r = GlossyRenderer::<N, E>::new();
     let (l, s) = GlossyRenderer::<N, E>::hyperparameters();
-    let spec = gen::glossy::Spec { n: N, e: E, length_scale: l, noise: s };
+    let spec = gen::glossy::Spec { n: N, e: E, length_scale: l, noise: s, optimal: false };
     let sys = gen::glossy::System::new(&spec).unwrap();
     let mut rng = Rng::new(7 + u64::from(E) * 1000 + N as u64);
     let mut thetas = vec![0.0, 1e-4, 1e-3, 1e-2, 0.5 * PI - 1e-2, 0.5 * PI - 1e-3, 0.5 * PI - 1e-4];
@@ -458,4 +478,59 @@ fn interpolation_error_in_theta_is_small() {
         assert!(e.constant < constant, "{label}: constant {:e}", e.constant);
         assert!(e.smooth < smooth, "{label}: smooth lights {:e}", e.smooth);
     }
+}
+
+/// `tables/glossy.txt` lines without `l sigma` take the learned `err` rows, interpolated in
+/// `ln e`; `optimal = N e` takes the optimal set and its own `(l, σ′)`; bad lines are refused
+/// with the line and the reason.
+#[test]
+fn table_lines_take_learned_hyperparameters_and_bad_lines_are_refused() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let learned = gen::glossy::parse_learned(
+        &std::fs::read_to_string(format!("{root}/tables/renderer_hyperparameters.txt")).unwrap(),
+    )
+    .unwrap();
+    let optimal = gen::glossy::parse_optimal(
+        &std::fs::read_to_string(format!("{root}/tables/optimal_sets.txt")).unwrap(),
+    )
+    .unwrap();
+    let row = |e: u32, n: usize| learned.iter().find(|r| r.e == e && r.n == n).copied().unwrap();
+    let specs = gen::glossy::parse(
+        "glossy = 64 50\nglossy = 32 30\nglossy = 32 1000\n",
+        &learned,
+        &optimal,
+    )
+    .unwrap();
+    // A learned exponent: its row, and what the crate baked.
+    let r = row(50, 64);
+    assert_eq!((specs[0].length_scale, specs[0].noise), (r.l as f32, r.sigma as f32));
+    assert_eq!(GlossyRenderer::<64, 50>::hyperparameters(), (r.l as f32, r.sigma as f32));
+    // e = 30 between the learned 20 and 50: geometric in the exponent's logarithm.
+    let (a, b) = (row(20, 32), row(50, 32));
+    let t = (30f64 / 20.0).ln() / (50f64 / 20.0).ln();
+    let want = (a.l.powf(1.0 - t) * b.l.powf(t), a.sigma.powf(1.0 - t) * b.sigma.powf(t));
+    assert!((f64::from(specs[1].length_scale) / want.0 - 1.0).abs() < 1e-6, "{specs:?}");
+    assert!((f64::from(specs[1].noise) / want.1 - 1.0).abs() < 1e-6, "{specs:?}");
+    // Beyond the largest learned exponent: its row.
+    let c = row(500, 32);
+    assert_eq!((specs[2].length_scale, specs[2].noise), (c.l as f32, c.sigma as f32));
+    // Optimal sets carry their own (l, σ′).
+    let o = gen::glossy::parse("optimal = 64 50\n", &learned, &optimal).unwrap();
+    let set = optimal.iter().find(|s| s.e == 50 && s.directions.len() == 64).unwrap();
+    assert!(o[0].optimal && o[0].length_scale == set.l as f32 && o[0].noise == set.sigma as f32);
+    for (bad, what) in [
+        ("glossy = 48 50\n", "no learned hyperparameters for N = 48"),
+        ("optimal = 48 50\n", "no optimal set phong50 N = 48"),
+        ("optimal = 64\n", "expected `optimal = N e`"),
+        ("glossy = 64 50\nglossy = 64 50\n", "appears twice"),
+        ("optimal = 64 50\noptimal = 64 50\n", "appears twice"),
+        ("glossy = 64 50 0.5\n", "expected `glossy = N e [l sigma]`"),
+        ("glossy = 64 0\n", "1..=10000"),
+    ] {
+        let e = gen::glossy::parse(bad, &learned, &optimal).unwrap_err();
+        assert!(e.contains(what) && e.starts_with("line "), "{bad:?}: {e}");
+    }
+    // A truncated optimal set is refused with its line.
+    let e = gen::glossy::parse_optimal("set phong50 3 0.5 0.1 1 1\n1 0 0\n0 1 0\n").unwrap_err();
+    assert!(e.contains("ends early"), "{e}");
 }

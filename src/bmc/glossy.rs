@@ -43,6 +43,26 @@
 //! # Ok::<(), sphere_quadrature::Error>(())
 //! ```
 //!
+//! # Optimal sets
+//! `GlossyRenderer<N, E, Optimal>` samples the optimal set of `(N, e)` instead (the
+//! directions minimising the model's posterior variance; `examples/optimal_sets.rs`,
+//! `docs/optimal_sets.md`), with plain BMC weights for the `(l, σ′)` it was optimised for.
+//! It is many times better than the Fibonacci set on smooth light and no better on
+//! point-sampled real maps (`docs/renderer.md`, estimator `bmc-opt`).
+//!
+//! ```
+//! use sphere_quadrature::bmc::{glossy::Optimal, GlossyRenderer};
+//! use sphere_quadrature::Vec3;
+//!
+//! let r = GlossyRenderer::<64, 50, Optimal>::new();
+//! let (n, mirror) = (Vec3::Z, Vec3::new(0.6, 0.0, 0.8));
+//! let mut dirs = [Vec3::Z; 64];
+//! r.directions(n, mirror, &mut dirs)?;
+//! let e = r.estimate(n, mirror, &[2.0f32; 64])?;
+//! assert!(e > 1.4 && e < 1.8);
+//! # Ok::<(), sphere_quadrature::Error>(())
+//! ```
+//!
 //! # Bad input
 //! A zero or non-finite normal or mirror direction gives [`Error::InvalidDirection`]; a mirror
 //! direction below the horizon (`r·n < 0`) is treated as grazing (`θₙ = π/2`).
@@ -59,14 +79,34 @@ use crate::warp::{Frame, Lobe};
 /// denser in `r·n` there (`gen/glossy.rs` emits tables of `GRID·N` weights).
 pub const GRID: usize = 97;
 
-/// Implemented for exactly the sizes `N` whose glossy weights are baked for exponent `E`;
-/// sealed.
+/// Implemented for exactly the sizes `N` whose glossy weights are baked for exponent `E` and
+/// sample set `S`; sealed.
 #[diagnostic::on_unimplemented(
-    message = "no glossy Bayesian Monte Carlo weights are baked for `{Self}` and e = {E}",
-    label = "this sample count and Phong exponent have no baked weights",
-    note = "the baked (N, e) pairs are in tables/glossy.txt"
+    message = "no glossy Bayesian Monte Carlo weights are baked for `{Self}`, e = {E} and the set `{S}`",
+    label = "this sample count, Phong exponent and sample set have no baked weights",
+    note = "the baked (N, e) pairs are in tables/glossy.txt (`glossy = N e` for the Fibonacci set, `optimal = N e` for the optimal one)"
 )]
-pub trait GlossySize<const E: u32>: sealed::Sealed<E> {}
+pub trait GlossySize<const E: u32, S: SampleSet = Fibonacci>: sealed::Sealed<E, S> {}
+
+/// The sample set of a [`GlossyRenderer`]; sealed: [`Fibonacci`] or [`Optimal`].
+pub trait SampleSet: sealed::Kind {}
+
+/// The lobe-morphed hemisphere spherical Fibonacci set (the QMC-SF samples), the default; the
+/// weights read the nugget as a rough part that the set's QMC rule integrates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Fibonacci;
+
+/// The optimal set of `tables/optimal_sets.txt` for `(N, e)`: the `N` directions that minimise
+/// the model's posterior variance (`examples/optimal_sets.rs`, issue #12), with plain BMC
+/// weights for the `(l, σ′)` it was optimised for. Baked for the pairs of the `optimal = N e`
+/// lines of `tables/glossy.txt` ([`BAKED_OPTIMAL_SETS`]); `12·N` more bytes of directions.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Optimal;
+
+impl SampleSet for Fibonacci {}
+impl SampleSet for Optimal {}
 
 pub(crate) mod sealed {
     /// What `build.rs` baked for one `(N, e)`.
@@ -74,17 +114,33 @@ pub(crate) mod sealed {
     pub struct Set {
         /// `GRID·N` weights (f32 bits), node-major.
         pub weights: &'static [u32],
+        /// `3·N` lobe-frame coordinates `(t₁, t₂, r)` (f32 bits) of an optimal set; empty for
+        /// the Fibonacci set.
+        pub directions: &'static [u32],
         pub length_scale: f32,
         pub noise: f32,
     }
 
-    pub trait Sealed<const E: u32> {
+    pub trait Sealed<const E: u32, S> {
         const SET: Set;
+    }
+
+    pub trait Kind {
+        const OPTIMAL: bool;
+    }
+    impl Kind for super::Fibonacci {
+        const OPTIMAL: bool = false;
+    }
+    impl Kind for super::Optimal {
+        const OPTIMAL: bool = true;
     }
 }
 
-/// The baked `(N, e)` pairs.
+/// The baked `(N, e)` pairs of the Fibonacci set.
 pub const BAKED_SETS: &[(usize, u32)] = &crate::tables::GLOSSY_SETS;
+
+/// The baked `(N, e)` pairs of the optimal sets.
+pub const BAKED_OPTIMAL_SETS: &[(usize, u32)] = &crate::tables::GLOSSY_OPTIMAL_SETS;
 
 /// Flash of all baked glossy weights in bytes (`4·GRID·N` per set; only the sets a program
 /// uses are linked).
@@ -99,23 +155,26 @@ pub const TABLE_BYTES: usize = {
 };
 
 /// Bayesian Monte Carlo of the Phong lobe (exponent `E`) with the cosine factor, from `N`
-/// lobe-morphed spherical Fibonacci samples with baked weights. Zero-sized.
+/// samples of the set `S` ([`Fibonacci`] by default, or [`Optimal`]) with baked weights.
+/// Zero-sized.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct GlossyRenderer<const N: usize, const E: u32>
+pub struct GlossyRenderer<const N: usize, const E: u32, S: SampleSet = Fibonacci>(
+    core::marker::PhantomData<S>,
+)
 where
-    Size<N>: GlossySize<E>;
+    Size<N>: GlossySize<E, S>;
 
-impl<const N: usize, const E: u32> GlossyRenderer<N, E>
+impl<const N: usize, const E: u32, S: SampleSet> GlossyRenderer<N, E, S>
 where
-    Size<N>: GlossySize<E>,
+    Size<N>: GlossySize<E, S>,
 {
-    const SET: sealed::Set = <Size<N> as sealed::Sealed<E>>::SET;
+    const SET: sealed::Set = <Size<N> as sealed::Sealed<E, S>>::SET;
 
     /// The renderer.
     #[must_use]
     pub const fn new() -> Self {
-        Self
+        Self(core::marker::PhantomData)
     }
 
     /// The kernel's `(l, σ′)`.
@@ -138,12 +197,23 @@ where
     }
 
     /// Writes the `N` sample directions for normal `n` and mirror direction `r` (both
-    /// normalised first).
+    /// normalised first): the set `S` in the frame `(t₁, t₂, r)`, `t₁` towards `n`.
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite vector.
     pub fn directions(&self, normal: Vec3, mirror: Vec3, out: &mut [Vec3; N]) -> Result<(), Error> {
         let ([t1, t2, r], _) = Self::frame(normal, mirror)?;
+        if <S as sealed::Kind>::OPTIMAL {
+            let local = Self::SET.directions.chunks_exact(3);
+            if local.len() != N {
+                return Err(Error::InvalidParameter);
+            }
+            for (slot, d) in out.iter_mut().zip(local) {
+                let [x, y, z] = [d[0], d[1], d[2]].map(f32::from_bits);
+                *slot = t1 * x + t2 * y + r * z;
+            }
+            return Ok(());
+        }
         let set = FibonacciPoints::hemisphere(N)?;
         let lobe = Lobe::Phong(E as f32);
         for (j, slot) in out.iter_mut().enumerate() {
