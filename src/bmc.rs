@@ -70,31 +70,32 @@
 //!
 //! | N | l | σ′ | Σ\|w\|/Σw | cond(Q) | σ(E) for σ_f = 1 |
 //! | --- | --- | --- | --- | --- | --- |
-//! | 16 | 0.7 | 10⁻⁴ | 1.000 | 23 | 8.7·10⁻² |
-//! | 32 | 0.85 | 0.1 | 1.000 | 7.3·10² | 6.4·10⁻² |
-//! | 64 | 0.7 | 0.01 | 1.000 | 7.1·10⁴ | 4.6·10⁻³ |
-//! | 128 | 0.7 | 10⁻³ | 1.000 | 2.5·10⁷ | 3.2·10⁻⁴ |
-//! | 256 | 0.6 | 10⁻⁴ | 1.000 | 4.0·10⁹ | 2.3·10⁻⁵ |
+//! | 16 | 0.9051 | 0.1 | 1.000 | 3.8·10² | 0.100 |
+//! | 32 | 0.9051 | 0.1 | 1.000 | 1.3·10³ | 0.060 |
+//! | 64 | 0.9051 | 0.1 | 1.000 | 2.6·10³ | 0.040 |
+//! | 80 | 0.9051 | 0.03 | 1.000 | 3.6·10⁴ | 0.011 |
+//! | 128 | 0.9051 | 0.1 | 1.000 | 5.2·10³ | 0.028 |
+//! | 256 | 0.9051 | 0.1 | 1.000 | 1.0·10⁴ | 0.020 |
 //!
-//! 1 984 bytes of weights in all ([`TABLE_BYTES`]).
+//! 2 304 bytes of weights in all ([`TABLE_BYTES`]).
 //!
 //! # Accuracy
 //! Measured by `tests/bmc.rs`, identical under `libm` and `micromath`:
 //! - The baked f32 weights agree with the independent f64 reference (other point formula,
-//!   `zᵢ` by I₀ₑ quadrature, LU solves) to 2.5–5·10⁻⁸ of the largest weight for N ≤ 128 (f32
-//!   rounding) and 1.4·10⁻⁶ at N = 256, where the learned nugget σ′ = 10⁻⁴ makes
-//!   cond(Q) = 4·10⁹ and the two f64 solves themselves differ by that much. `Σw − 1` is
-//!   below 10⁻⁸.
+//!   `zᵢ` by I₀ₑ quadrature, LU solves) to 3.4–4.7·10⁻⁸ of the largest weight (f32
+//!   rounding); `Σw − 1` is below 1.3·10⁻⁸.
+//! - On real maps (`examples/renderer.rs`, `docs/renderer.md`, held-out maps) the renderer
+//!   ties QMC-SF on the same samples on the `clamp` tier (0.98–1.07× at N = 32–128) and is
+//!   0.46–0.50× QMC-SF on the `smooth` tier.
 //! - Relative RMS error of irradiance of single spherical-Gaussian lights (sharpness 2…20,
 //!   400 seeded normals, axes and phases), BMC vs the QMC estimator
-//!   [`crate::qmc::irradiance`]: N = 16: 11.3 % vs 11.7 %; 32: 1.9 % vs 3.4 %; 64: 0.17 % vs
-//!   1.3 %; 128: 7.9·10⁻⁵ vs 6.4·10⁻³; 256: 1.3·10⁻⁶ vs 2.1·10⁻³.
-//! - On the synthetic tier (mixtures of 1–4 SGs plus a constant, 10 held-out
-//!   mixtures; `examples/accuracy.rs`, `docs/accuracy.md`) BMC is 0.048× QMC-SF at N = 64.
-//!   On point-sampled real maps (`clamp` tier) it is *worse* than QMC-SF (29.7 % vs 24.7 % at
-//!   N = 64): these hyperparameters assume smooth light.
-//! - Posterior variance: in units of σ_f² (σ_f = 1 here); the probe form estimates σ_f from
-//!   its samples.
+//!   [`crate::qmc::irradiance`]: N = 16: 14.6 % vs 11.7 %; 32: 4.4 % vs 3.4 %; 64: 1.36 % vs
+//!   1.31 %; 80: 1.11 % vs 0.91 %; 128: 0.52 % vs 0.64 %; 256: 0.18 % vs 0.21 %. Lights this
+//!   sharp want a shorter kernel: the preset `tables/bmc_smooth.txt` (uniform set, learned on
+//!   such fields) gives 0.13× QMC-SF at N = 64 and 0.048× on the synthetic tier of
+//!   `docs/accuracy.md` (the shipped table: 0.495×).
+//! - Posterior variance: in units of σ_f² (σ_f = 1 here), for the plain model (the nugget as
+//!   noise); the probe form estimates σ_f from its samples.
 //!
 //! # Bad input
 //! A zero, NaN or infinite normal gives [`Error::InvalidDirection`]; NaN radiance propagates
