@@ -58,8 +58,20 @@ fn main() {
         .map_err(|e| e.to_string())
         .and_then(|t| gen::glossy::parse_optimal(&t))
         .unwrap_or_else(|e| panic!("{optimal_file}: {e}"));
-    let specs = gen::glossy::parse(&text, &learned, &optimal)
+    let mut specs = gen::glossy::parse(&text, &learned, &optimal)
         .unwrap_or_else(|e| panic!("{glossy_file}: {e}"));
+    // The feature `renderer-sweep` adds the renderer benchmark's other sets.
+    if std::env::var_os("CARGO_FEATURE_RENDERER_SWEEP").is_some() {
+        let file = gen::glossy::SWEEP_FILE;
+        let text = std::fs::read_to_string(file).unwrap_or_else(|e| panic!("reading {file}: {e}"));
+        let extra =
+            gen::glossy::parse(&text, &learned, &optimal).unwrap_or_else(|e| panic!("{file}: {e}"));
+        for spec in extra {
+            if !specs.iter().any(|s| s.n == spec.n && s.e == spec.e && s.optimal == spec.optimal) {
+                specs.push(spec);
+            }
+        }
+    }
     let sets =
         gen::glossy::bake_all(&specs, &optimal).unwrap_or_else(|e| panic!("{glossy_file}: {e}"));
     write_if_changed(&out_dir.join("glossy_tables.rs"), &gen::glossy::render(&sets));

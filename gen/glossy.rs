@@ -35,6 +35,9 @@ use std::fmt::Write as _;
 /// The file in `tables/` that says what to bake.
 pub const CONFIG_FILE: &str = "tables/glossy.txt";
 
+/// The renderer benchmark's further sets, baked with the feature `renderer-sweep`.
+pub const SWEEP_FILE: &str = "tables/glossy_sweep.txt";
+
 /// Nodes of `θₙ = acos(r·n)` over `[0, π/2]`, graded towards grazing ([`grid_angle`]).
 pub const GRID: usize = 97;
 
