@@ -60,6 +60,10 @@ mod compare;
 #[path = "common/tiers.rs"]
 mod tiers;
 
+#[path = "common/parallel.rs"]
+mod parallel;
+
+use parallel::parallel_map;
 use std::error::Error;
 use std::f64::consts::PI;
 use std::fmt::Write as _;
@@ -364,34 +368,6 @@ fn evaluate_scene(scene: &Scene, normals: &[[f64; 3]], p: &Params) -> [Outcome; 
         evaluate::<128>(scene, normals, p),
         evaluate::<256>(scene, normals, p),
     ]
-}
-
-/// Runs `f` on every item with `threads` workers pulling from a shared counter; results in
-/// item order.
-fn parallel_map<I: Sync, O: Send>(
-    items: &[I],
-    threads: usize,
-    f: impl Fn(&I) -> O + Sync,
-) -> Vec<O> {
-    let next = AtomicUsize::new(0);
-    let mut results: Vec<(usize, O)> = std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..threads.max(1))
-            .map(|_| {
-                scope.spawn(|| {
-                    let mut mine = Vec::new();
-                    loop {
-                        let i = next.fetch_add(1, Ordering::Relaxed);
-                        let Some(item) = items.get(i) else { break };
-                        mine.push((i, f(item)));
-                    }
-                    mine
-                })
-            })
-            .collect();
-        handles.into_iter().flat_map(|h| h.join().expect("worker thread")).collect()
-    });
-    results.sort_by_key(|(i, _)| *i);
-    results.into_iter().map(|(_, o)| o).collect()
 }
 
 /// Ground truth of each map (all of one grid size share the pixel weights).
@@ -957,14 +933,15 @@ fn main() -> Result<(), Box<dyn Error>> {
         .collect::<Result<_, _>>()
         .map_err(|e| format!("cannot load a map: {e}"))?;
     let clamped: Vec<EnvMap> = raw.iter().map(compare::clamped).collect();
-    let smooth: Vec<EnvMap> = parallel_map(&clamped, p.threads, tiers::smooth);
+    let smooth: Vec<EnvMap> = parallel_map(&clamped, p.threads, |_, m| tiers::smooth(m));
     eprintln!("tiers built ({:.1} s)", start.elapsed().as_secs_f64());
     let grid_maps: Vec<&EnvMap> = raw.iter().chain(&clamped).chain(&smooth).collect();
     let mut truths = map_truths(&grid_maps, &normals).into_iter();
     eprintln!("map ground truth ({:.1} s)", start.elapsed().as_secs_f64());
     let mixtures = tiers::mixtures(p.mixtures, SEED_SYNTHETIC);
-    let mixture_truths =
-        parallel_map(&mixtures, p.threads, |m| normals.iter().map(|&n| m.irradiance(n)).collect());
+    let mixture_truths = parallel_map(&mixtures, p.threads, |_, m| {
+        normals.iter().map(|&n| m.irradiance(n)).collect()
+    });
     eprintln!("synthetic ground truth ({:.1} s)", start.elapsed().as_secs_f64());
 
     let mut scenes: Vec<(usize, Scene)> = Vec::new();
@@ -986,7 +963,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     }
 
     let done = AtomicUsize::new(0);
-    let outcomes = parallel_map(&scenes, p.threads, |(t, s)| {
+    let outcomes = parallel_map(&scenes, p.threads, |_, (t, s)| {
         let o = evaluate_scene(s, &normals, &p);
         let d = done.fetch_add(1, Ordering::Relaxed) + 1;
         eprintln!(
