@@ -15,8 +15,10 @@
 //! `k(x, x′) = exp(λ(x·x′ − 1))` (`λ = 2/l²`, σ_f = 1), `Q = K + σ′²I`, `zᵢ = ∫ k(xᵢ, x)p(x) dx`,
 //! constant prior mean by GLS: `Var = V̄ − zᵀQ⁻¹z + (∫p − 1ᵀQ⁻¹z)²/(1ᵀQ⁻¹1)`. `(l, σ′)` per
 //! (key, N) from the `err` rows (the hyperparameters the crate bakes) of `tables/renderer_hyperparameters.txt`: `diffuse-cos` for
-//! diffuse; for `phongE` the row of that exponent, else l and σ′ interpolated linearly in
-//! `log e` between the nearest available `phong*` keys (clamped at the ends).
+//! diffuse; for `phongE` the row of that exponent, else `ln l` and `ln σ′` interpolated
+//! linearly in `ln e` between the nearest available `phong*` keys (clamped at the ends) by
+//! the crate's own rule, `gen::glossy::interpolate`, so that a set is optimised for what
+//! `build.rs` bakes.
 //!
 //! # Objective
 //! Diffuse: `Var` of `p = max(0, n·x)` in the frame of `n`. Phong: in the lobe frame (t₁
@@ -53,6 +55,9 @@
 
 #[path = "common/renderer_engine.rs"]
 mod engine;
+#[allow(dead_code)]
+#[path = "../gen/mod.rs"]
+mod gen;
 #[allow(dead_code)]
 #[path = "common/optimal.rs"]
 mod optimal;
@@ -260,21 +265,23 @@ impl Hypers {
             (Some(f), Some(l)) => (*f, *l),
             _ => return Err(format!("no `err phong* {n}` rows in the hyperparameters")),
         };
-        if let Some((_, r)) = avail.iter().find(|a| a.0 == e) {
-            return Ok((r.2, r.3, r.0.clone()));
-        }
-        if e <= first.0 {
-            return Ok((first.1 .2, first.1 .3, format!("{} (clamped)", first.1 .0)));
-        }
-        if e >= last.0 {
-            return Ok((last.1 .2, last.1 .3, format!("{} (clamped)", last.1 .0)));
-        }
-        let k = avail.iter().position(|a| a.0 > e).expect("e below the largest key");
-        let ((e0, r0), (e1, r1)) = (avail[k - 1], avail[k]);
-        let t = (e.ln() - e0.ln()) / (e1.ln() - e0.ln());
-        let l = r0.2 + t * (r1.2 - r0.2);
-        let s = r0.3 + t * (r1.3 - r0.3);
-        Ok((l, s, format!("{}–{} at {t:.3} in log e", r0.0, r1.0)))
+        // The values: the build script's rule; here only the report's `from` column.
+        let learned: Vec<gen::glossy::Learned> = avail
+            .iter()
+            .map(|&(e, r)| gen::glossy::Learned { e: e as u32, n, l: r.2, sigma: r.3 })
+            .collect();
+        let (l, s) = gen::glossy::interpolate(&learned, n, e as u32)?;
+        let from = if let Some((_, r)) = avail.iter().find(|a| a.0 == e) {
+            r.0.clone()
+        } else if e <= first.0 {
+            format!("{} (clamped)", first.1 .0)
+        } else if e >= last.0 {
+            format!("{} (clamped)", last.1 .0)
+        } else {
+            let k = avail.iter().position(|a| a.0 > e).expect("e below the largest key");
+            format!("{}–{} in ln e", avail[k - 1].1 .0, avail[k].1 .0)
+        };
+        Ok((l, s, from))
     }
 }
 
@@ -1155,7 +1162,8 @@ fn self_test(hypers: &Hypers) -> Result<(), Box<dyn Error>> {
     for (key, want) in [
         ("phong5", (0.64, 1.0)),
         ("phong10", (0.64, 1.0)),
-        ("phong20", (0.64 - 0.32 * t, 1.0 - 0.5 * t)),
+        // ln l and ln σ′ linear in ln e: both halve from e = 10 to 50.
+        ("phong20", (0.64 * 0.5f64.powf(t), 0.5f64.powf(t))),
         ("phong500", (0.32, 0.5)),
     ] {
         let (l, s, src) = h.get(key, 32)?;
@@ -1217,9 +1225,9 @@ fn table_text(outcomes: &[Outcome], o: &Options, hyper_path: &Path) -> String {
     let _ = writeln!(t, "# Hyperparameters (l, σ′) from the `err` rows of {}:", rel(hyper_path));
     let _ = writeln!(
         t,
-        "# diffuse-cos for diffuse; phongE by its row, else linear in log e between the nearest"
+        "# diffuse-cos for diffuse; phongE by its row, else ln l and ln σ′ linear in ln e between"
     );
-    let _ = writeln!(t, "# phong keys (clamped at the ends). Used here:");
+    let _ = writeln!(t, "# the nearest phong keys (clamped at the ends; as build.rs). Used here:");
     for oc in outcomes {
         let _ = writeln!(
             t,
@@ -1305,8 +1313,8 @@ fn report(
          the frame of n. Phong: `p = (e+1)/(2π)·max(0, r·x)ᵉ·max(0, n·x)`, the set in the \
          lobe frame (t₁ towards n, t₂, r), Var averaged over the queries' `t = r·n` (density \
          2t) by a {THETA_NODES}-node Gauss–Legendre rule in t. (l, σ′) per (key, N) from the \
-         `err` rows of `tables/renderer_hyperparameters.txt` (column `from`; interpolated \
-         linearly in log e between keys, clamped at the ends). The optimiser: Riemannian \
+         `err` rows of `tables/renderer_hyperparameters.txt` (column `from`; ln l and ln σ′ \
+         interpolated linearly in ln e between keys, clamped at the ends, as `build.rs` does). The optimiser: Riemannian \
          gradient descent with the analytic gradient (checked against central differences \
          by `--self-test`), Barzilai–Borwein steps and non-monotone Armijo backtracking, \
          from the renderer's BMC-SF set (the morphed SF set at phase 0), the SF set at phase \

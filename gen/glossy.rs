@@ -135,7 +135,11 @@ pub fn interpolate(learned: &[Learned], n: usize, e: u32) -> Result<(f64, f64), 
     if e >= last.e {
         return Ok((last.l, last.sigma));
     }
-    let k = rows.iter().position(|r| r.e >= e).unwrap_or(rows.len() - 1);
+    if let Some(r) = rows.iter().find(|r| r.e == e) {
+        // A learned exponent is its row, exactly (not exp(ln x) of it).
+        return Ok((r.l, r.sigma));
+    }
+    let k = rows.iter().position(|r| r.e > e).unwrap_or(rows.len() - 1);
     let (a, b) = (rows[k - 1], rows[k]);
     let t = (f64::from(e).ln() - f64::from(a.e).ln()) / (f64::from(b.e).ln() - f64::from(a.e).ln());
     let mix = |x: f64, y: f64| (x.ln() + t * (y.ln() - x.ln())).exp();
