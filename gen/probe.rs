@@ -430,11 +430,19 @@ pub struct Spec {
     pub sigma: f32,
     /// Sharpnesses `λ` of the family, strictly increasing (rounded to f32 first).
     pub lambdas: Vec<f32>,
+    /// Per member, the error-bar calibration factors `[irradiance, μ = 7, μ = 22, μ = 102]`
+    /// (`calibration = …` lines; 1 where none is given).
+    pub calibration: Vec<[f32; 4]>,
 }
+
+/// The largest calibration factor a config may give.
+pub const MAX_CALIBRATION: f32 = 1e6;
 
 /// Parses the config: `probe = N sigma lambda1 lambda2 …` lines (point samples),
 /// `footprint = N gaussian S sigma nu1 nu2 …` and `footprint = N cosine P sigma lambda1 …`
-/// lines (footprint samples); `#` starts a comment.
+/// lines (footprint samples), and `calibration = N lambda c_irradiance c_7 c_22 c_102` lines
+/// (error-bar factors of the point member `λ` of size `N`, after its `probe` line); `#` starts
+/// a comment.
 ///
 /// `N` even, in 2..=[`MAX_N`]; point lines strictly increasing in `N`; no `(N, footprint)`
 /// twice; `σ′` finite and positive; 1..=[`MAX_MEMBERS`] sharpnesses, finite, in (0, 10⁴],
@@ -453,6 +461,10 @@ pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
                 .and_then(|r| r.trim_start().strip_prefix('='))
                 .map(|r| r.split_whitespace().collect::<Vec<&str>>())
         };
+        if let Some(f) = key_value("calibration") {
+            calibration_line(&f, &mut specs).map_err(at)?;
+            continue;
+        }
         let (footprint, fields) = if let Some(f) = key_value("probe") {
             (Footprint::Point, f)
         } else if let Some(f) = key_value("footprint") {
@@ -530,12 +542,44 @@ pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
         if lambdas.len() > MAX_MEMBERS {
             return Err(at(format!("at most {MAX_MEMBERS} lambdas per size")));
         }
-        specs.push(Spec { n, footprint, sigma, lambdas });
+        let calibration = vec![[1.0; 4]; lambdas.len()];
+        specs.push(Spec { n, footprint, sigma, lambdas, calibration });
     }
     if !specs.iter().any(|s| s.footprint == Footprint::Point) {
         return Err("no `probe = …` line".into());
     }
     Ok(specs)
+}
+
+/// Applies one `calibration = N lambda c…` line to the point member it names.
+fn calibration_line(f: &[&str], specs: &mut [Spec]) -> Result<(), String> {
+    let [n, lambda, c @ ..] = f else {
+        return Err("expected `calibration = N lambda c_irradiance c_7 c_22 c_102`".into());
+    };
+    if c.len() != 4 {
+        return Err("expected `calibration = N lambda c_irradiance c_7 c_22 c_102`".into());
+    }
+    let n: usize = n.parse().map_err(|e| format!("N `{n}`: {e}"))?;
+    let l: f32 = lambda.parse().map_err(|e| format!("lambda `{lambda}`: {e}"))?;
+    let mut factors = [1.0f32; 4];
+    for (x, s) in factors.iter_mut().zip(c) {
+        *x = s.parse().map_err(|e| format!("calibration factor `{s}`: {e}"))?;
+        if !(x.is_finite() && *x > 0.0 && *x <= MAX_CALIBRATION) {
+            return Err(format!("calibration factor {s} must be in (0, {MAX_CALIBRATION:e}]"));
+        }
+    }
+    let spec = specs
+        .iter_mut()
+        .find(|s| s.n == n && s.footprint == Footprint::Point)
+        .ok_or_else(|| format!("calibration for N = {n}: no earlier `probe = {n} …` line"))?;
+    let k =
+        spec.lambdas.iter().position(|&x| x == l).ok_or_else(|| {
+            format!("calibration for N = {n}: lambda {lambda} is not in its family")
+        })?;
+    if let Some(slot) = spec.calibration.get_mut(k) {
+        *slot = factors;
+    }
+    Ok(())
 }
 
 /// Direction j of the N-point sphere spherical Fibonacci set (the crate's
@@ -1047,6 +1091,8 @@ pub fn render(specs: &[Spec], baked: &[Vec<Member>]) -> String {
             let _ = writeln!(s, "        z: &{},", z_name(spec.footprint, l));
             let grid: Vec<String> = mb.glossy_variance.iter().map(|&v| bits(v as f32)).collect();
             let _ = writeln!(s, "        glossy_variance: [{}],", grid.join(", "));
+            let cal: Vec<String> = spec.calibration[k].iter().map(|&c| bits(c)).collect();
+            let _ = writeln!(s, "        calibration: [{}],", cal.join(", "));
             for (name, x) in [
                 ("lambda", l),
                 ("sigma", spec.sigma),

@@ -31,6 +31,19 @@
 //!   posterior variance `π²(V̄ − zᵀQ⁻¹z + (1 − 1ᵀQ⁻¹z)²/1ᵀQ⁻¹1)` (Rasmussen and Williams
 //!   2006, eq. 2.42). [`Probe::irradiance`] uses the unit variance averaged over directions
 //!   (baked; O(1)); [`Probe::posterior_variance`] computes it exactly for `n` in O(N²).
+//! - **Calibration**: on real lighting that bar is too narrow (point samples alias bright
+//!   features the model does not see: 2σ held for 51–60 % of irradiance queries on the
+//!   `clamp` tier of the held-out maps). Every variance the probe reports is therefore
+//!   multiplied by a per-member factor [`Member::calibration`] (irradiance; glossy at lobe
+//!   sharpness μ = 7, 22, 102, linear in `ln μ` between), fitted offline so that 95 % of the
+//!   errors on the training maps fall within 2σ (`examples/probe_trust.rs` writes the
+//!   `calibration = …` lines of `tables/probe.txt`; `docs/probe_trust.md`). On the held-out
+//!   maps, with the f64 engine of that program, 2σ then holds for 94–99 % of the `clamp`
+//!   queries and 96–100 % of the `smooth` ones at N = 16 … 256 (irradiance and Phong
+//!   e = 5, 20, 100); the crate's own figures are in `docs/accuracy.md` and `docs/glossy.md`.
+//!   The factors range from 0.2 to 744: a member chosen mostly on aliased data gets wide bars
+//!   on smooth data too (the smooth tier's N = 16 bars over-cover, 100 %). Divide by the
+//!   factor for the model's own variance.
 //!
 //! ```
 //! use sphere_quadrature::{probe::Probe, Vec3};
@@ -167,6 +180,8 @@ pub(crate) mod sealed {
         pub z: &'static [[f32; 3]; super::Z_NODES],
         /// Direction-averaged unit glossy variance over `F(μ)²` on the grid.
         pub glossy_variance: [f32; super::GLOSSY_GRID],
+        /// Error-bar calibration `[irradiance, μ = 7, μ = 22, μ = 102]`.
+        pub calibration: [f32; 4],
         pub lambda: f32,
         pub sigma: f32,
         pub s1: f32,
@@ -210,6 +225,11 @@ pub struct Member {
     pub mean_variance: f32,
     /// Its maximum over the same normals.
     pub max_variance: f32,
+    /// The error-bar calibration of this member: the factors by which every variance the
+    /// probe reports is multiplied, `[irradiance, glossy at μ = 7, μ = 22, μ = 102]` (glossy:
+    /// linear in `ln μ` between, constant outside; see "Error bars" in the module docs).
+    /// 1 for a member without a `calibration = …` line.
+    pub calibration: [f32; 4],
 }
 
 /// How [`Probe::update_with`] picks the family member.
@@ -479,7 +499,8 @@ where
             let [v, s, c] = f.z[(k as usize).min(Z_NODES - 1)];
             acc = acc.mul_add(a, v + t * (s + t * c));
         }
-        Ok(Estimate { value: acc, variance: self.signal_variance.scale(f.mean_variance) })
+        let unit = f.mean_variance * f.calibration[0];
+        Ok(Estimate { value: acc, variance: self.signal_variance.scale(unit) })
     }
 
     /// The exact posterior variance of `E(n)` (σ̂_f² times the unit variance at `n`), O(N²).
@@ -494,7 +515,7 @@ where
             None => 0.0,
         });
         let v = self.unit_variance(f, &zeta, core::f64::consts::PI, f64::from(f.vbar));
-        Ok(self.signal_variance.scale(v as f32))
+        Ok(self.signal_variance.scale(v as f32 * f.calibration[0]))
     }
 
     /// Glossy radiance `∫ L(x)·G(x) dx` for a spherical-Gaussian lobe
@@ -555,7 +576,7 @@ where
             };
             acc = acc.mul_add(a, scale * e * h);
         }
-        let unit = full * full * glossy_grid_lookup(&f.glossy_variance, mu);
+        let unit = full * full * glossy_grid_lookup(&f.glossy_variance, mu) * calibration(f, mu);
         Ok(Estimate { value: acc, variance: self.signal_variance.scale(unit) })
     }
 
@@ -591,7 +612,7 @@ where
             });
             let vbar = amp * amp * glossy_vbar(lambda, mu);
             let v = self.unit_variance(f, &zeta, integral, vbar);
-            return Ok(self.signal_variance.scale(v as f32));
+            return Ok(self.signal_variance.scale(v as f32 * calibration(f, mu as f32)));
         }
         let top = lambda + mu;
         let two_lm = 2.0 * lambda * mu;
@@ -612,7 +633,7 @@ where
             amp * amp * glossy_vbar(lambda, mu)
         };
         let v = self.unit_variance(f, &zeta, integral, vbar);
-        Ok(self.signal_variance.scale(v as f32))
+        Ok(self.signal_variance.scale(v as f32 * calibration(f, mu as f32)))
     }
 
     /// The normalised Phong lobe average `∫ L(x)·(e + 1)/(2π)·max(0, r·x)ᵉ dx` about the mirror
@@ -655,7 +676,8 @@ where
         for (x, &a) in self.directions.iter().zip(&self.alpha) {
             acc = acc.mul_add(a, legendre_sum_f32(h, &rec, x.dot(r)));
         }
-        let unit = glossy_grid_lookup(&f.glossy_variance, exponent + 2.0);
+        let mu = exponent + 2.0;
+        let unit = glossy_grid_lookup(&f.glossy_variance, mu) * calibration(f, mu);
         Ok(Estimate { value: acc, variance: self.signal_variance.scale(unit) })
     }
 
@@ -716,7 +738,7 @@ where
         apply_cosine_power_gains(e, k);
         let vbar: f64 = k.iter().sum();
         let v = self.unit_variance(f, &zeta, 1.0, vbar);
-        Ok(self.signal_variance.scale(v as f32))
+        Ok(self.signal_variance.scale(v as f32 * calibration(f, exponent + 2.0)))
     }
 
     /// [`Probe::glossy`] for a cosine-power footprint: `zᵢ = a·F(μ)·Σ_l bₗ·ρₗ(μ)·P_l(xᵢ·r)`
@@ -745,7 +767,7 @@ where
         for (x, &a) in self.directions.iter().zip(&self.alpha) {
             acc = acc.mul_add(a, legendre_sum_f32(&h[..len], &rec, x.dot(r)));
         }
-        let unit = full * full * glossy_grid_lookup(&f.glossy_variance, mu);
+        let unit = full * full * glossy_grid_lookup(&f.glossy_variance, mu) * calibration(f, mu);
         Estimate { value: acc, variance: self.signal_variance.scale(unit) }
     }
 
@@ -814,6 +836,7 @@ fn member_of(b: &sealed::Baked, footprint: Kind) -> Member {
         condition: b.condition,
         mean_variance: b.mean_variance,
         max_variance: b.max_variance,
+        calibration: b.calibration,
     }
 }
 
@@ -831,6 +854,25 @@ fn check_lobe(lobe: &SphericalGaussian) -> Result<(Vec3, f32, f32), Error> {
         return Err(Error::InvalidParameter);
     }
     Ok((r, mu, lobe.amplitude))
+}
+
+/// The lobe sharpnesses of the glossy calibration factors.
+const CALIBRATION_MU: [f32; 3] = [7.0, 22.0, 102.0];
+
+/// Member `f`'s glossy calibration factor at lobe sharpness `μ`: the baked factors at
+/// [`CALIBRATION_MU`], linear in `ln μ` between them, constant outside.
+fn calibration(f: &sealed::Baked, mu: f32) -> f32 {
+    let [_, c7, c22, c102] = f.calibration;
+    let [m0, m1, m2] = CALIBRATION_MU;
+    if mu <= m0 {
+        return c7;
+    }
+    if mu >= m2 {
+        return c102;
+    }
+    let (lo, hi, a, b) = if mu < m1 { (m0, m1, c7, c22) } else { (m1, m2, c22, c102) };
+    let t = crate::math::ln(mu / lo) / crate::math::ln(hi / lo);
+    a + t.clamp(0.0, 1.0) * (b - a)
 }
 
 /// The glossy variance grid at `μ`: linear between `μ = 0` and 1, then linear in `μ` within

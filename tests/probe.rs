@@ -216,7 +216,8 @@ where
                 if k == 0 {
                     member_count += 1.0;
                 }
-                let want_var = re.r2 / (N as f64 - 1.0) * re.v;
+                // The model's variance times the member's documented irradiance calibration.
+                let want_var = re.r2 / (N as f64 - 1.0) * re.v * f64::from(m.calibration[0]);
                 let var = probe.posterior_variance(nv).unwrap() as f64;
                 worst_v = worst_v.max((var - want_var).abs() / want_var);
             }
@@ -451,9 +452,12 @@ fn table_footprint_is_pinned() {
     }
 }
 
+#[path = "support/calibration.rs"]
+mod calibration;
 #[allow(dead_code)]
 #[path = "../gen/mod.rs"]
 mod gen;
+use calibration::glossy_calibration;
 
 #[test]
 fn z_table_matches_the_reference_kernel_mean() {
@@ -488,6 +492,11 @@ fn probe_config_errors_are_clear() {
         ("probe = 16 0.3 1 2 3 4 5 6 7 8 9\n", "at most"),
         ("set = 16 0.3 1\n", "expected `probe"),
         ("# nothing\n", "no `probe"),
+        ("calibration = 16 1 2 2 2 2\nprobe = 16 0.3 1\n", "no earlier `probe = 16"),
+        ("probe = 16 0.3 1\ncalibration = 16 4 2 2 2 2\n", "not in its family"),
+        ("probe = 16 0.3 1\ncalibration = 16 1 2 2 2\n", "expected `calibration"),
+        ("probe = 16 0.3 1\ncalibration = 16 1 2 0 2 2\n", "calibration factor 0"),
+        ("probe = 16 0.3 1\ncalibration = 16 1 2 inf 2 2\n", "calibration factor inf"),
     ] {
         let e = gen::probe::parse(bad).unwrap_err();
         assert!(e.contains(what), "{bad:?}: {e}");
@@ -495,6 +504,45 @@ fn probe_config_errors_are_clear() {
     let ok = gen::probe::parse("probe = 16 0.3 1 4 # c\nprobe = 64 1 2\n").unwrap();
     assert_eq!(ok.len(), 2);
     assert_eq!(ok[1].lambdas, vec![2.0]);
+    assert_eq!(ok[0].calibration, vec![[1.0; 4]; 2]);
+    let cal = gen::probe::parse("probe = 16 0.3 1 4\ncalibration = 16 4 2 3 4 5\n").unwrap();
+    assert_eq!(cal[0].calibration, vec![[1.0; 4], [2.0, 3.0, 4.0, 5.0]]);
+}
+
+/// The baked members carry the `calibration = …` lines of `tables/probe.txt` (read here
+/// independently of the build script), rounded once to f32; members without a line keep 1.
+#[test]
+fn baked_calibration_is_the_table_s() {
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tables/probe.txt")).unwrap();
+    let lines: Vec<Vec<f64>> = text
+        .lines()
+        .filter_map(|l| l.split('#').next()?.trim().strip_prefix("calibration"))
+        .map(|rest| {
+            rest.trim_start_matches([' ', '='])
+                .split_whitespace()
+                .map(|x| x.parse().unwrap())
+                .collect()
+        })
+        .collect();
+    assert!(!lines.is_empty(), "tables/probe.txt has calibration lines");
+    fn check<const N: usize>(lines: &[Vec<f64>])
+    where
+        Size<N>: ProbeSize,
+    {
+        for m in Probe::<N>::family() {
+            let want = lines
+                .iter()
+                .find(|l| l[0] == N as f64 && l[1] as f32 == m.lambda)
+                .map_or([1.0f32; 4], |l| [l[2] as f32, l[3] as f32, l[4] as f32, l[5] as f32]);
+            assert_eq!(m.calibration, want, "N = {N}, λ = {}", m.lambda);
+        }
+    }
+    check::<16>(&lines);
+    check::<32>(&lines);
+    check::<64>(&lines);
+    check::<128>(&lines);
+    check::<256>(&lines);
 }
 
 /// Glossy queries (value and exact variance) against the f64 reference, every member, lobes
@@ -532,7 +580,7 @@ where
                 };
                 let got = probe.glossy(&lobe).unwrap().value as f64;
                 let rel = (got - amp * want).abs() / (amp * want).abs();
-                let want_var = r2 / (N as f64 - 1.0) * v * amp * amp;
+                let want_var = r2 / (N as f64 - 1.0) * v * amp * amp * glossy_calibration(&m, mu);
                 let var = probe.glossy_variance(&lobe).unwrap() as f64;
                 let rel_var = (var - want_var).abs() / want_var;
                 out.push((m.lambda, m.condition, rel, rel_var));
