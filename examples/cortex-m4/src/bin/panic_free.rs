@@ -193,6 +193,10 @@ fn bmc_probe() {
     keep(rgb.posterior_variance(dir()));
     keep(rgb.glossy(&lobe));
     keep(rgb.glossy_variance(&lobe));
+    // Issue #13: any radiance scale.
+    keep(rgb.update(black_box(&[[3e38, -3e38, 1e-30]; 16])));
+    keep(rgb.signal_variance());
+    keep(rgb.mean_irradiance());
 }
 
 /// Footprint probes (issue #11): photodiodes (`CosinePower<1>`, whose glossy queries go
