@@ -31,6 +31,12 @@
 //!   posterior variance `π²(V̄ − zᵀQ⁻¹z + (1 − 1ᵀQ⁻¹z)²/1ᵀQ⁻¹1)` (Rasmussen and Williams
 //!   2006, eq. 2.42). [`Probe::irradiance`] uses the unit variance averaged over directions
 //!   (baked; O(1)); [`Probe::posterior_variance`] computes it exactly for `n` in O(N²).
+//! - **Channel covariance**: one kernel serves every channel, so the covariance of channels
+//!   `a`, `b` of an estimate is the REML channel covariance `S_ab = r_aᵀQ⁻¹r_b/(N − 1)`
+//!   ([`Probe::channel_covariance`]; `S_cc = σ̂_f²`) times the query's unit variance
+//!   ([`Estimate::unit_variance`]). [`Probe::signal_variance_of`] gives `wᵀSw` for channel
+//!   weights `w` (luminance, say) and [`Probe::combine`] an estimate of `Σ_c w_c·value_c` with
+//!   its variance.
 //!
 //! ```
 //! use sphere_quadrature::{probe::Probe, Vec3};
@@ -124,6 +130,9 @@
 //!   averages of the same constant stay finite); all of them when the GLS mean `β` itself
 //!   exceeds `f32::MAX` (samples near `±f32::MAX` with weights that extrapolate). A result
 //!   below the normal range is 0 or subnormal.
+//! - [`Estimate::unit_variance`] is a plain f32 product: `+∞` when a glossy amplitude `a`
+//!   makes `a²` times the unit variance exceed `f32::MAX`, though the estimate's variance
+//!   fits.
 //! - Channels are scaled each by its own `s`: a channel 10³⁸ times smaller than another
 //!   loses nothing.
 //! - The log likelihood is that of the samples as given: `ℓ(c·Y) = ℓ(Y) − (N − 1)·C·ln c`
@@ -152,6 +161,7 @@ use crate::vec3::Vec3;
 use core::f32::consts::PI;
 use core::marker::PhantomData;
 
+mod covariance;
 mod scale;
 
 /// Nodes of each baked `π·z(t)` table over `t ∈ [−1, 1]` (`gen/probe.rs` emits arrays of
@@ -261,6 +271,16 @@ pub struct Estimate<T> {
     pub value: T,
     /// The posterior variance (σ̂_f² from the samples times the unit variance).
     pub variance: T,
+    /// The unit (σ_f = 1) posterior variance the query used, one for every channel (one
+    /// kernel serves them all): `variance` of channel `c` is `unit_variance` times
+    /// [`Probe::channel_covariance`]`(c, c)`, and [`Probe::combine`] gives the variance of
+    /// any linear combination of the channels. It carries the query's weight function
+    /// (a glossy lobe's amplitude `a` as `a²`), the channel covariance the radiance units.
+    ///
+    /// The query computes `variance` apart from this product, without intermediate overflow;
+    /// the product reproduces it to rounding whenever both factors are normal f32 numbers
+    /// (`unit_variance` is `+∞` when `a²` times the unit variance exceeds `f32::MAX`).
+    pub unit_variance: f32,
 }
 
 /// A Bayesian Monte Carlo lighting probe of `N` samples (`f32` or RGB `[f32; 3]`).
@@ -429,7 +449,7 @@ where
                 *dp = ya.add(yb.scale(-1.0)).scale(0.5);
             }
         }
-        let mut best: Option<(usize, f32, T, T)> = None;
+        let mut best: Option<(usize, f32, T)> = None;
         let mut work = [T::ZERO; N];
         for k in range {
             let Some(f) = Self::FAMILY.get(k) else { break };
@@ -440,12 +460,13 @@ where
                 let qc = q.channel(c).max(f32::MIN_POSITIVE);
                 ll -= 0.5 * (N as f32 - 1.0) * crate::math::ln(qc);
             }
-            if best.is_none_or(|(_, b, _, _)| ll > b) {
-                best = Some((k, ll, beta, q));
+            if best.is_none_or(|(_, b, _)| ll > b) {
+                best = Some((k, ll, beta));
                 self.alpha = *alpha;
             }
         }
-        if let Some((k, ll, beta, q)) = best {
+        if let Some((k, ll, beta)) = best {
+            let Some(f) = Self::FAMILY.get(k) else { return Ok(()) };
             // β = Y₀ + s·β′; where that overflows f32, again in f64 (±∞ only if β itself
             // exceeds f32::MAX).
             let absolute = c.add(spread.mul(beta));
@@ -459,8 +480,9 @@ where
                 })
             };
             self.scale = spread;
-            // σ̂_f²/s² = r′ᵀQ⁻¹r′/(N − 1) ≥ 0; rounding can leave −10⁻¹⁰ for constant samples.
-            self.signal_variance = q.map(|x| x.max(0.0) / (N as f32 - 1.0));
+            // σ̂_f²/s² = α′ᵀQα′/(N − 1), the REML channel variance, computed as
+            // [`Probe::channel_covariance`] does (so that the two agree bit for bit).
+            self.signal_variance = Self::channel_quadratic(f, &self.alpha);
             self.selected = k;
             // ℓ of the samples themselves: rᵀQ⁻¹r = s²·r′ᵀQ⁻¹r′ per channel.
             let shift: i32 = (0..T::CHANNELS).map(|ch| scale::exponent(spread.channel(ch))).sum();
@@ -541,6 +563,7 @@ where
             // σ̂′²·unit is a normal number (or 0), and s·(s·x) is monotone: no intermediate
             // overflow or underflow.
             variance: self.signal_variance.scale(unit).mul(self.scale).mul(self.scale),
+            unit_variance: unit,
         })
     }
 
@@ -620,7 +643,8 @@ where
     ///
     /// The amplitude `a` is applied last, with the probe's scale, in mantissa and exponent
     /// apart: any finite `a` (10²⁰ or 10⁻²⁰ say) scales the value by `a` and the variance by
-    /// `a²`, `±∞` only where the result exceeds `f32::MAX`.
+    /// `a²`, `±∞` only where the result exceeds `f32::MAX`. [`Estimate::unit_variance`] is
+    /// `a²·F(μ)²` times the baked unit variance.
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite axis; [`Error::InvalidSharpness`]
@@ -661,6 +685,7 @@ where
         Ok(Estimate {
             value: self.rescaled(full, acc, amp),
             variance: self.rescaled_variance(unit, amp),
+            unit_variance: amp * (amp * unit),
         })
     }
 
@@ -766,6 +791,7 @@ where
         Ok(Estimate {
             value: self.absolute(1.0, acc),
             variance: self.signal_variance.scale(unit).mul(self.scale).mul(self.scale),
+            unit_variance: unit,
         })
     }
 
@@ -845,7 +871,7 @@ where
         let len = cosine_series_f32(f.lambda, exponent, &mut h);
         let mut rho = [0.0f32; MAX_SERIES];
         let Some(rho) = rho.get_mut(..len) else {
-            return Estimate { value: T::ZERO, variance: T::ZERO };
+            return Estimate { value: T::ZERO, variance: T::ZERO, unit_variance: 0.0 };
         };
         bessel_ratios(mu, rho);
         for (h, &p) in h.iter_mut().zip(rho.iter()) {
@@ -860,6 +886,7 @@ where
         Estimate {
             value: self.rescaled(full, acc, amp),
             variance: self.rescaled_variance(unit, amp),
+            unit_variance: amp * (amp * unit),
         }
     }
 
@@ -907,8 +934,9 @@ where
         self.log_likelihood
     }
 
-    /// `σ̂_f² = rᵀQ⁻¹r/(N − 1)` of the last update, per channel. Stored relative to the
-    /// samples' spread, so it is exact at any radiance scale; `+∞` where `σ̂_f²` itself exceeds `f32::MAX` (samples spread
+    /// `σ̂_f² = rᵀQ⁻¹r/(N − 1)` of the last update, per channel: the diagonal of
+    /// [`Probe::channel_covariance`]. Stored relative to the samples' spread, so it is exact
+    /// at any radiance scale; `+∞` where `σ̂_f²` itself exceeds `f32::MAX` (samples spread
     /// wider than about 10¹⁹), 0 or subnormal below the normal range (spread under 10⁻¹⁹).
     #[must_use]
     pub fn signal_variance(&self) -> T {

@@ -1,6 +1,7 @@
 //! Radiance scale (issue #13, item 3): the probe and the QMC estimators give `c` times the
 //! value and `c²` times the variance for samples `c·Y`, `c` from 10⁻³⁰ to 10³⁰, and `±∞`
-//! (never 0 or NaN) where the result itself exceeds `f32::MAX`.
+//! (never 0 or NaN) where the result itself exceeds `f32::MAX`; and the probe's channel
+//! covariance (item 2) against an independent f64 computation.
 
 use reference::analytic::SgLight;
 use reference::rng::Rng;
@@ -326,7 +327,7 @@ fn overflowing_results_are_infinite() {
                 check(e.value[ch], f64::from(pi) * f64::from(y), 1e-6, &format!("E of {y:e}"));
                 assert_eq!(e.variance[ch], 0.0);
                 assert_eq!(probe.posterior_variance(n).unwrap()[ch], 0.0);
-                assert_eq!(probe.signal_variance()[ch], 0.0);
+                assert_eq!(probe.channel_covariance(ch, ch), 0.0);
             }
             // The normalised Phong lobe and a unit-integral SG average the radiance: they
             // fit where π·c does not.
@@ -417,5 +418,149 @@ fn qmc_estimators_work_at_any_scale() {
         let scaled: Vec<f32> = ys.iter().map(|y| c32 * y).collect();
         let q = s.estimate(&scaled).unwrap();
         check(q, f64::from(c32) * f64::from(q1), tol, &format!("estimate, c = {c:e}"));
+    }
+}
+
+/// `S_ab = r_aᵀQ⁻¹r_b/(N − 1)` in f64 (`r = Y − β1` per channel, `β` by GLS), with `Q` built
+/// from the probe's directions and the member's `λ`, `σ′` and solved by LU: nothing shared
+/// with the probe's half-block factors.
+fn reference_covariance(dirs: &[Vec3], y: &[[f32; 3]], lambda: f64, sigma: f64) -> [[f64; 3]; 3] {
+    let n = dirs.len();
+    let xs: Vec<[f64; 3]> = dirs.iter().map(|d| [d.x, d.y, d.z].map(f64::from)).collect();
+    let mut q = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..n {
+            let c = reference::vec::dot(xs[i], xs[j]);
+            q[i * n + j] = (lambda * (c - 1.0)).exp() + if i == j { sigma * sigma } else { 0.0 };
+        }
+    }
+    let q1 = reference::bmc::lu_solve(&q, n, &vec![1.0; n]);
+    let s1: f64 = q1.iter().sum();
+    let r: Vec<Vec<f64>> = (0..3)
+        .map(|c| {
+            let yc: Vec<f64> = y.iter().map(|v| f64::from(v[c])).collect();
+            let beta = reference::bmc::lu_solve(&q, n, &yc).iter().sum::<f64>() / s1;
+            yc.iter().map(|v| v - beta).collect()
+        })
+        .collect();
+    let qr: Vec<Vec<f64>> = r.iter().map(|rc| reference::bmc::lu_solve(&q, n, rc)).collect();
+    core::array::from_fn(|a| {
+        core::array::from_fn(|b| {
+            r[a].iter().zip(&qr[b]).map(|(x, y)| x * y).sum::<f64>() / (n as f64 - 1.0)
+        })
+    })
+}
+
+/// [`Probe::channel_covariance`] and [`Probe::signal_variance_of`] against the f64 reference
+/// for every member of an RGB probe (channels correlated, one of them nearly constant):
+/// within 10⁻⁵ of `√(S_aa·S_bb)` (`Σ|w_a w_b|√(S_aa S_bb)` for combinations; the members'
+/// `cond(Q)` are at most 10⁴, and the f32 solves measure 5·10⁻⁷).
+#[test]
+fn channel_covariance_matches_the_f64_reference() {
+    let l = lights(10);
+    let m = lights(11);
+    let mut probe = Probe::<32, [f32; 3]>::new();
+    let y: [[f32; 3]; 32] = probe.directions().map(|d| {
+        let (a, b) = (field(&l, d), field(&m, d));
+        [a, 0.6 * a + 0.4 * b, 2.0 + 1e-3 * b]
+    });
+    let weights = [[0.2126, 0.7152, 0.0722], [1.0, -1.0, 0.0], [0.0, 0.0, 1e6], [-3.0, 0.5, 2.0]];
+    let mut worst = 0.0f64;
+    for (k, member) in Probe::<32>::family().enumerate() {
+        assert!(member.condition <= 1e4);
+        probe.update_with(&y, Selection::Member(k)).unwrap();
+        let s = reference_covariance(
+            probe.directions(),
+            &y,
+            f64::from(member.lambda),
+            f64::from(member.sigma),
+        );
+        let scale = |a: usize, b: usize| (s[a][a] * s[b][b]).sqrt();
+        for (a, row) in s.iter().enumerate() {
+            for (b, &want) in row.iter().enumerate() {
+                let got = f64::from(probe.channel_covariance(a, b));
+                let err = (got - want).abs() / scale(a, b);
+                assert!(err < 1e-5, "member {k}: S[{a}][{b}] {got:e} vs {want:e} ({err:e})");
+                worst = worst.max(err);
+                assert_eq!(probe.channel_covariance(a, b), probe.channel_covariance(b, a));
+            }
+            assert_eq!(probe.channel_covariance(a, a), probe.signal_variance()[a]);
+        }
+        for w in weights {
+            let want: f64 = (0..3)
+                .flat_map(|a| (0..3).map(move |b| (a, b)))
+                .map(|(a, b)| f64::from(w[a]) * f64::from(w[b]) * s[a][b])
+                .sum();
+            let norm: f64 = (0..3)
+                .flat_map(|a| (0..3).map(move |b| (a, b)))
+                .map(|(a, b)| f64::from(w[a] * w[b]).abs() * scale(a, b))
+                .sum();
+            let got = f64::from(probe.signal_variance_of(w));
+            let err = (got - want).abs() / norm;
+            assert!(err < 1e-5, "member {k}: wᵀSw for {w:?}: {got:e} vs {want:e} ({err:e})");
+            worst = worst.max(err);
+        }
+    }
+    println!("channel covariance: worst error {worst:.1e} of √(S_aa·S_bb)");
+    // Outside the channels, and before any update.
+    assert_eq!(probe.channel_covariance(0, 3), 0.0);
+    assert_eq!(probe.channel_covariance(7, 1), 0.0);
+    let fresh = Probe::<32, [f32; 3]>::new();
+    assert_eq!(fresh.channel_covariance(1, 1), 0.0);
+    assert_eq!(fresh.signal_variance_of([1.0, 2.0, 3.0]), 0.0);
+    assert!(probe.signal_variance_of([f32::NAN, 0.0, 0.0]).is_nan());
+    assert_eq!(probe.signal_variance_of([0.0; 3]), 0.0);
+}
+
+/// [`Probe::combine`]: a single channel's weights reproduce that channel's variance (to
+/// rounding: the same normalised product, scaled once more), the value is the weighted sum,
+/// the variance is `unit_variance × wᵀSw`, and `variance_c = unit_variance × S_cc` for every
+/// query, also at scales where `S` itself overflows f32 but the variance does not.
+#[test]
+fn combine_reproduces_the_channels() {
+    let l = lights(12);
+    let mut probe = Probe::<64, [f32; 3]>::new();
+    let y: [[f32; 3]; 64] =
+        probe.directions().map(|d| [field(&l, d), 0.5 * field(&l, -d), 0.1 + 0.05 * d.x]);
+    let lobe = SphericalGaussian::phong_moments(Vec3::new(0.0, 0.6, 0.8), 30.0).unwrap();
+    let close = |a: f32, b: f32, what: &str| {
+        assert!(a == b || (a - b).abs() <= 1e-6 * a.abs().max(b.abs()), "{what}: {a:e} vs {b:e}");
+    };
+    let mut luminance = std::collections::HashMap::new();
+    for c in [1.0f32, 1e-20, 1e20, 2f32.powi(100), 2f32.powi(-70)] {
+        probe.update_with(&y.map(|v| v.map(|x| x * c)), Selection::Member(1)).unwrap();
+        let estimates = [
+            ("irradiance", probe.irradiance(Vec3::new(0.3, 0.1, -0.9)).unwrap()),
+            ("glossy", probe.glossy(&lobe).unwrap()),
+            ("phong", probe.phong(Vec3::X, 12.0).unwrap()),
+        ];
+        for (name, e) in estimates {
+            let what = format!("{name}, c = {c:e}");
+            for ch in 0..3 {
+                let mut w = [0.0; 3];
+                w[ch] = 1.0;
+                let one = probe.combine(&e, w);
+                assert_eq!(one.value, e.value[ch], "{what}");
+                assert_eq!(one.unit_variance, e.unit_variance);
+                close(one.variance, e.variance[ch], &format!("{what} channel {ch}"));
+                let s = probe.channel_covariance(ch, ch);
+                if s.is_normal() && (s * e.unit_variance).is_normal() {
+                    close(e.unit_variance * s, e.variance[ch], &format!("{what}: unit × S"));
+                }
+            }
+            let w = [0.2126, 0.7152, 0.0722];
+            let y = probe.combine(&e, w);
+            let want: f64 = (0..3).map(|i| f64::from(w[i]) * f64::from(e.value[i])).sum();
+            check(y.value, want, 1e-6, &what);
+            let s = probe.signal_variance_of(w);
+            if s.is_normal() && (s * e.unit_variance).is_normal() {
+                close(y.variance, e.unit_variance * s, &format!("{what}: luminance"));
+            }
+            // c² times the c = 1 variance, also where S alone overflows (c = 10²⁰: S ~ 10⁴⁰,
+            // the variance 10³⁶) or the variance underflows.
+            let base = luminance.get(name).copied().unwrap_or(f64::from(y.variance));
+            luminance.insert(name, base);
+            check(y.variance, f64::from(c) * f64::from(c) * base, 1e-5, &what);
+        }
     }
 }
