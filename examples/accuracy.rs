@@ -3,12 +3,14 @@
 //! summed over every pixel.
 //!
 //! ```text
-//! cargo run --release --example accuracy                        # ten bundled maps, writes docs/
+//! cargo run --release --example accuracy                        # ten bundled maps, report to stdout
+//! cargo run --release --example accuracy -- --out docs          # regenerates docs/accuracy.{md,png}
 //! cargo run --release --example accuracy -- --quick --out target/accuracy   # CI smoke run
 //! cargo run --release --example accuracy -- a.hdr b.hdr         # your own maps
 //! ```
 //!
-//! Options: `--out DIR` (default `docs/`: writes `DIR/accuracy.md` and `DIR/accuracy.png`),
+//! Options: `--out DIR` (writes `DIR/accuracy.md` and `DIR/accuracy.png`; without it the
+//! report goes to stdout and nothing is written),
 //! `--quick` (2 maps, 2 synthetic mixtures, 64 normals, 8 rotations, 1 draw), `--fixed-member K`
 //! (the family member of the fixed-hyperparameter BMC probe, default 1), `--threads T`
 //! (default: all cores). The default run takes about a minute on one core (63 s measured with
@@ -883,7 +885,7 @@ fn name_of(path: &Path) -> String {
 fn main() -> Result<(), Box<dyn Error>> {
     let start = Instant::now();
     let raw_args: Vec<String> = std::env::args().skip(1).collect();
-    let mut out = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs");
+    let mut out: Option<PathBuf> = None;
     let mut quick = false;
     let mut fixed_member = 1;
     let mut threads = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -891,7 +893,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let mut args = raw_args.iter();
     while let Some(a) = args.next() {
         match a.as_str() {
-            "--out" => out = PathBuf::from(args.next().ok_or("--out needs a directory")?),
+            "--out" => out = Some(PathBuf::from(args.next().ok_or("--out needs a directory")?)),
             "--quick" => quick = true,
             "--fixed-member" => {
                 fixed_member = args.next().ok_or("--fixed-member needs an index")?.parse()?;
@@ -917,9 +919,6 @@ fn main() -> Result<(), Box<dyn Error>> {
     if families().iter().any(|f| fixed_member >= f.len()) {
         return Err(format!("--fixed-member {fixed_member} is outside a baked probe family").into());
     }
-    std::fs::create_dir_all(&out)?;
-    register_font("sans-serif", FontStyle::Normal, ttf_noto_sans::REGULAR)
-        .map_err(|_| "the embedded font did not parse")?;
 
     let mut rng = Rng::new(SEED_NORMALS);
     let normals: Vec<[f64; 3]> = (0..p.normals).map(|_| rng.uniform_sphere()).collect();
@@ -1061,10 +1060,18 @@ fn main() -> Result<(), Box<dyn Error>> {
         tier_table(&mut md, tr, &probe, false, p.fixed_member);
     }
     per_map(&mut md, &results, 64);
-    md.push_str("![relative RMSE against N](accuracy.png)\n");
 
+    let Some(out) = out else {
+        print!("{md}");
+        eprintln!("done ({seconds:.1} s); --out DIR writes accuracy.md and accuracy.png");
+        return Ok(());
+    };
+    md.push_str("![relative RMSE against N](accuracy.png)\n");
     print!("{md}");
+    std::fs::create_dir_all(&out)?;
     std::fs::write(out.join("accuracy.md"), &md)?;
+    register_font("sans-serif", FontStyle::Normal, ttf_noto_sans::REGULAR)
+        .map_err(|_| "the embedded font did not parse")?;
     plot(&results, &out.join("accuracy.png"))?;
     eprintln!("wrote {} ({seconds:.1} s)", out.join("accuracy.md").display());
     Ok(())

@@ -3,7 +3,8 @@
 //! samples of one probe, against ground truth summed over every pixel.
 //!
 //! ```text
-//! cargo run --release --example glossy                  # ten bundled maps, writes docs/glossy.md
+//! cargo run --release --example glossy                  # ten bundled maps, report to stdout
+//! cargo run --release --example glossy -- --out docs    # regenerates docs/glossy.md
 //! cargo run --release --example glossy -- --quick --out target/glossy   # CI smoke run
 //! cargo run --release --example glossy -- --l2-fit --out target/glossy  # phong_lobe instead
 //! ```
@@ -152,11 +153,8 @@ fn main() -> Result<(), Box<dyn Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let quick = args.iter().any(|a| a == "--quick");
     let l2_fit = args.iter().any(|a| a == "--l2-fit");
-    let out = args
-        .iter()
-        .position(|a| a == "--out")
-        .and_then(|i| args.get(i + 1))
-        .map_or_else(|| PathBuf::from("docs"), PathBuf::from);
+    let out =
+        args.iter().position(|a| a == "--out").and_then(|i| args.get(i + 1)).map(PathBuf::from);
     let names: &[&str] = if quick { &QUICK_MAPS } else { &ALL_MAPS };
     let (n_dirs, n_rot) = if quick { (32, 4) } else { (128, 16) };
     let start = std::time::Instant::now();
@@ -301,10 +299,12 @@ fn main() -> Result<(), Box<dyn Error>> {
          the better of lobe-avg and SH L2; `worst map ratio` is the largest per-map ratio over \
          all maps; the 2σ column pools all maps."
     )?;
-    std::fs::create_dir_all(&out)?;
-    let path = out.join(if l2_fit { "glossy_l2_fit.md" } else { "glossy.md" });
-    std::fs::write(&path, &md)?;
     print!("{md}");
-    eprintln!("wrote {}", path.display());
+    if let Some(out) = out {
+        std::fs::create_dir_all(&out)?;
+        let path = out.join(if l2_fit { "glossy_l2_fit.md" } else { "glossy.md" });
+        std::fs::write(&path, &md)?;
+        eprintln!("wrote {}", path.display());
+    }
     Ok(())
 }
