@@ -71,6 +71,9 @@
 //! [`Error::InvalidExponent`]; negative, NaN or infinite SG sharpness gives
 //! [`Error::InvalidSharpness`]; `N = 0` is a compile-time error for the const-generic sets and
 //! [`Error::InvalidSize`] for run-time sizes; NaN radiance propagates to a NaN estimate.
+//! Finite radiance of any size is good input: the probe and the QMC estimators scale with it
+//! and return `±∞` only for a result beyond `f32::MAX` ([`probe`], "Radiance scale";
+//! [`qmc`]).
 //!
 //! # MSRV
 //! Rust 1.84 (declared; CI builds with the current stable toolchain only).

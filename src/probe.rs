@@ -31,6 +31,12 @@
 //!   posterior variance `π²(V̄ − zᵀQ⁻¹z + (1 − 1ᵀQ⁻¹z)²/1ᵀQ⁻¹1)` (Rasmussen and Williams
 //!   2006, eq. 2.42). [`Probe::irradiance`] uses the unit variance averaged over directions
 //!   (baked; O(1)); [`Probe::posterior_variance`] computes it exactly for `n` in O(N²).
+//! - **Channel covariance**: one kernel serves every channel, so the covariance of channels
+//!   `a`, `b` of an estimate is the REML channel covariance `S_ab = r_aᵀQ⁻¹r_b/(N − 1)`
+//!   ([`Probe::channel_covariance`]; `S_cc = σ̂_f²`) times the query's unit variance
+//!   ([`Estimate::unit_variance`]). [`Probe::signal_variance_of`] gives `wᵀSw` for channel
+//!   weights `w` (luminance, say) and [`Probe::combine`] an estimate of `Σ_c w_c·value_c` with
+//!   its variance.
 //!
 //! ```
 //! use sphere_quadrature::{probe::Probe, Vec3};
@@ -103,9 +109,40 @@
 //! let _ = sphere_quadrature::probe::Probe::<64, f32, Gaussian<5>>::new();
 //! ```
 //!
+//! # Radiance scale
+//! Samples may be in any units: for `c·Y` every value is `c` times and every variance `c²`
+//! times the answer for `Y`. The update centres each channel on its first sample `Y₀` and
+//! divides it by the power of two `s = 2^k` nearest below its largest `|Yᵢ − Y₀|` (exact),
+//! so the solves, `rᵀQ⁻¹r` and the likelihood see O(1) numbers whatever the units; the probe
+//! stores `α/s`, `σ̂_f²/s²`, `s` and `β`, and every query applies `s` (and a glossy lobe's
+//! amplitude `a`) last, in mantissa and exponent apart where f32 could overflow or underflow
+//! in between.
+//! - For `c` a power of two the answers are `c` (`c²`) times, bit for bit, wherever they
+//!   are normal f32 numbers. For other `c` the samples `c·Y` round differently from `Y`,
+//!   which moves an answer as any f32 perturbation of the samples does: measured from
+//!   `c = 10⁻³⁰` to `10³⁰`, 10⁻⁷–7·10⁻⁵ relative for members with `cond(Q) ≤ 10⁴`, up to
+//!   1.1·10⁻³ for the smoothest (`cond(Q)` 3·10⁴–3·10⁵: one ulp of input moves their
+//!   answers by up to 6·10⁻⁴; `tests/scale.rs`).
+//! - A result beyond `f32::MAX` is `±∞`, never 0, NaN or a wrong finite value: the
+//!   variances once the samples spread over more than about 10¹⁹ (`σ̂_f² > f32::MAX`) or a
+//!   glossy amplitude times that spread does; a value when it exceeds `f32::MAX` itself (the
+//!   irradiance of a constant above `f32::MAX/π`, while the normalised Phong and glossy
+//!   averages of the same constant stay finite); all of them when the GLS mean `β` itself
+//!   exceeds `f32::MAX` (samples near `±f32::MAX` with weights that extrapolate). A result
+//!   below the normal range is 0 or subnormal.
+//! - [`Estimate::unit_variance`] is a plain f32 product: `+∞` when a glossy amplitude `a`
+//!   makes `a²` times the unit variance exceed `f32::MAX`, though the estimate's variance
+//!   fits.
+//! - Channels are scaled each by its own `s`: a channel 10³⁸ times smaller than another
+//!   loses nothing.
+//! - The log likelihood is that of the samples as given: `ℓ(c·Y) = ℓ(Y) − (N − 1)·C·ln c`
+//!   for `C` channels; the selection does not depend on `c` (up to near ties, which the
+//!   rounding of `c·Y` can flip).
+//!
 //! # Bad input
 //! - A NaN or infinite sample: [`Probe::update`] returns [`Error::InvalidRadiance`] and the
-//!   probe keeps its previous data.
+//!   probe keeps its previous data. Finite samples of any size are accepted (see "Radiance
+//!   scale").
 //! - A zero, NaN or infinite normal or lobe axis: [`Error::InvalidDirection`].
 //! - A lobe sharpness that is negative, not finite or above [`MAX_GLOSSY_SHARPNESS`]:
 //!   [`Error::InvalidSharpness`]; a non-finite lobe amplitude: [`Error::InvalidParameter`].
@@ -116,13 +153,16 @@
 use crate::bmc::Size;
 use crate::error::Error;
 use crate::footprint::{Footprint, Kind, Point};
-use crate::radiance::Radiance;
+use crate::radiance::{from_channels, Radiance};
 use crate::rotation::Mat3;
 use crate::sf::SphericalFibonacci;
 use crate::sg::{full_integral_unchecked, SphericalGaussian};
 use crate::vec3::Vec3;
 use core::f32::consts::PI;
 use core::marker::PhantomData;
+
+mod covariance;
+mod scale;
 
 /// Nodes of each baked `π·z(t)` table over `t ∈ [−1, 1]` (`gen/probe.rs` emits arrays of
 /// this length; a mismatch does not compile).
@@ -231,6 +271,16 @@ pub struct Estimate<T> {
     pub value: T,
     /// The posterior variance (σ̂_f² from the samples times the unit variance).
     pub variance: T,
+    /// The unit (σ_f = 1) posterior variance the query used, one for every channel (one
+    /// kernel serves them all): `variance` of channel `c` is `unit_variance` times
+    /// [`Probe::channel_covariance`]`(c, c)`, and [`Probe::combine`] gives the variance of
+    /// any linear combination of the channels. It carries the query's weight function
+    /// (a glossy lobe's amplitude `a` as `a²`), the channel covariance the radiance units.
+    ///
+    /// The query computes `variance` apart from this product, without intermediate overflow;
+    /// the product reproduces it to rounding whenever both factors are normal f32 numbers
+    /// (`unit_variance` is `+∞` when `a²` times the unit variance exceeds `f32::MAX`).
+    pub unit_variance: f32,
 }
 
 /// A Bayesian Monte Carlo lighting probe of `N` samples (`f32` or RGB `[f32; 3]`).
@@ -243,9 +293,14 @@ where
     Size<N>: ProbeTables<F>,
 {
     directions: [Vec3; N],
+    /// `α/s` per channel.
     alpha: [T; N],
-    pi_beta: T,
+    /// `β`, absolute (`±∞` only where the GLS mean itself exceeds `f32::MAX`).
+    beta: T,
+    /// `σ̂_f²/s²` per channel.
     signal_variance: T,
+    /// `s = 2^k` per channel: the samples' spread (see `scale::normalise`).
+    scale: T,
     selected: usize,
     log_likelihood: f32,
     footprint: PhantomData<F>,
@@ -276,8 +331,9 @@ where
         Self {
             directions: SphericalFibonacci::<N>::new().points(),
             alpha: [T::ZERO; N],
-            pi_beta: T::ZERO,
+            beta: T::ZERO,
             signal_variance: T::ZERO,
+            scale: T::ZERO.map(|_| 1.0),
             selected: 0,
             log_likelihood: 0.0,
             footprint: PhantomData,
@@ -350,7 +406,8 @@ where
     }
 
     /// Takes new samples (radiance in [`Probe::directions`], in order) and picks the family
-    /// member of highest marginal likelihood.
+    /// member of highest marginal likelihood. Any finite radiance scale: see "Radiance scale"
+    /// in the module docs.
     ///
     /// # Errors
     /// [`Error::InvalidRadiance`] if a sample has a NaN or infinite channel; the probe keeps
@@ -374,11 +431,14 @@ where
             Selection::Member(_) => return Err(Error::InvalidParameter),
         };
         let m = Self::HALF;
-        // Work with Y − c·1, c = Y₀: α and ℓ are unchanged (β shifts by c), but the
+        // Work with (Y − c·1)/s, c = Y₀: α and ℓ are unchanged (β shifts by c), but the
         // ill-conditioned products then see only the samples' spread, not their mean, and a
-        // constant gives exactly α = 0.
+        // constant gives exactly α = 0. The power of two s = 2^k per channel (the exponent of
+        // the largest |Yᵢ − Y₀|) brings the spread to O(1), so that rᵀQ⁻¹r neither overflows
+        // nor underflows whatever the radiance units: α/s and σ̂_f²/s² are stored, the queries
+        // apply s last.
         let c = samples.first().copied().unwrap_or(T::ZERO);
-        let centred: [T; N] = samples.map(|y| y.add(c.scale(-1.0)));
+        let (centred, spread) = scale::normalise(samples);
         // Half sums (y_p + y_{N−1−p})/2 in the first half, half differences in the second.
         let mut sd = [T::ZERO; N];
         {
@@ -389,32 +449,49 @@ where
                 *dp = ya.add(yb.scale(-1.0)).scale(0.5);
             }
         }
-        let mut best: Option<(usize, f32)> = None;
+        let mut best: Option<(usize, f32, T)> = None;
         let mut work = [T::ZERO; N];
         for k in range {
             let Some(f) = Self::FAMILY.get(k) else { break };
-            let (alpha, pi_beta, q) = Self::solve(f, &centred, &sd, &mut work);
+            let (alpha, beta, q) = Self::solve(f, &centred, &sd, &mut work);
+            // ℓ of the normalised samples: the scale shifts every member's ℓ alike.
             let mut ll = T::CHANNELS as f32 * f.likelihood_constant;
             for c in 0..T::CHANNELS {
                 let qc = q.channel(c).max(f32::MIN_POSITIVE);
                 ll -= 0.5 * (N as f32 - 1.0) * crate::math::ln(qc);
             }
-            if best.is_none_or(|(_, b)| ll > b) {
-                best = Some((k, ll));
+            if best.is_none_or(|(_, b, _)| ll > b) {
+                best = Some((k, ll, beta));
                 self.alpha = *alpha;
-                self.pi_beta = pi_beta.add(c.scale(PI));
-                // rᵀQ⁻¹r ≥ 0; rounding can leave −10⁻¹⁰ for constant samples.
-                self.signal_variance = q.map(|x| x.max(0.0) / (N as f32 - 1.0));
             }
         }
-        if let Some((k, ll)) = best {
+        if let Some((k, ll, beta)) = best {
+            let Some(f) = Self::FAMILY.get(k) else { return Ok(()) };
+            // β = Y₀ + s·β′; where that overflows f32, again in f64 (±∞ only if β itself
+            // exceeds f32::MAX).
+            let absolute = c.add(spread.mul(beta));
+            self.beta = if (0..T::CHANNELS).all(|ch| absolute.channel(ch).is_finite()) {
+                absolute
+            } else {
+                from_channels(|ch| {
+                    (f64::from(c.channel(ch))
+                        + f64::from(spread.channel(ch)) * f64::from(beta.channel(ch)))
+                        as f32
+                })
+            };
+            self.scale = spread;
+            // σ̂_f²/s² = α′ᵀQα′/(N − 1), the REML channel variance, computed as
+            // [`Probe::channel_covariance`] does (so that the two agree bit for bit).
+            self.signal_variance = Self::channel_quadratic(f, &self.alpha);
             self.selected = k;
-            self.log_likelihood = ll;
+            // ℓ of the samples themselves: rᵀQ⁻¹r = s²·r′ᵀQ⁻¹r′ per channel.
+            let shift: i32 = (0..T::CHANNELS).map(|ch| scale::exponent(spread.channel(ch))).sum();
+            self.log_likelihood = ll - (N as f32 - 1.0) * core::f32::consts::LN_2 * shift as f32;
         }
         Ok(())
     }
 
-    /// `α = Q⁻¹(Y − β1)` (in `work`), `π·β` and `rᵀQ⁻¹r = Σ Yᵢ ⊙ αᵢ` for member `f`, from
+    /// `α = Q⁻¹(Y − β1)` (in `work`), `β` and `rᵀQ⁻¹r = Σ Yᵢ ⊙ αᵢ` for member `f`, from
     /// the half sums and differences `sd` of `samples`.
     fn solve<'w>(
         f: &sealed::Baked,
@@ -450,10 +527,11 @@ where
                 q = q.add(yp.mul(*out_lo)).add(yq.mul(*out_hi));
             }
         }
-        (work, beta.scale(PI), q)
+        (work, beta, q)
     }
 
-    /// Irradiance `E(n)` with the direction-averaged posterior variance, O(N).
+    /// Irradiance `E(n)` with the direction-averaged posterior variance, O(N); `±∞` where a
+    /// result exceeds `f32::MAX` (module docs, "Radiance scale").
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite normal.
@@ -474,15 +552,57 @@ where
             *k = r.to_bits() & 0xff;
             *t = u - (r - ROUND);
         }
-        let mut acc = self.pi_beta;
+        let mut acc = T::ZERO;
         for ((&k, &t), &a) in node.iter().zip(&offset).zip(&self.alpha) {
             let [v, s, c] = f.z[(k as usize).min(Z_NODES - 1)];
             acc = acc.mul_add(a, v + t * (s + t * c));
         }
-        Ok(Estimate { value: acc, variance: self.signal_variance.scale(f.mean_variance) })
+        let unit = f.mean_variance;
+        Ok(Estimate {
+            value: self.absolute(PI, acc),
+            // σ̂′²·unit is a normal number (or 0), and s·(s·x) is monotone: no intermediate
+            // overflow or underflow.
+            variance: self.signal_variance.scale(unit).mul(self.scale).mul(self.scale),
+            unit_variance: unit,
+        })
     }
 
-    /// The exact posterior variance of `E(n)` (σ̂_f² times the unit variance at `n`), O(N²).
+    /// `g·β + s·Σ` per channel for a normalised sum `Σ` and a gain `g ∈ (0, 4π]`: in f32 when
+    /// that is finite, else apart in mantissas and exponents ([`scale::rescaled`]), which
+    /// gives `±∞` only when the result exceeds `f32::MAX` (or `β` does).
+    #[inline]
+    fn absolute(&self, g: f32, sum: T) -> T {
+        let fast = self.beta.scale(g).add(sum.mul(self.scale));
+        if (0..T::CHANNELS).all(|c| fast.channel(c).is_finite()) {
+            return fast;
+        }
+        self.rescaled(g, sum, 1.0)
+    }
+
+    /// `a·(g·β + s·Σ)` per channel by [`scale::rescaled`].
+    fn rescaled(&self, g: f32, sum: T, a: f32) -> T {
+        from_channels(|c| {
+            scale::rescaled(self.beta.channel(c), g, self.scale.channel(c), sum.channel(c), a)
+        })
+    }
+
+    /// `a²·s²·σ̂′²·unit` per channel by [`scale::scaled_variance`].
+    fn rescaled_variance(&self, unit: f32, a: f32) -> T {
+        from_channels(|c| {
+            scale::scaled_variance(self.signal_variance.channel(c) * unit, self.scale.channel(c), a)
+        })
+    }
+
+    /// `σ̂′²·s²·a²·v` per channel for an f64 unit variance `v`, rounded once.
+    fn variance_of_unit(&self, v: f64, a: f64) -> T {
+        from_channels(|c| {
+            let sa = f64::from(self.scale.channel(c)) * a;
+            (f64::from(self.signal_variance.channel(c)) * v * sa * sa) as f32
+        })
+    }
+
+    /// The exact posterior variance of `E(n)` (σ̂_f² times the unit variance at `n`), O(N²);
+    /// `+∞` where it exceeds `f32::MAX`.
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite normal.
@@ -494,7 +614,7 @@ where
             None => 0.0,
         });
         let v = self.unit_variance(f, &zeta, core::f64::consts::PI, f64::from(f.vbar));
-        Ok(self.signal_variance.scale(v as f32))
+        Ok(self.variance_of_unit(v, 1.0))
     }
 
     /// Glossy radiance `∫ L(x)·G(x) dx` for a spherical-Gaussian lobe
@@ -521,6 +641,11 @@ where
     /// mirror directions, baked per member at `μ = 0, 1, 2, 4, …, 1024` and interpolated
     /// linearly in `μ` (constant above 1024); [`Probe::glossy_variance`] is exact for `r`.
     ///
+    /// The amplitude `a` is applied last, with the probe's scale, in mantissa and exponent
+    /// apart: any finite `a` (10²⁰ or 10⁻²⁰ say) scales the value by `a` and the variance by
+    /// `a²`, `±∞` only where the result exceeds `f32::MAX`. [`Estimate::unit_variance`] is
+    /// `a²·F(μ)²` times the baked unit variance.
+    ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite axis; [`Error::InvalidSharpness`]
     /// for a sharpness that is negative, not finite or above [`MAX_GLOSSY_SHARPNESS`];
@@ -534,9 +659,10 @@ where
         let lambda = f.lambda;
         let top = lambda + mu;
         let two_lm = 2.0 * lambda * mu;
-        let scale = 4.0 * PI * amp;
-        let full = amp * full_integral_unchecked(mu);
-        let mut acc = self.pi_beta.scale(full / PI);
+        // Unit amplitude: `a` and the scale s are applied last (see `scale::rescaled`).
+        let scale = 4.0 * PI;
+        let full = full_integral_unchecked(mu);
+        let mut acc = T::ZERO;
         // Always `libm`, whatever the math backend: Σ αᵢzᵢ cancels heavily for the smooth
         // members (cond(Q) up to 10⁵), so zᵢ needs full f32 accuracy (micromath's `exp` made
         // the λ = 1 estimate 25 % wrong).
@@ -556,11 +682,16 @@ where
             acc = acc.mul_add(a, scale * e * h);
         }
         let unit = full * full * glossy_grid_lookup(&f.glossy_variance, mu);
-        Ok(Estimate { value: acc, variance: self.signal_variance.scale(unit) })
+        Ok(Estimate {
+            value: self.rescaled(full, acc, amp),
+            variance: self.rescaled_variance(unit, amp),
+            unit_variance: amp * (amp * unit),
+        })
     }
 
     /// The exact posterior variance of [`Probe::glossy`] for `lobe` (σ̂_f² times the unit
-    /// variance), O(N²), in f64.
+    /// variance), O(N²), in f64; the amplitude's `a²` and the probe's scale are applied last
+    /// (`+∞` only where the variance exceeds `f32::MAX`).
     ///
     /// `V̄ = ∫∫ G(x)·k(x, x′)·G(x′)` reduces, with `s = λ + μ − |λx + μr|`, to
     /// `a²·8π²/(λμ)·∫₀^{2 min(λ, μ)} exp(s²/(2λ) − s(2λ + μ)/λ)·(1 − e^(−2(λ + μ − s)))/2 ds`,
@@ -574,8 +705,9 @@ where
         let (r, mu, amp) = check_lobe(lobe)?;
         let f = self.member_in_use()?;
         let lambda = f64::from(f.lambda);
-        let (mu, amp) = (f64::from(mu), f64::from(amp));
-        let integral = amp * glossy_full_integral(mu);
+        // Unit amplitude; a² is applied with the scale at the end.
+        let mu = f64::from(mu);
+        let integral = glossy_full_integral(mu);
         if let Kind::CosinePower { exponent } = F::KIND {
             // zᵢ = a·F(μ)·Σ_l K_l·g_l·(2l + 1)/(4π)·ρₗ(μ)·P_l(xᵢ·r); V̄ as for point samples.
             let mut h = [0.0f64; MAX_SERIES];
@@ -589,13 +721,13 @@ where
                 Some(x) => legendre_sum(&h[..len], f64::from(x.dot(r))),
                 None => 0.0,
             });
-            let vbar = amp * amp * glossy_vbar(lambda, mu);
+            let vbar = glossy_vbar(lambda, mu);
             let v = self.unit_variance(f, &zeta, integral, vbar);
-            return Ok(self.signal_variance.scale(v as f32));
+            return Ok(self.variance_of_unit(v, f64::from(amp)));
         }
         let top = lambda + mu;
         let two_lm = 2.0 * lambda * mu;
-        let scale = 4.0 * core::f64::consts::PI * amp;
+        let scale = 4.0 * core::f64::consts::PI;
         let zeta: [f64; N] = core::array::from_fn(|i| match self.directions.get(i) {
             Some(x) => {
                 let dx = [x.x - r.x, x.y - r.y, x.z - r.z].map(f64::from);
@@ -609,10 +741,10 @@ where
         let vbar = if let Kind::Gaussian { sharpness } = F::KIND {
             integral * integral * deconvolved_vbar(lambda, sharpness, mu)
         } else {
-            amp * amp * glossy_vbar(lambda, mu)
+            glossy_vbar(lambda, mu)
         };
         let v = self.unit_variance(f, &zeta, integral, vbar);
-        Ok(self.signal_variance.scale(v as f32))
+        Ok(self.variance_of_unit(v, f64::from(amp)))
     }
 
     /// The normalised Phong lobe average `∫ L(x)·(e + 1)/(2π)·max(0, r·x)ᵉ dx` about the mirror
@@ -651,12 +783,16 @@ where
         let Some(h) = h.get_mut(..len) else { return Err(Error::InvalidParameter) };
         apply_cosine_power_gains(exponent, h);
         let rec = legendre_recurrence(len);
-        let mut acc = self.pi_beta.scale(1.0 / PI);
+        let mut acc = T::ZERO;
         for (x, &a) in self.directions.iter().zip(&self.alpha) {
             acc = acc.mul_add(a, legendre_sum_f32(h, &rec, x.dot(r)));
         }
         let unit = glossy_grid_lookup(&f.glossy_variance, exponent + 2.0);
-        Ok(Estimate { value: acc, variance: self.signal_variance.scale(unit) })
+        Ok(Estimate {
+            value: self.absolute(1.0, acc),
+            variance: self.signal_variance.scale(unit).mul(self.scale).mul(self.scale),
+            unit_variance: unit,
+        })
     }
 
     /// The exact posterior variance of [`Probe::phong`] (σ̂_f² times the unit variance),
@@ -716,7 +852,7 @@ where
         apply_cosine_power_gains(e, k);
         let vbar: f64 = k.iter().sum();
         let v = self.unit_variance(f, &zeta, 1.0, vbar);
-        Ok(self.signal_variance.scale(v as f32))
+        Ok(self.variance_of_unit(v, 1.0))
     }
 
     /// [`Probe::glossy`] for a cosine-power footprint: `zᵢ = a·F(μ)·Σ_l bₗ·ρₗ(μ)·P_l(xᵢ·r)`
@@ -729,24 +865,29 @@ where
         mu: f32,
         amp: f32,
     ) -> Estimate<T> {
-        let full = amp * full_integral_unchecked(mu);
+        // Unit amplitude: `a` and the scale s are applied last.
+        let full = full_integral_unchecked(mu);
         let mut h = [0.0f32; MAX_SERIES];
         let len = cosine_series_f32(f.lambda, exponent, &mut h);
         let mut rho = [0.0f32; MAX_SERIES];
         let Some(rho) = rho.get_mut(..len) else {
-            return Estimate { value: T::ZERO, variance: T::ZERO };
+            return Estimate { value: T::ZERO, variance: T::ZERO, unit_variance: 0.0 };
         };
         bessel_ratios(mu, rho);
         for (h, &p) in h.iter_mut().zip(rho.iter()) {
             *h *= full * p;
         }
         let rec = legendre_recurrence(len);
-        let mut acc = self.pi_beta.scale(full / PI);
+        let mut acc = T::ZERO;
         for (x, &a) in self.directions.iter().zip(&self.alpha) {
             acc = acc.mul_add(a, legendre_sum_f32(&h[..len], &rec, x.dot(r)));
         }
         let unit = full * full * glossy_grid_lookup(&f.glossy_variance, mu);
-        Estimate { value: acc, variance: self.signal_variance.scale(unit) }
+        Estimate {
+            value: self.rescaled(full, acc, amp),
+            variance: self.rescaled_variance(unit, amp),
+            unit_variance: amp * (amp * unit),
+        }
     }
 
     fn member_in_use(&self) -> Result<&'static sealed::Baked, Error> {
@@ -786,22 +927,27 @@ where
     }
 
     /// The restricted log marginal likelihood of the last update's samples under the
-    /// selected member (up to a constant shared by the family).
+    /// selected member (up to a constant shared by the family), of the samples as given:
+    /// `ℓ(c·Y) = ℓ(Y) − (N − 1)·C·ln c` for `C` channels.
     #[must_use]
     pub const fn log_likelihood(&self) -> f32 {
         self.log_likelihood
     }
 
-    /// `σ̂_f² = rᵀQ⁻¹r/(N − 1)` of the last update, per channel.
+    /// `σ̂_f² = rᵀQ⁻¹r/(N − 1)` of the last update, per channel: the diagonal of
+    /// [`Probe::channel_covariance`]. Stored relative to the samples' spread, so it is exact
+    /// at any radiance scale; `+∞` where `σ̂_f²` itself exceeds `f32::MAX` (samples spread
+    /// wider than about 10¹⁹), 0 or subnormal below the normal range (spread under 10⁻¹⁹).
     #[must_use]
-    pub const fn signal_variance(&self) -> T {
-        self.signal_variance
+    pub fn signal_variance(&self) -> T {
+        self.signal_variance.mul(self.scale).mul(self.scale)
     }
 
-    /// `π·β`: the irradiance of the fitted constant mean (`β` is the GLS mean radiance).
+    /// `π·β`: the irradiance of the fitted constant mean (`β` is the GLS mean radiance);
+    /// `±∞` where it exceeds `f32::MAX`.
     #[must_use]
-    pub const fn mean_irradiance(&self) -> T {
-        self.pi_beta
+    pub fn mean_irradiance(&self) -> T {
+        self.beta.scale(PI)
     }
 }
 

@@ -20,6 +20,13 @@
 //! axis per estimate, which removes the structured error of a fixed orientation.
 //!
 //! NaN radiance propagates: one NaN sample makes the estimate NaN (per channel).
+//!
+//! # Radiance scale
+//! The estimators work at any radiance scale: a sum of samples that overflows f32 is taken
+//! again with every sample scaled by `2^−⌈log₂ N⌉` first (exact), and the weight applied to
+//! that sum, so an estimate is `±∞` only when it exceeds `f32::MAX` itself (a constant
+//! `10³⁷` gives `π·10³⁷` irradiance). Whenever the plain sum fits, the estimate is the plain
+//! sum times the weight, bit for bit.
 
 use crate::error::Error;
 use crate::math;
@@ -125,17 +132,45 @@ impl LobeSampler {
         if samples.len() != self.set.len() {
             return Err(Error::LengthMismatch);
         }
-        Ok(sum(samples.iter().copied()).scale(self.weight()))
+        let plain = samples.iter().fold(T::ZERO, |acc, &y| acc.add(y));
+        if is_finite(plain) {
+            return Ok(plain.scale(self.weight()));
+        }
+        // The sum overflowed (or a sample is NaN): again, every sample scaled down first.
+        let p = prescale(samples.len());
+        let scaled = samples.iter().fold(T::ZERO, |acc, &y| acc.mul_add(y, p));
+        Ok(scaled.scale(self.weight() / p))
     }
 
     /// `∫ L(ω)·cosᵉ θ dω` with radiance from a callback.
     pub fn integrate<T: Radiance, F: FnMut(Vec3) -> T>(&self, mut radiance: F) -> T {
-        sum(self.iter().map(&mut radiance)).scale(self.weight())
+        weighted_sum(self.iter().map(&mut radiance), self.set.len(), self.weight())
     }
 }
 
-fn sum<T: Radiance>(values: impl Iterator<Item = T>) -> T {
-    values.fold(T::ZERO, T::add)
+/// `w·Σ yⱼ` for `n` values `yⱼ`: the plain sum times `w` when that sum is finite (bit for bit
+/// the unscaled arithmetic), else the sum of `yⱼ·2^−⌈log₂ n⌉` (which cannot overflow) times
+/// `w·2^⌈log₂ n⌉`. Both sums are kept as the values go by, so each is read once.
+fn weighted_sum<T: Radiance>(values: impl Iterator<Item = T>, n: usize, w: f32) -> T {
+    let p = prescale(n);
+    let (plain, scaled) =
+        values.fold((T::ZERO, T::ZERO), |(plain, scaled), y| (plain.add(y), scaled.mul_add(y, p)));
+    if is_finite(plain) {
+        plain.scale(w)
+    } else {
+        scaled.scale(w / p)
+    }
+}
+
+/// `2^−⌈log₂ n⌉` (1 for `n ≤ 1`; `n ≤ 2²⁴`): `n` samples of at most `f32::MAX` scaled by it
+/// sum to at most `f32::MAX`.
+fn prescale(n: usize) -> f32 {
+    let bits = usize::BITS - n.saturating_sub(1).leading_zeros();
+    f32::from_bits((127u32.saturating_sub(bits)) << 23)
+}
+
+fn is_finite<T: Radiance>(x: T) -> bool {
+    (0..T::CHANNELS).all(|c| x.channel(c).is_finite())
 }
 
 /// Irradiance `E(n) = ∫ L(ω)·max(0, n·ω) dω` from `N` cosine-morphed hemisphere SF
@@ -180,5 +215,5 @@ pub fn phong<const N: usize, T: Radiance, F: FnMut(Vec3) -> T>(
     let lobe = Lobe::phong(exponent)?;
     let s = LobeSampler::new(reflection, lobe, N, phase_bits)?;
     // The normalised lobe's weight is 1/N: the 2π/(e+1) of `integrate` cancels.
-    Ok(sum(s.iter().map(radiance)).scale(1.0 / N as f32))
+    Ok(weighted_sum(s.iter().map(radiance), N, 1.0 / N as f32))
 }

@@ -16,7 +16,8 @@ pub trait Radiance: Copy {
     /// Component-wise product.
     #[must_use]
     fn mul(self, other: Self) -> Self;
-    /// `f` applied to each channel.
+    /// `f` applied to each channel, in order of the channels (channel 0 first; the probe
+    /// builds per-channel values through this order).
     #[must_use]
     fn map<F: Fn(f32) -> f32>(self, f: F) -> Self;
     /// Component-wise sum.
@@ -85,4 +86,15 @@ impl<const C: usize> Radiance for [f32; C] {
     fn scale(self, s: f32) -> Self {
         core::array::from_fn(|k| self[k] * s)
     }
+}
+
+/// The value whose channel `k` is `f(k)`, built through [`Radiance::map`] (which visits the
+/// channels in order).
+pub(crate) fn from_channels<T: Radiance>(f: impl Fn(usize) -> f32) -> T {
+    let next = core::cell::Cell::new(0usize);
+    T::ZERO.map(|_| {
+        let k = next.get();
+        next.set(k + 1);
+        f(k)
+    })
 }

@@ -193,6 +193,16 @@ fn bmc_probe() {
     keep(rgb.posterior_variance(dir()));
     keep(rgb.glossy(&lobe));
     keep(rgb.glossy_variance(&lobe));
+    // Issue #13: the channel covariance, channel combinations, and any radiance scale.
+    keep(rgb.channel_covariance(black_box(0), black_box(2)));
+    let w = black_box([0.2126, 0.7152, 0.0722]);
+    keep(rgb.signal_variance_of(w));
+    if let Ok(e) = rgb.irradiance(dir()) {
+        keep(rgb.combine(&e, w));
+    }
+    keep(rgb.update(black_box(&[[3e38, -3e38, 1e-30]; 16])));
+    keep(rgb.signal_variance());
+    keep(rgb.mean_irradiance());
 }
 
 /// Footprint probes (issue #11): photodiodes (`CosinePower<1>`, whose glossy queries go
