@@ -76,6 +76,7 @@ mod compare;
 #[path = "common/tiers.rs"]
 mod tiers;
 
+#[allow(dead_code)]
 #[path = "common/luminance_bar.rs"]
 mod luminance_bar;
 #[path = "common/parallel.rs"]
@@ -267,8 +268,10 @@ where
     let (bar_fixed, bar) = (LuminanceBar::new(&fixed), LuminanceBar::new(&select));
     for (o, &n) in out.iter_mut().zip(normals) {
         let (fixed, var_fixed) = bar_fixed.estimate(&fixed.irradiance(n).expect("unit normal"));
-        let (value, var_fast) = bar.estimate(&select.irradiance(n).expect("unit normal"));
-        let var_exact = bar.variance(select.posterior_variance(n).expect("unit normal"));
+        let e = select.irradiance(n).expect("unit normal");
+        let (value, var_fast) = bar.estimate(&e);
+        let exact = bar.exact(&e, select.posterior_variance(n).expect("unit normal"));
+        let (_, var_exact) = bar.estimate(&exact);
         *o = BmcQuery { fixed, var_fixed, select: value, var_fast, var_exact };
     }
     select.selected()

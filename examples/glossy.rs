@@ -51,6 +51,7 @@
 #[allow(dead_code)]
 #[path = "common/compare.rs"]
 mod compare;
+#[allow(dead_code)]
 #[path = "common/luminance_bar.rs"]
 mod luminance_bar;
 #[path = "common/parallel.rs"]
@@ -171,8 +172,10 @@ where
                     SphericalGaussian::phong_moments(vec32(*r), e as f32)
                 }
                 .expect("valid lobe");
-                let (bmc, var_fast) = bar.estimate(&probe.glossy(&lobe).expect("valid lobe"));
-                let var_exact = bar.variance(probe.glossy_variance(&lobe).expect("valid lobe"));
+                let g = probe.glossy(&lobe).expect("valid lobe");
+                let exact = bar.exact(&g, probe.glossy_variance(&lobe).expect("valid lobe"));
+                let (bmc, var_fast) = LuminanceBar::combine(&probe, &g);
+                let (_, var_exact) = LuminanceBar::combine(&probe, &exact);
                 let (mut num, mut den) = (0.0, 0.0);
                 for (x, &y) in xs.iter().zip(&ys) {
                     let w = dot(*r, *x).max(0.0).powf(e);
