@@ -14,8 +14,7 @@
 //! is written), `--csv FILE` (the rows below), `--quick` (2 maps, 2 synthetic mixtures, 64
 //! normals, 8 rotations, 1 draw), `--fixed-member K` (the family member of the
 //! fixed-hyperparameter BMC probe, default 1), `--threads T` (default: all cores). The default
-//! run takes 25 s of CPU (25 s wall measured on two cores shared with other work), `--quick`
-//! two seconds.
+//! run takes 23 s of CPU (13 s wall measured on two cores), `--quick` two seconds.
 //!
 //! # Lighting tiers (each of 10 "maps")
 //! - `raw`: the map as loaded.

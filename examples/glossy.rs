@@ -14,8 +14,7 @@
 //! `examples/envmaps/`), `--out DIR` (writes `DIR/glossy.md`; without it the report goes to
 //! stdout and nothing is written), `--csv FILE` (the rows below), `--quick` (two maps, 32
 //! directions, 4 rotations), `--l2-fit`, `--threads T` (default: all cores). The default run
-//! takes 26 s of CPU (33 s wall measured on two cores shared with other work), `--quick` a
-//! few seconds.
+//! takes 26 s of CPU (14 s wall measured on two cores), `--quick` a few seconds.
 //!
 //! Estimators, all from the same N probe samples (the crate's sphere SF set under a random
 //! rotation, 16 seeded rotations per map, RMSE pooled over rotations × 128 seeded random

@@ -261,7 +261,7 @@ pub fn mean_ratio_target(
     let ns: Vec<String> = ns.iter().map(usize::to_string).collect();
     Target {
         statement: format!(
-            "`{tier}` {query}: mean of per-map ratios BMC / min({peers}) ≤ {limit} at N = {}",
+            "`{tier}` {query}: mean of per-map ratios BMC / min({peers}) ≤ {limit:.2} at N = {}",
             ns.join(", ")
         ),
         measured: measured.join(", "),
@@ -278,7 +278,7 @@ pub fn worst_target(cases: &[Case], tier: &str, query: &str, peers: &str) -> Tar
             let v = r.ratio();
             total += 1;
             if v.is_nan() || v > WORST_LIMIT {
-                over.push(format!("{} N = {} ({})", r.map, c.n, ratio(v)));
+                over.push((v, format!("{} N = {} ({})", r.map, c.n, ratio(v))));
             }
             if worst.as_ref().is_none_or(|w| v > w.0 || v.is_nan()) {
                 worst = Some((v, r.map.clone(), c.n));
@@ -297,8 +297,12 @@ pub fn worst_target(cases: &[Case], tier: &str, query: &str, peers: &str) -> Tar
         w.2,
         over.len()
     );
-    if !over.is_empty() && over.len() <= 6 {
-        let _ = write!(measured, ": {}", over.join(", "));
+    // The largest first, at most five.
+    over.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let shown: Vec<&str> = over.iter().take(5).map(|(_, s)| s.as_str()).collect();
+    if !shown.is_empty() {
+        let more = if over.len() > shown.len() { ", …" } else { "" };
+        let _ = write!(measured, ": {}{more}", shown.join(", "));
     }
     Target { statement, measured, met: Some(over.is_empty()) }
 }
