@@ -3,32 +3,61 @@
 //! samples of one probe, against ground truth summed over every pixel.
 //!
 //! ```text
-//! cargo run --release --example glossy                  # ten bundled maps, writes docs/glossy.md
+//! cargo run --release --example glossy                  # ten bundled maps, report to stdout
+//! cargo run --release --example glossy -- --out docs    # regenerates docs/glossy.md
 //! cargo run --release --example glossy -- --quick --out target/glossy   # CI smoke run
 //! cargo run --release --example glossy -- --l2-fit --out target/glossy  # phong_lobe instead
+//! cargo run --release --example glossy -- a.hdr b.hdr --csv rows.csv   # your own maps
 //! ```
+//!
+//! Options (`--help`): map paths as positional arguments (default: the ten in
+//! `examples/envmaps/`), `--out DIR` (writes `DIR/glossy.md`; without it the report goes to
+//! stdout and nothing is written), `--csv FILE` (the rows below), `--quick` (two maps, 32
+//! directions, 4 rotations), `--l2-fit`, `--threads T` (default: all cores). The default run
+//! takes 26 s of CPU (14 s wall measured on two cores), `--quick` a few seconds.
 //!
 //! Estimators, all from the same N probe samples (the crate's sphere SF set under a random
 //! rotation, 16 seeded rotations per map, RMSE pooled over rotations × 128 seeded random
-//! directions; luminance):
-//! - `BMC`: `Probe::glossy` with `SphericalGaussian::phong_moments(r, e)` (the SG with the
-//!   Phong lobe's integral and first Legendre moment, `λ = e + 2`: the lobe mismatch is part of
-//!   the measured error; `--l2-fit` uses `phong_lobe`, `λ = e + 1`, instead), after
-//!   `Probe::update` (per-probe selection);
-//! - `lobe-avg`: `Σ max(0, r·xⱼ)ᵉ·Yⱼ / Σ max(0, r·xⱼ)ᵉ`, the glossy twin of the
-//!   cosine-weighted average;
-//! - `SH L2`: projection on real SH up to l = 2 with weights 4π/N, convolved with the Phong
-//!   lobe's zonal coefficients `1, (e+1)/(e+2), e/(e+3)`.
+//! directions; N ∈ {16, 32, 64, 128, 256}; e ∈ {5, 20, 100}). The samples are RGB; errors are
+//! on luminance:
+//! - `BMC`: the RGB probe `Probe<N, [f32; 3]>`, `Probe::glossy` with
+//!   `SphericalGaussian::phong_moments(r, e)` (the SG with the Phong lobe's integral and first
+//!   Legendre moment, `λ = e + 2`: the lobe mismatch is part of the measured error; `--l2-fit`
+//!   uses `phong_lobe`, `λ = e + 1`, instead), after `Probe::update` (per-probe selection);
+//!   the luminance of its estimate;
+//! - `lobe-avg`: `Σ max(0, r·xⱼ)ᵉ·Yⱼ / Σ max(0, r·xⱼ)ᵉ` on the samples' luminance `Yⱼ`, the
+//!   glossy twin of the cosine-weighted average;
+//! - `SH L2`: projection of the `Yⱼ` on real SH up to l = 2 with weights 4π/N, convolved with
+//!   the Phong lobe's zonal coefficients `1, (e+1)/(e+2), e/(e+3)`.
+//!
+//! The peers are linear, so their estimate from the `Yⱼ` is the luminance of their RGB
+//! estimate.
 //!
 //! Tiers `clamp` and `smooth` as in `examples/accuracy.rs` (`raw` suns and lamps are direct
 //! light; a probe holds the rest). The probe's hyperparameters were trained on apartment,
-//! bridge, forest and lab (irradiance only); the headline figures are means over the other six
-//! maps. Error bars: fraction of queries with |error| ≤ 2σ, σ² from `Probe::glossy_variance`
-//! (exact) and from `Probe::glossy` (the O(N) direction average).
+//! bridge, forest and lab (irradiance only); the other maps are held out. Per tier, exponent
+//! and N the report gives, over the held-out maps and over all maps (`common/report.rs`): the
+//! mean over maps of BMC / min(lobe-avg, SH L2) per map, the ratio of the mean errors, the
+//! worst map, and the fraction of queries with |error| ≤ 2σ for BMC's luminance error bar
+//! (`common/luminance_bar.rs`), σ² from `Probe::glossy` (the O(N) direction average) and from
+//! `Probe::glossy_variance` (exact); then the targets of issue #13 with met or missed.
+//!
+//! `--csv FILE` writes a header and one row per (tier, e, N, estimator, map):
+//! `glossy,<tier>,glossy-<e>,<n>,<estimator>,<map>,<rel_rmse>,<coverage>` with estimators
+//! `bmc`, `lobe-avg`, `sh-l2`; coverage is the fraction of the map's queries within 2σ of the
+//! luminance bar of `Probe::glossy` (`bmc` only; empty for the peers).
 
 #[allow(dead_code)]
 #[path = "common/compare.rs"]
 mod compare;
+#[allow(dead_code)]
+#[path = "common/luminance_bar.rs"]
+mod luminance_bar;
+#[path = "common/parallel.rs"]
+mod parallel;
+#[allow(dead_code)]
+#[path = "common/report.rs"]
+mod report;
 #[allow(dead_code)]
 #[path = "common/tiers.rs"]
 mod tiers;
@@ -36,38 +65,57 @@ mod tiers;
 use std::error::Error;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
 
+use luminance_bar::LuminanceBar;
+use parallel::parallel_map;
 use reference::envmap::{luminance, EnvMap};
 use reference::rng::Rng;
 use reference::sh::real_sh;
 use reference::vec::dot;
+use report::{Case, CsvRow, MapRow};
 use sphere_quadrature::bmc::Size;
 use sphere_quadrature::probe::{Probe, ProbeSize};
 use sphere_quadrature::sg::SphericalGaussian;
-use sphere_quadrature::{Mat3, SphericalFibonacci, Vec3};
+use sphere_quadrature::{Mat3, Vec3};
 
 const ALL_MAPS: [&str; 10] =
     ["apartment", "bridge", "city", "dawn", "forest", "hall", "lab", "lobby", "night", "park"];
+/// Maps the probe's hyperparameters were trained on; every other map is held out.
 const TRAINING_MAPS: [&str; 4] = ["apartment", "bridge", "forest", "lab"];
+/// `--quick`: one training and one held-out map.
 const QUICK_MAPS: [&str; 2] = ["apartment", "lobby"];
-const NS: [usize; 3] = [16, 64, 256];
+const NS: [usize; 5] = [16, 32, 64, 128, 256];
 const EXPONENTS: [f64; 3] = [5.0, 20.0, 100.0];
 const TIERS: [&str; 2] = ["clamp", "smooth"];
+/// The estimators as the reports name them; BMC first.
 const ESTIMATORS: [&str; 3] = ["BMC", "lobe-avg", "SH L2"];
+/// The estimators' names in the CSV rows.
+const CSV_NAMES: [&str; 3] = ["bmc", "lobe-avg", "sh-l2"];
+/// BMC's two luminance error bars, as the reports name them.
+const BARS: [&str; 2] = ["O(N) bar", "exact bar"];
 const SEED_DIRECTIONS: u64 = 0x6105_0001;
 const SEED_ROTATIONS: u64 = 0x6105_0002;
 
 /// Per exponent, per direction, per pixel: the Phong truth weights of one grid size.
 type WeightSets = Vec<Vec<Vec<f64>>>;
 
-/// Squared errors, |truth| and 2σ hits of one (tier, map, N, e), per estimator.
+/// Squared errors per estimator, Σ|truth| and BMC's 2σ hits of one (tier, map, N, e).
 #[derive(Clone, Default)]
 struct Sums {
     sq: [f64; 3],
     truth: f64,
     count: usize,
-    within: usize,
-    within_fast: usize,
+    /// Queries within 2σ of the luminance bar, σ² from `glossy` (O(N)) and `glossy_variance`.
+    within: [usize; 2],
+}
+
+impl Sums {
+    /// Relative RMSE (RMSE / mean |truth|) of estimator `k`.
+    fn rel(&self, k: usize) -> f64 {
+        (self.sq[k] / self.count as f64).sqrt() / (self.truth / self.count as f64)
+    }
 }
 
 fn vec32(d: [f64; 3]) -> Vec3 {
@@ -99,20 +147,19 @@ where
 {
     let mut sums = vec![Sums::default(); EXPONENTS.len()];
     for &rot in rotations {
-        let mut probe = Probe::<N>::new();
+        let mut probe = Probe::<N, [f32; 3]>::new();
         probe.set_rotation(rot).expect("a random rotation is orthonormal");
-        let xs: Vec<[f64; 3]> = SphericalFibonacci::<N>::new()
-            .with_rotation(rot)
-            .points()
-            .iter()
-            .map(|d| [d.x as f64, d.y as f64, d.z as f64])
-            .collect();
-        let ys: [f32; N] = std::array::from_fn(|j| luminance(map.radiance(xs[j])) as f32);
-        probe.update(&ys).expect("finite samples");
+        let xs: Vec<[f64; 3]> =
+            probe.directions().iter().map(|d| [d.x as f64, d.y as f64, d.z as f64]).collect();
+        let rgb: [[f32; 3]; N] = std::array::from_fn(|j| map.radiance(xs[j]).map(|c| c as f32));
+        // The peers' samples: the luminance of the probe's.
+        let ys: Vec<f64> = rgb.iter().map(|c| luminance(c.map(f64::from))).collect();
+        probe.update(&rgb).expect("finite samples");
+        let bar = LuminanceBar::new(&probe);
         let mut sh = [0.0f64; 9];
         for (x, &y) in xs.iter().zip(&ys) {
             for (c, (_, v)) in sh.iter_mut().zip(sh9(*x)) {
-                *c += 4.0 * std::f64::consts::PI / N as f64 * y as f64 * v;
+                *c += 4.0 * std::f64::consts::PI / N as f64 * y * v;
             }
         }
         for ((&e, s), truth) in EXPONENTS.iter().zip(&mut sums).zip(truths) {
@@ -125,12 +172,13 @@ where
                 }
                 .expect("valid lobe");
                 let g = probe.glossy(&lobe).expect("valid lobe");
-                let (bmc, fast) = (g.value as f64, g.variance as f64);
-                let var = probe.glossy_variance(&lobe).expect("valid lobe") as f64;
+                let exact = bar.exact(&g, probe.glossy_variance(&lobe).expect("valid lobe"));
+                let (bmc, var_fast) = LuminanceBar::combine(&probe, &g);
+                let (_, var_exact) = LuminanceBar::combine(&probe, &exact);
                 let (mut num, mut den) = (0.0, 0.0);
                 for (x, &y) in xs.iter().zip(&ys) {
                     let w = dot(*r, *x).max(0.0).powf(e);
-                    num += w * y as f64;
+                    num += w * y;
                     den += w;
                 }
                 let avg = if den > 0.0 { num / den } else { 0.0 };
@@ -140,28 +188,206 @@ where
                 }
                 s.truth += t.abs();
                 s.count += 1;
-                s.within += usize::from((bmc - t).abs() <= 2.0 * var.sqrt());
-                s.within_fast += usize::from((bmc - t).abs() <= 2.0 * fast.sqrt());
+                for (w, var) in s.within.iter_mut().zip([var_fast, var_exact]) {
+                    *w += usize::from((bmc - t).abs() <= 2.0 * var.sqrt());
+                }
             }
         }
     }
     sums
 }
 
-fn main() -> Result<(), Box<dyn Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let quick = args.iter().any(|a| a == "--quick");
-    let l2_fit = args.iter().any(|a| a == "--l2-fit");
-    let out = args
-        .iter()
-        .position(|a| a == "--out")
-        .and_then(|i| args.get(i + 1))
-        .map_or_else(|| PathBuf::from("docs"), PathBuf::from);
-    let names: &[&str] = if quick { &QUICK_MAPS } else { &ALL_MAPS };
-    let (n_dirs, n_rot) = if quick { (32, 4) } else { (128, 16) };
-    let start = std::time::Instant::now();
+/// [`evaluate`] at the size `NS[ni]`.
+fn evaluate_at(
+    ni: usize,
+    map: &EnvMap,
+    truths: &[Vec<f64>],
+    dirs: &[[f64; 3]],
+    rotations: &[Mat3],
+    l2_fit: bool,
+) -> Vec<Sums> {
+    match NS[ni] {
+        16 => evaluate::<16>(map, truths, dirs, rotations, l2_fit),
+        32 => evaluate::<32>(map, truths, dirs, rotations, l2_fit),
+        64 => evaluate::<64>(map, truths, dirs, rotations, l2_fit),
+        128 => evaluate::<128>(map, truths, dirs, rotations, l2_fit),
+        256 => evaluate::<256>(map, truths, dirs, rotations, l2_fit),
+        n => unreachable!("no probe of size {n}"),
+    }
+}
 
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/envmaps");
+/// One (tier, map) of the benchmark.
+struct Scene {
+    tier: usize,
+    name: String,
+    held_out: bool,
+    map: EnvMap,
+}
+
+/// The query kind of exponent `e`, as the CSV rows and the reports name it.
+fn query(e: f64) -> String {
+    format!("glossy-{e}")
+}
+
+/// One case per (tier, e, N), tier-major, then exponent, then N: BMC and its peers per map.
+/// `sums[s][ni][ei]` belongs to `scenes[s]`.
+fn cases(scenes: &[Scene], sums: &[Vec<Vec<Sums>>]) -> Vec<Case> {
+    let mut cases = Vec::new();
+    for (ti, tier) in TIERS.iter().enumerate() {
+        for (ei, &e) in EXPONENTS.iter().enumerate() {
+            for (ni, &n) in NS.iter().enumerate() {
+                let rows = scenes
+                    .iter()
+                    .zip(sums)
+                    .filter(|(scene, _)| scene.tier == ti)
+                    .map(|(scene, per_n)| {
+                        let s = &per_n[ni][ei];
+                        MapRow {
+                            map: scene.name.clone(),
+                            held_out: scene.held_out,
+                            bmc: s.rel(0),
+                            peers: [s.rel(1), s.rel(2)],
+                            covered: s.within,
+                            queries: s.count,
+                        }
+                    })
+                    .collect();
+                cases.push(Case { tier: (*tier).into(), query: query(e), n, rows });
+            }
+        }
+    }
+    cases
+}
+
+/// The CSV rows (without header): one per (tier, e, N, estimator, map).
+fn csv_rows(scenes: &[Scene], sums: &[Vec<Vec<Sums>>]) -> String {
+    let mut csv = String::new();
+    for (ti, tier) in TIERS.iter().enumerate() {
+        for (ei, &e) in EXPONENTS.iter().enumerate() {
+            let query = query(e);
+            for (ni, &n) in NS.iter().enumerate() {
+                for (k, estimator) in CSV_NAMES.iter().enumerate() {
+                    for (scene, per_n) in scenes.iter().zip(sums).filter(|(s, _)| s.tier == ti) {
+                        let s = &per_n[ni][ei];
+                        let row = CsvRow {
+                            benchmark: "glossy",
+                            tier,
+                            query: &query,
+                            n,
+                            estimator,
+                            map: &scene.name,
+                            rel_rmse: s.rel(k),
+                            coverage: (k == 0).then(|| s.within[0] as f64 / s.count as f64),
+                        };
+                        let _ = writeln!(csv, "{row}");
+                    }
+                }
+            }
+        }
+    }
+    csv
+}
+
+/// The targets of issue #13 on glossy queries, over the held-out maps.
+fn targets(md: &mut String, cases: &[Case], held_out: &str) {
+    let peers = "lobe-avg, SH L2";
+    let mut t = Vec::new();
+    for tier in TIERS {
+        for &e in &EXPONENTS {
+            t.push(report::worst_target(cases, tier, &query(e), peers));
+        }
+    }
+    for tier in TIERS {
+        for &e in &EXPONENTS {
+            for (bar, name) in BARS.iter().enumerate() {
+                t.push(report::coverage_target(cases, tier, &query(e), bar, name));
+            }
+        }
+    }
+    let _ = writeln!(
+        md,
+        "## Targets (issue #13)\n\nBMC is the probe as shipped (`Probe::update`, RGB samples, \
+         luminance of its estimate); its same-sample peers are lobe-avg and SH L2. A map's \
+         ratio is BMC's relative RMSE over the better peer's on that map. Measured over the \
+         held-out maps ({held_out}); the tables below give all maps too. The irradiance targets \
+         are in `docs/accuracy.md` (`examples/accuracy.rs`). The luminance error bar: {}.\n",
+        luminance_bar::METHOD
+    );
+    report::targets_table(md, &t);
+}
+
+struct Args {
+    maps: Vec<PathBuf>,
+    out: Option<PathBuf>,
+    csv: Option<PathBuf>,
+    quick: bool,
+    l2_fit: bool,
+    threads: usize,
+}
+
+const HELP: &str = "glossy benchmark: normalised Phong radiance from probe samples (issue #13)
+
+USAGE: cargo run --release --example glossy -- [MAP.hdr ...] [OPTIONS]
+
+  MAP.hdr       equirectangular maps (default: the ten in examples/envmaps/); maps named
+                apartment, bridge, forest or lab count as training maps, the rest as held out
+  --out DIR     write DIR/glossy.md (`--out docs` regenerates the repository's docs); without
+                it the report goes to stdout only
+  --csv FILE    also write rows glossy,<tier>,glossy-<e>,<n>,<estimator>,<map>,<rel_rmse>,<coverage>
+                (coverage: fraction of queries within 2σ, empty without an error bar)
+  --quick       2 maps, 32 directions, 4 rotations (CI)
+  --l2-fit      BMC with SphericalGaussian::phong_lobe instead of phong_moments
+                (writes glossy_l2_fit.md)
+  --threads T   worker threads (default: all cores)
+  --help        this text";
+
+/// The arguments, or `None` after `--help`.
+fn parse_args(raw: &[String]) -> Result<Option<Args>, Box<dyn Error>> {
+    let mut a = Args {
+        maps: Vec::new(),
+        out: None,
+        csv: None,
+        quick: false,
+        l2_fit: false,
+        threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+    };
+    let mut it = raw.iter();
+    while let Some(arg) = it.next() {
+        let mut value = || it.next().ok_or_else(|| format!("{arg} needs a value"));
+        match arg.as_str() {
+            "--help" | "-h" => return Ok(None),
+            "--out" => a.out = Some(PathBuf::from(value()?)),
+            "--csv" => a.csv = Some(PathBuf::from(value()?)),
+            "--quick" => a.quick = true,
+            "--l2-fit" => a.l2_fit = true,
+            "--threads" => a.threads = value()?.parse::<usize>()?.max(1),
+            s if s.starts_with("--") => {
+                return Err(format!("unknown option {s} (see --help)").into())
+            }
+            path => a.maps.push(PathBuf::from(path)),
+        }
+    }
+    if a.maps.is_empty() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/envmaps");
+        let names: &[&str] = if a.quick { &QUICK_MAPS } else { &ALL_MAPS };
+        a.maps = names.iter().map(|n| dir.join(format!("{n}.hdr"))).collect();
+    }
+    Ok(Some(a))
+}
+
+fn name_of(path: &Path) -> String {
+    path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
+}
+
+fn main() -> Result<(), Box<dyn Error>> {
+    let raw_args: Vec<String> = std::env::args().skip(1).collect();
+    let Some(args) = parse_args(&raw_args)? else {
+        println!("{HELP}");
+        return Ok(());
+    };
+    let (n_dirs, n_rot) = if args.quick { (32, 4) } else { (128, 16) };
+    let start = Instant::now();
+
     let mut rng = Rng::new(SEED_DIRECTIONS);
     let dirs: Vec<[f64; 3]> = (0..n_dirs).map(|_| rng.uniform_sphere()).collect();
     let mut rng = Rng::new(SEED_ROTATIONS);
@@ -173,20 +399,34 @@ fn main() -> Result<(), Box<dyn Error>> {
         })
         .collect();
 
-    // (tier, map) scenes.
-    let mut scenes: Vec<(usize, usize, EnvMap)> = Vec::new();
-    for (m, name) in names.iter().enumerate() {
-        let raw = EnvMap::load(dir.join(format!("{name}.hdr")))?;
-        let clamp = compare::clamped(&raw);
-        let smooth = tiers::smooth(&clamp);
-        scenes.push((0, m, clamp));
-        scenes.push((1, m, smooth));
-    }
+    // (tier, map) scenes, tier-major.
+    let names: Vec<String> = args.maps.iter().map(|p| name_of(p)).collect();
+    let clamped: Vec<EnvMap> = args
+        .maps
+        .iter()
+        .map(|p| EnvMap::load(p).map(|m| compare::clamped(&m)))
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("cannot load a map: {e}"))?;
+    let smooth: Vec<EnvMap> = parallel_map(&clamped, args.threads, |_, m| tiers::smooth(m));
+    let scenes: Vec<Scene> = [clamped, smooth]
+        .into_iter()
+        .enumerate()
+        .flat_map(|(tier, maps)| {
+            let names = &names;
+            maps.into_iter().enumerate().map(move |(k, map)| Scene {
+                tier,
+                name: names[k].clone(),
+                held_out: !TRAINING_MAPS.contains(&names[k].as_str()),
+                map,
+            })
+        })
+        .collect();
+    eprintln!("tiers built ({:.1} s)", start.elapsed().as_secs_f64());
     // Phong truth weights per grid size and exponent (one set serves every map of that size).
     let mut truths: Vec<Vec<Vec<f64>>> = Vec::new();
     let mut weight_cache: Vec<((usize, usize), WeightSets)> = Vec::new();
-    for (_, _, map) in &scenes {
-        let size = (map.width, map.height);
+    for scene in &scenes {
+        let size = (scene.map.width, scene.map.height);
         if !weight_cache.iter().any(|(s, _)| *s == size) {
             let w = EXPONENTS
                 .iter()
@@ -195,116 +435,81 @@ fn main() -> Result<(), Box<dyn Error>> {
             weight_cache.push((size, w));
         }
         let w = &weight_cache.iter().find(|(s, _)| *s == size).expect("cached").1;
-        truths.push(w.iter().map(|we| compare::truths(map, we)).collect());
+        truths.push(w.iter().map(|we| compare::truths(&scene.map, we)).collect());
     }
     drop(weight_cache);
+    eprintln!("ground truth ({:.1} s)", start.elapsed().as_secs_f64());
 
-    // sums[scene][n][e], the scenes split over the cores.
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let jobs: Vec<usize> = (0..scenes.len()).collect();
-    let chunk = jobs.len().div_ceil(threads).max(1);
-    let results: Vec<(usize, Vec<Vec<Sums>>)> = std::thread::scope(|scope| {
-        let handles: Vec<_> = jobs
-            .chunks(chunk)
-            .map(|part| {
-                let (scenes, truths, dirs, rotations) = (&scenes, &truths, &dirs, &rotations);
-                scope.spawn(move || {
-                    part.iter()
-                        .map(|&i| {
-                            let (map, t) = (&scenes[i].2, &truths[i]);
-                            let per_n = vec![
-                                evaluate::<16>(map, t, dirs, rotations, l2_fit),
-                                evaluate::<64>(map, t, dirs, rotations, l2_fit),
-                                evaluate::<256>(map, t, dirs, rotations, l2_fit),
-                            ];
-                            (i, per_n)
-                        })
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        handles.into_iter().flat_map(|h| h.join().expect("worker")).collect()
+    // One job per (scene, N), the largest N first so that the workers finish together.
+    let mut jobs: Vec<(usize, usize)> =
+        (0..scenes.len()).flat_map(|s| (0..NS.len()).map(move |ni| (s, ni))).collect();
+    jobs.sort_by_key(|&(s, ni)| (std::cmp::Reverse(ni), s));
+    let done = AtomicUsize::new(0);
+    let results = parallel_map(&jobs, args.threads, |_, &(s, ni)| {
+        let sums = evaluate_at(ni, &scenes[s].map, &truths[s], &dirs, &rotations, args.l2_fit);
+        let d = done.fetch_add(1, Ordering::Relaxed) + 1;
+        if d % scenes.len() == 0 {
+            eprintln!("[{d}/{}] ({:.1} s)", jobs.len(), start.elapsed().as_secs_f64());
+        }
+        sums
     });
+    // sums[scene][ni][ei].
+    let mut sums: Vec<Vec<Vec<Sums>>> = vec![vec![Vec::new(); NS.len()]; scenes.len()];
+    for (&(s, ni), r) in jobs.iter().zip(results) {
+        sums[s][ni] = r;
+    }
+    let seconds = start.elapsed().as_secs_f64();
 
+    let cases = cases(&scenes, &sums);
+    let held_out: Vec<&str> =
+        names.iter().filter(|n| !TRAINING_MAPS.contains(&n.as_str())).map(String::as_str).collect();
+    let held_out = if held_out.is_empty() { "none".to_string() } else { held_out.join(", ") };
+    let command = if raw_args.is_empty() {
+        "cargo run --release --example glossy".to_string()
+    } else {
+        format!("cargo run --release --example glossy -- {}", raw_args.join(" "))
+    };
     let mut md = String::new();
     writeln!(md, "# Glossy accuracy of the probe on environment maps\n")?;
     writeln!(
         md,
-        "`cargo run --release --example glossy{}{}` ({:.0} s). Normalised Phong radiance about {n_dirs} \
-         seeded random mirror directions per map, {n_rot} probe rotations per map, relative RMSE \
-         of luminance (RMSE / mean |truth|) against every-pixel ground truth; estimators and \
-         tiers in the example's header. Held-out maps (not used to train the probe's \
-         hyperparameters): {}.\n",
-        if quick { " -- --quick" } else { "" },
-        if l2_fit { " -- --l2-fit" } else { "" },
-        start.elapsed().as_secs_f64(),
-        names.iter().filter(|n| !TRAINING_MAPS.contains(n)).copied().collect::<Vec<_>>().join(", ")
+        "@generated by `examples/glossy.rs` (issue #13 item 4); do not edit by hand. \
+         `{command}` ({seconds:.0} s wall, {} threads). Normalised Phong radiance about \
+         {n_dirs} seeded random mirror directions per map, {n_rot} probe rotations per map, \
+         N ∈ {NS:?}, e ∈ {{{}}}; relative RMSE of luminance (RMSE / mean |truth|) \
+         against every-pixel ground truth; estimators ({}) and tiers in the example's header. \
+         Maps: {}; held out (not used to train the probe's hyperparameters): {held_out}.\n",
+        args.threads,
+        EXPONENTS.map(|e| e.to_string()).join(", "),
+        ESTIMATORS.join(", "),
+        names.join(", ")
     )?;
-    for (ti, tier) in TIERS.iter().enumerate() {
-        writeln!(md, "## {tier}\n")?;
-        writeln!(
-            md,
-            "| N | e | {} | BMC / best peer | worst map ratio | within 2σ (exact, O(N)) |",
-            ESTIMATORS.join(" | ")
-        )?;
-        writeln!(md, "| ---: | ---: | ---: | ---: | ---: | ---: | --- | ---: |")?;
-        for (ni, n) in NS.iter().enumerate() {
-            for (ei, e) in EXPONENTS.iter().enumerate() {
-                let mut mean = [0.0f64; 3];
-                let mut held = 0usize;
-                let mut worst = (0.0f64, "");
-                let (mut within, mut within_fast, mut count) = (0usize, 0usize, 0usize);
-                for (i, per_n) in &results {
-                    let (t, m, _) = &scenes[*i];
-                    if *t != ti {
-                        continue;
-                    }
-                    let s = &per_n[ni][ei];
-                    let rel: Vec<f64> =
-                        s.sq.iter()
-                            .map(|sq| (sq / s.count as f64).sqrt() / (s.truth / s.count as f64))
-                            .collect();
-                    let ratio = rel[0] / rel[1].min(rel[2]);
-                    if ratio > worst.0 {
-                        worst = (ratio, names[*m]);
-                    }
-                    within += s.within;
-                    within_fast += s.within_fast;
-                    count += s.count;
-                    if quick || !TRAINING_MAPS.contains(&names[*m]) {
-                        for (a, r) in mean.iter_mut().zip(&rel) {
-                            *a += r;
-                        }
-                        held += 1;
-                    }
-                }
-                let mean = mean.map(|x| x / held.max(1) as f64);
-                writeln!(
-                    md,
-                    "| {n} | {e} | {:.1}% | {:.1}% | {:.1}% | **{:.3}** | {:.3} ({}) | {:.0}%, {:.0}% |",
-                    100.0 * mean[0],
-                    100.0 * mean[1],
-                    100.0 * mean[2],
-                    mean[0] / mean[1].min(mean[2]),
-                    worst.0,
-                    worst.1,
-                    100.0 * within as f64 / count.max(1) as f64,
-                    100.0 * within_fast as f64 / count.max(1) as f64
-                )?;
-            }
-        }
-        writeln!(md)?;
-    }
+    targets(&mut md, &cases, &held_out);
     writeln!(
         md,
-        "Columns: means over the held-out maps; `BMC / best peer` is the ratio of those means to \
-         the better of lobe-avg and SH L2; `worst map ratio` is the largest per-map ratio over \
-         all maps; the 2σ column pools all maps."
+        "## BMC against its best same-sample peer\n\nPer tier, exponent and N, over the \
+         held-out maps (bold: the statistic of the issue's targets) and over all maps: mean \
+         relative RMSE of BMC, lobe-avg and SH L2; the mean over maps of BMC / min(lobe-avg, \
+         SH L2) taken per map; the ratio of the mean errors, BMC / min(mean lobe-avg, mean SH \
+         L2); the worst map's ratio; and the fraction of queries within 2σ of BMC's luminance \
+         error bar, σ² from `Probe::glossy` (O(N) bar) and from `Probe::glossy_variance` \
+         (exact bar). Luminance bar: {}.\n",
+        luminance_bar::METHOD
     )?;
-    std::fs::create_dir_all(&out)?;
-    let path = out.join(if l2_fit { "glossy_l2_fit.md" } else { "glossy.md" });
-    std::fs::write(&path, &md)?;
+    report::comparison_tables(&mut md, &cases, ["lobe-avg", "SH L2"], BARS);
+
+    if let Some(path) = &args.csv {
+        report::write_csv(path, &csv_rows(&scenes, &sums))?;
+        eprintln!("wrote {}", path.display());
+    }
     print!("{md}");
-    eprintln!("wrote {}", path.display());
+    if let Some(out) = &args.out {
+        std::fs::create_dir_all(out)?;
+        let path = out.join(if args.l2_fit { "glossy_l2_fit.md" } else { "glossy.md" });
+        std::fs::write(&path, &md)?;
+        eprintln!("wrote {} ({seconds:.1} s)", path.display());
+    } else {
+        eprintln!("done ({seconds:.1} s); --out DIR writes glossy.md");
+    }
     Ok(())
 }
