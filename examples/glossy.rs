@@ -6,25 +6,28 @@
 //! cargo run --release --example glossy                  # ten bundled maps, report to stdout
 //! cargo run --release --example glossy -- --out docs    # regenerates docs/glossy.md
 //! cargo run --release --example glossy -- --quick --out target/glossy   # CI smoke run
-//! cargo run --release --example glossy -- --l2-fit --out target/glossy  # phong_lobe instead
+//! cargo run --release --example glossy -- --lobe sg-moments --out target/glossy  # SG stand-in
 //! cargo run --release --example glossy -- a.hdr b.hdr --csv rows.csv   # your own maps
 //! ```
 //!
 //! Options (`--help`): map paths as positional arguments (default: the ten in
 //! `examples/envmaps/`), `--out DIR` (writes `DIR/glossy.md`; without it the report goes to
 //! stdout and nothing is written), `--csv FILE` (the rows below), `--quick` (two maps, 32
-//! directions, 4 rotations), `--l2-fit`, `--threads T` (default: all cores). The default run
+//! directions, 4 rotations), `--lobe phong|sg-moments|sg-l2`, `--threads T` (default: all
+//! cores). The default run
 //! takes 26 s of CPU (14 s wall measured on two cores), `--quick` a few seconds.
 //!
 //! Estimators, all from the same N probe samples (the crate's sphere SF set under a random
 //! rotation, 16 seeded rotations per map, RMSE pooled over rotations × 128 seeded random
 //! directions; N ∈ {16, 32, 64, 128, 256}; e ∈ {5, 20, 100}). The samples are RGB; errors are
 //! on luminance:
-//! - `BMC`: the RGB probe `Probe<N, [f32; 3]>`, `Probe::glossy` with
-//!   `SphericalGaussian::phong_moments(r, e)` (the SG with the Phong lobe's integral and first
-//!   Legendre moment, `λ = e + 2`: the lobe mismatch is part of the measured error; `--l2-fit`
-//!   uses `phong_lobe`, `λ = e + 1`, instead), after `Probe::update` (per-probe selection);
-//!   the luminance of its estimate;
+//! - `BMC`: the RGB probe `Probe<N, [f32; 3]>` after `Probe::update` (per-probe selection),
+//!   the luminance of its estimate: by default `Probe::phong(r, e)`, the Phong lobe exactly
+//!   (its variances from `phong` and `phong_variance`); with `--lobe sg-moments`,
+//!   `Probe::glossy` with `SphericalGaussian::phong_moments(r, e)` (the SG with the Phong
+//!   lobe's integral and first Legendre moment, `λ = e + 2`: the lobe mismatch is part of the
+//!   measured error, a floor of about 1 % at e = 5), with `--lobe sg-l2` `phong_lobe`
+//!   (`λ = e + 1`);
 //! - `lobe-avg`: `Σ max(0, r·xⱼ)ᵉ·Yⱼ / Σ max(0, r·xⱼ)ᵉ` on the samples' luminance `Yⱼ`, the
 //!   glossy twin of the cosine-weighted average;
 //! - `SH L2`: projection of the `Yⱼ` on real SH up to l = 2 with weights 4π/N, convolved with
@@ -39,13 +42,14 @@
 //! and N the report gives, over the held-out maps and over all maps (`common/report.rs`): the
 //! mean over maps of BMC / min(lobe-avg, SH L2) per map, the ratio of the mean errors, the
 //! worst map, and the fraction of queries with |error| ≤ 2σ for BMC's luminance error bar
-//! (`common/luminance_bar.rs`), σ² from `Probe::glossy` (the O(N) direction average) and from
-//! `Probe::glossy_variance` (exact); then the targets of issue #13 with met or missed.
+//! (`common/luminance_bar.rs`), σ² from `Probe::phong` or `Probe::glossy` (the O(N) direction
+//! average) and from `Probe::phong_variance` or `Probe::glossy_variance` (exact); then the
+//! targets of issue #13 with met or missed.
 //!
 //! `--csv FILE` writes a header and one row per (tier, e, N, estimator, map):
 //! `glossy,<tier>,glossy-<e>,<n>,<estimator>,<map>,<rel_rmse>,<coverage>` with estimators
 //! `bmc`, `lobe-avg`, `sh-l2`; coverage is the fraction of the map's queries within 2σ of the
-//! luminance bar of `Probe::glossy` (`bmc` only; empty for the peers).
+//! luminance bar of the O(N) query (`bmc` only; empty for the peers).
 
 #[allow(dead_code)]
 #[path = "common/compare.rs"]
@@ -118,6 +122,37 @@ impl Sums {
     }
 }
 
+/// How BMC answers a Phong-lobe query.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum LobeKind {
+    /// `Probe::phong`: the lobe exactly.
+    Phong,
+    /// `Probe::glossy` with `SphericalGaussian::phong_moments`.
+    SgMoments,
+    /// `Probe::glossy` with `SphericalGaussian::phong_lobe`.
+    SgL2,
+}
+
+impl LobeKind {
+    fn parse(s: &str) -> Result<Self, String> {
+        match s {
+            "phong" => Ok(Self::Phong),
+            "sg-moments" => Ok(Self::SgMoments),
+            "sg-l2" => Ok(Self::SgL2),
+            other => Err(format!("--lobe {other}: expected phong, sg-moments or sg-l2")),
+        }
+    }
+
+    /// The report's file name.
+    fn report(self) -> &'static str {
+        match self {
+            Self::Phong => "glossy.md",
+            Self::SgMoments => "glossy_sg_moments.md",
+            Self::SgL2 => "glossy_sg_l2.md",
+        }
+    }
+}
+
 fn vec32(d: [f64; 3]) -> Vec3 {
     Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32)
 }
@@ -140,7 +175,7 @@ fn evaluate<const N: usize>(
     truths: &[Vec<f64>],
     dirs: &[[f64; 3]],
     rotations: &[Mat3],
-    l2_fit: bool,
+    lobe_kind: LobeKind,
 ) -> Vec<Sums>
 where
     Size<N>: ProbeSize,
@@ -165,14 +200,25 @@ where
         for ((&e, s), truth) in EXPONENTS.iter().zip(&mut sums).zip(truths) {
             let zonal = [1.0, (e + 1.0) / (e + 2.0), e / (e + 3.0)];
             for (r, &t) in dirs.iter().zip(truth) {
-                let lobe = if l2_fit {
-                    SphericalGaussian::phong_lobe(vec32(*r), e as f32)
-                } else {
-                    SphericalGaussian::phong_moments(vec32(*r), e as f32)
-                }
-                .expect("valid lobe");
-                let g = probe.glossy(&lobe).expect("valid lobe");
-                let exact = bar.exact(&g, probe.glossy_variance(&lobe).expect("valid lobe"));
+                let (g, exact_variance) = match lobe_kind {
+                    LobeKind::Phong => (
+                        probe.phong(vec32(*r), e as f32).expect("valid lobe"),
+                        probe.phong_variance(vec32(*r), e as f32).expect("valid lobe"),
+                    ),
+                    LobeKind::SgMoments | LobeKind::SgL2 => {
+                        let lobe = if lobe_kind == LobeKind::SgL2 {
+                            SphericalGaussian::phong_lobe(vec32(*r), e as f32)
+                        } else {
+                            SphericalGaussian::phong_moments(vec32(*r), e as f32)
+                        }
+                        .expect("valid lobe");
+                        (
+                            probe.glossy(&lobe).expect("valid lobe"),
+                            probe.glossy_variance(&lobe).expect("valid lobe"),
+                        )
+                    }
+                };
+                let exact = bar.exact(&g, exact_variance);
                 let (bmc, var_fast) = LuminanceBar::combine(&probe, &g);
                 let (_, var_exact) = LuminanceBar::combine(&probe, &exact);
                 let (mut num, mut den) = (0.0, 0.0);
@@ -204,14 +250,14 @@ fn evaluate_at(
     truths: &[Vec<f64>],
     dirs: &[[f64; 3]],
     rotations: &[Mat3],
-    l2_fit: bool,
+    lobe_kind: LobeKind,
 ) -> Vec<Sums> {
     match NS[ni] {
-        16 => evaluate::<16>(map, truths, dirs, rotations, l2_fit),
-        32 => evaluate::<32>(map, truths, dirs, rotations, l2_fit),
-        64 => evaluate::<64>(map, truths, dirs, rotations, l2_fit),
-        128 => evaluate::<128>(map, truths, dirs, rotations, l2_fit),
-        256 => evaluate::<256>(map, truths, dirs, rotations, l2_fit),
+        16 => evaluate::<16>(map, truths, dirs, rotations, lobe_kind),
+        32 => evaluate::<32>(map, truths, dirs, rotations, lobe_kind),
+        64 => evaluate::<64>(map, truths, dirs, rotations, lobe_kind),
+        128 => evaluate::<128>(map, truths, dirs, rotations, lobe_kind),
+        256 => evaluate::<256>(map, truths, dirs, rotations, lobe_kind),
         n => unreachable!("no probe of size {n}"),
     }
 }
@@ -321,7 +367,7 @@ struct Args {
     out: Option<PathBuf>,
     csv: Option<PathBuf>,
     quick: bool,
-    l2_fit: bool,
+    lobe: LobeKind,
     threads: usize,
 }
 
@@ -336,8 +382,9 @@ USAGE: cargo run --release --example glossy -- [MAP.hdr ...] [OPTIONS]
   --csv FILE    also write rows glossy,<tier>,glossy-<e>,<n>,<estimator>,<map>,<rel_rmse>,<coverage>
                 (coverage: fraction of queries within 2σ, empty without an error bar)
   --quick       2 maps, 32 directions, 4 rotations (CI)
-  --l2-fit      BMC with SphericalGaussian::phong_lobe instead of phong_moments
-                (writes glossy_l2_fit.md)
+  --lobe L      how BMC answers the Phong lobe: phong (Probe::phong, exact; the default),
+                sg-moments (Probe::glossy with SphericalGaussian::phong_moments; writes
+                glossy_sg_moments.md) or sg-l2 (phong_lobe; writes glossy_sg_l2.md)
   --threads T   worker threads (default: all cores)
   --help        this text";
 
@@ -348,7 +395,7 @@ fn parse_args(raw: &[String]) -> Result<Option<Args>, Box<dyn Error>> {
         out: None,
         csv: None,
         quick: false,
-        l2_fit: false,
+        lobe: LobeKind::Phong,
         threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
     let mut it = raw.iter();
@@ -359,7 +406,7 @@ fn parse_args(raw: &[String]) -> Result<Option<Args>, Box<dyn Error>> {
             "--out" => a.out = Some(PathBuf::from(value()?)),
             "--csv" => a.csv = Some(PathBuf::from(value()?)),
             "--quick" => a.quick = true,
-            "--l2-fit" => a.l2_fit = true,
+            "--lobe" => a.lobe = LobeKind::parse(value()?)?,
             "--threads" => a.threads = value()?.parse::<usize>()?.max(1),
             s if s.starts_with("--") => {
                 return Err(format!("unknown option {s} (see --help)").into())
@@ -446,7 +493,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     jobs.sort_by_key(|&(s, ni)| (std::cmp::Reverse(ni), s));
     let done = AtomicUsize::new(0);
     let results = parallel_map(&jobs, args.threads, |_, &(s, ni)| {
-        let sums = evaluate_at(ni, &scenes[s].map, &truths[s], &dirs, &rotations, args.l2_fit);
+        let sums = evaluate_at(ni, &scenes[s].map, &truths[s], &dirs, &rotations, args.lobe);
         let d = done.fetch_add(1, Ordering::Relaxed) + 1;
         if d % scenes.len() == 0 {
             eprintln!("[{d}/{}] ({:.1} s)", jobs.len(), start.elapsed().as_secs_f64());
@@ -505,7 +552,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     print!("{md}");
     if let Some(out) = &args.out {
         std::fs::create_dir_all(out)?;
-        let path = out.join(if args.l2_fit { "glossy_l2_fit.md" } else { "glossy.md" });
+        let path = out.join(args.lobe.report());
         std::fs::write(&path, &md)?;
         eprintln!("wrote {} ({seconds:.1} s)", path.display());
     } else {

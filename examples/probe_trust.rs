@@ -711,6 +711,9 @@ fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     );
     print!("{report}");
     if let Some(csv) = &args.csv {
+        if let Some(dir) = csv.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir)?;
+        }
         std::fs::write(csv, csv_rows(&jobs, &results, &factors))?;
         eprintln!("wrote {}", csv.display());
     }
