@@ -29,6 +29,10 @@ pub enum Error {
     /// A radiance sample has a NaN or infinite channel (where a computation keeps state, such
     /// as a probe update, instead of propagating NaN).
     InvalidRadiance,
+    /// A masked probe update (`Probe::update_masked`) has more missing samples than the
+    /// probe's capacity `M`, or fewer than two valid samples (or, never seen with the baked
+    /// families, a missing block the f32 arithmetic finds singular for every member).
+    TooManyMissing,
 }
 
 impl fmt::Display for Error {
@@ -41,6 +45,9 @@ impl fmt::Display for Error {
             Error::InvalidSharpness => "SG sharpness must be finite and non-negative",
             Error::InvalidParameter => "parameter is outside its documented range",
             Error::InvalidRadiance => "radiance sample is NaN or infinite",
+            Error::TooManyMissing => {
+                "more samples missing than the probe's capacity M, or fewer than two valid"
+            }
         })
     }
 }

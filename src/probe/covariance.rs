@@ -15,16 +15,18 @@ use crate::bmc::Size;
 use crate::footprint::Footprint;
 use crate::radiance::{from_channels, Radiance};
 
-impl<const N: usize, T: Radiance, F: Footprint> Probe<N, T, F>
+impl<const N: usize, T: Radiance, F: Footprint, const M: usize> Probe<N, T, F, M>
 where
     Size<N>: ProbeTables<F>,
 {
-    /// `xᵀQx/(N − 1)` per channel of `x` (any [`Radiance`]: the probe's channels at update,
-    /// two channels side by side for a covariance, one for a combination).
-    pub(super) fn channel_quadratic<R: Radiance>(f: &sealed::Baked, x: &[R; N]) -> R {
+    /// `xᵀQx/(n − 1)` per channel of `x` (any [`Radiance`]: the probe's channels at update,
+    /// two channels side by side for a covariance, one for a combination) for `n` valid
+    /// samples. With `x` zero at the missing samples `xᵀQx = x_VᵀQ_VVx_V`: the valid
+    /// subset's quadratic form (`missing.rs`).
+    pub(super) fn channel_quadratic<R: Radiance>(f: &sealed::Baked, x: &[R; N], n: usize) -> R {
         let w = Self::factor_products(f, x);
         let sum = w.iter().fold(R::ZERO, |acc, wi| acc.add(wi.mul(*wi)));
-        sum.scale(0.5 / (N as f32 - 1.0))
+        sum.scale(0.5 / (n as f32 - 1.0))
     }
 
     /// `(Lᵀu, Mᵀv)` for the mirrored sums `u_p = x_p + x_{N−1−p}` and differences
@@ -46,7 +48,8 @@ where
 
     /// The REML covariance `S_ab = r_aᵀQ⁻¹r_b/(N − 1)` of channels `a` and `b` of the last
     /// update's samples (`r = Y − β1` per channel, the selected member's `Q`), O(N²); 0 for a
-    /// channel index of `T::CHANNELS` or more, and before the first update.
+    /// channel index of `T::CHANNELS` or more, and before the first update. After
+    /// [`Probe::update_masked`], that of the `n` valid samples: `r_VᵀQ_VV⁻¹r_V/(n − 1)`.
     ///
     /// `S_cc` is [`Probe::signal_variance`] of channel `c` (σ̂_f²), bit for bit. The posterior
     /// covariance of channels `a` and `b` of an [`Estimate`] is
@@ -79,7 +82,7 @@ where
         let pair = self.alpha.map(|x| [x.channel(a), x.channel(b)]);
         let w = Self::factor_products(f, &pair);
         let sum = w.iter().fold(0.0f32, |acc, wi| acc + wi[0] * wi[1]);
-        let normalised = sum * (0.5 / (N as f32 - 1.0));
+        let normalised = sum * (0.5 / (self.valid_count() as f32 - 1.0));
         let shift = scale::exponent(self.scale.channel(a)) + scale::exponent(self.scale.channel(b));
         libm::scalbnf(normalised, shift)
     }
@@ -120,7 +123,7 @@ where
         let combined: [f32; N] = self.alpha.map(|x| {
             (0..T::CHANNELS).fold(0.0f32, |acc, c| acc + coefficient.channel(c) * x.channel(c))
         });
-        (Self::channel_quadratic(f, &combined), 2 * top)
+        (Self::channel_quadratic(f, &combined, self.valid_count()), 2 * top)
     }
 
     /// The channel combination `Σ_c w_c·value_c` of an estimate of this probe (after the
