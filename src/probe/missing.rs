@@ -68,8 +68,11 @@ impl<const M: usize> Missing<M> {
         self.indices.is_empty()
     }
 
+    /// Forgets the missing samples (the factor's storage is left as it is: nothing reads it
+    /// without indices).
     pub(super) fn clear(&mut self) {
-        *self = Self::new();
+        self.indices.clear();
+        self.factor.clear();
     }
 
     /// `(ζ_VᵀQ_VV⁻¹ζ_V, 1ᵀQ_VV⁻¹ζ_V, s₁)` of the valid samples, in f64, from `E⁻¹s` and
@@ -91,7 +94,7 @@ impl<const M: usize> Missing<M> {
         // w_Mᵀ·P_MM⁻¹·w_M = Σᵢ (L_M⁻¹w)ᵢ²/Dᵢ.
         let mut correction = 0.0f64;
         for (i, row) in self.factor.iter().enumerate() {
-            let (head, tail) = w.split_at_mut(i);
+            let Some((head, tail)) = w.split_at_mut_checked(i) else { break };
             let Some(wi) = tail.first_mut() else { break };
             let acc = row.iter().zip(head.iter()).fold(*wi, |a, (&l, &x)| a - f64::from(l) * x);
             *wi = acc;
@@ -119,15 +122,13 @@ struct Entry {
     slot: usize,
 }
 
-/// A member's fit to the valid samples.
-struct Fit<T, const N: usize, const M: usize> {
-    alpha: [T; N],
+/// What a member's fit to the valid samples gives besides `α` and its Schur data.
+struct Fit<T> {
     beta: T,
     /// `rᵀQ_VV⁻¹r` per channel.
     q: T,
     /// `−½·log det Q_VV − ½·log s₁` of the valid set.
     constant: f32,
-    schur: Missing<M>,
 }
 
 impl<const N: usize, T: Radiance, F: Footprint, const M: usize> Probe<N, T, F, M>
@@ -253,10 +254,19 @@ where
         let sd = Self::half_sums(&centred);
         let count = N - missing;
         let mut vectors = heapless::Vec::<[f32; N], M>::new();
-        let mut best: Option<(usize, f32, Fit<T, N, M>)> = None;
+        // Two slots for α and the Schur data: the best member's and the one being fitted
+        // (no copies of the M × M factor per member).
+        let mut alphas = [[T::ZERO; N]; 2];
+        let mut schur = [Missing::<M>::new(), Missing::<M>::new()];
+        let mut best: Option<(usize, f32, T, usize)> = None;
         for k in range {
             let Some(f) = Self::FAMILY.get(k) else { break };
-            let Some(fit) = Self::masked_fit(f, &centred, &sd, &entries, &pairs, &mut vectors)
+            let slot = best.map_or(0, |b| 1 - b.3);
+            let (Some(alpha), Some(data)) = (alphas.get_mut(slot), schur.get_mut(slot)) else {
+                break;
+            };
+            let Some(fit) =
+                Self::masked_fit(f, &centred, &sd, &entries, &pairs, &mut vectors, alpha, data)
             else {
                 continue;
             };
@@ -265,14 +275,18 @@ where
                 let qc = fit.q.channel(ch).max(f32::MIN_POSITIVE);
                 ll -= 0.5 * (count as f32 - 1.0) * crate::math::ln(qc);
             }
-            if best.as_ref().is_none_or(|(_, b, _)| ll > *b) {
-                best = Some((k, ll, fit));
+            if best.is_none_or(|(_, b, _, _)| ll > b) {
+                best = Some((k, ll, fit.beta, slot));
             }
         }
-        let Some((k, ll, fit)) = best else { return Err(Error::TooManyMissing) };
-        self.alpha = fit.alpha;
-        self.missing = Missing { indices, ..fit.schur };
-        self.store(k, ll, c, spread, fit.beta);
+        let Some((k, ll, beta, slot)) = best else { return Err(Error::TooManyMissing) };
+        let (Some(alpha), Some(data)) = (alphas.get(slot), schur.get_mut(slot)) else {
+            return Err(Error::TooManyMissing);
+        };
+        self.alpha = *alpha;
+        data.indices = indices;
+        core::mem::swap(&mut self.missing, data);
+        self.store(k, ll, c, spread, beta);
         Ok(())
     }
 
@@ -310,7 +324,9 @@ where
     }
 
     /// Member `f` fitted to the valid samples (`centred` is 0 at the missing ones, `sd` its
-    /// half sums and differences); `None` if the missing block is numerically singular.
+    /// half sums and differences): `α` into `alpha`, the factor, `c₁` and `s₁` into `schur`
+    /// (not its indices); `None` if the missing block is numerically singular.
+    #[allow(clippy::too_many_arguments)]
     fn masked_fit(
         f: &sealed::Baked,
         centred: &[T; N],
@@ -318,7 +334,9 @@ where
         entries: &[Entry],
         pairs: &[usize],
         vectors: &mut heapless::Vec<[f32; N], M>,
-    ) -> Option<Fit<T, N, M>> {
+        alpha: &mut [T; N],
+        schur: &mut Missing<M>,
+    ) -> Option<Fit<T>> {
         let h = Self::HALF;
         // [lₚ | kₚ] per distinct pair.
         vectors.clear();
@@ -331,7 +349,8 @@ where
         }
         let g = |p: usize| f.g.get(p).map_or(0.0, |&b| f32::from_bits(b));
         // P_MM (lower rows), its row sums and total.
-        let mut factor = heapless::Vec::<[f32; M], M>::new();
+        let factor = &mut schur.factor;
+        factor.clear();
         let mut rowsum = [0.0f32; M];
         let mut total = 0.0f32;
         for (i, ei) in entries.iter().enumerate() {
@@ -365,7 +384,7 @@ where
             *ti = g(e.pair) - rs;
             sum_t -= 2.0 * g(e.pair);
         }
-        let log_det = ldl(&mut factor)?;
+        let log_det = ldl(factor)?;
         // u = P·Ỹ at M from the forward substitutions of the half sums and differences;
         // 1ᵀP·Ỹ = 2·gᵀs.
         let mut fy = *sd;
@@ -390,8 +409,8 @@ where
         }
         // Whitened: a = L_M⁻¹u, b = L_M⁻¹t.
         let m = entries.len();
-        unit_lower_solve(&factor, &mut u);
-        unit_lower_solve(&factor, &mut t);
+        unit_lower_solve(factor, &mut u);
+        unit_lower_solve(factor, &mut t);
         let mut num = sum_u;
         let mut s1 = sum_t;
         for ((row, &ai), (i, &bi)) in factor.iter().zip(&u).zip(t.iter().enumerate()) {
@@ -405,7 +424,8 @@ where
         let beta = num.scale(1.0 / s1);
         // c = P_MM⁻¹(u − β·t) = L_M⁻ᵀ·D⁻¹·(a − β·b); c₁ = L_M⁻ᵀ·D⁻¹·b.
         let mut c = [T::ZERO; M];
-        let mut ones = [0.0f32; M];
+        let ones = &mut schur.ones;
+        *ones = [0.0f32; M];
         for (i, ((ci, oi), (&ai, &bi))) in
             c.iter_mut().zip(ones.iter_mut()).zip(u.iter().zip(&t)).enumerate().take(m)
         {
@@ -413,8 +433,8 @@ where
             *ci = ai.mul_add(beta, -bi).scale(inv);
             *oi = bi * inv;
         }
-        unit_upper_solve(&factor, &mut c);
-        unit_upper_solve(&factor, &mut ones);
+        unit_upper_solve(factor, &mut c);
+        unit_upper_solve(factor, ones);
         // The residual with the missing entries imputed (−c), then α = P·x, 0 at M.
         let mut x: [T; N] = core::array::from_fn(|i| match centred.get(i) {
             Some(y) => y.add(beta.scale(-1.0)),
@@ -428,23 +448,18 @@ where
             }
             *a = j;
         }
-        let mut alpha = Self::apply_inverse(f, &x);
+        *alpha = Self::apply_inverse(f, &x);
         for &j in at.iter().take(m) {
             if let Some(aj) = alpha.get_mut(j) {
                 *aj = T::ZERO;
             }
         }
-        let q = centred.iter().zip(&alpha).fold(T::ZERO, |acc, (y, a)| acc.add(y.mul(*a)));
+        let q = centred.iter().zip(alpha.iter()).fold(T::ZERO, |acc, (y, a)| acc.add(y.mul(*a)));
         let constant = f.likelihood_constant + 0.5 * crate::math::ln(f.s1)
             - 0.5 * log_det
             - 0.5 * crate::math::ln(s1);
-        Some(Fit {
-            alpha,
-            beta,
-            q,
-            constant,
-            schur: Missing { indices: heapless::Vec::new(), factor, ones, s1 },
-        })
+        schur.s1 = s1;
+        Some(Fit { beta, q, constant })
     }
 }
 
@@ -457,7 +472,7 @@ fn unit_forward(packed: &[u32], p: usize, out: &mut [f32]) {
         let Some(row) = packed.get(offset..offset + i + 1) else { return };
         offset += i + 1;
         let Some((&inv, off)) = row.split_last() else { return };
-        let (head, tail) = out.split_at_mut(i);
+        let Some((head, tail)) = out.split_at_mut_checked(i) else { return };
         let Some(xi) = tail.first_mut() else { return };
         let start = if i == p { 1.0 } else { 0.0 };
         let acc = off
@@ -485,11 +500,11 @@ fn dot_t<T: Radiance>(a: &[f32], b: &[T]) -> T {
 fn ldl<const M: usize>(rows: &mut heapless::Vec<[f32; M], M>) -> Option<f32> {
     let (mut mantissa, mut exponent) = (1.0f32, 0i32);
     for i in 0..rows.len() {
-        let (done, rest) = rows.split_at_mut(i);
+        let (done, rest) = rows.split_at_mut_checked(i)?;
         let row = rest.first_mut()?;
         // a_ij = P_ij − Σ_{k<j} a_ik·L_jk (a_ij = L_ij·D_j), then D_i = P_ii − Σ_k a_ik·L_ik.
         for (j, prev) in done.iter().enumerate() {
-            let (head, tail) = row.split_at_mut(j);
+            let Some((head, tail)) = row.split_at_mut_checked(j) else { break };
             let Some(aij) = tail.first_mut() else { break };
             *aij = head.iter().zip(prev.iter()).fold(*aij, |acc, (&a, &l)| acc - a * l);
         }
@@ -519,7 +534,7 @@ fn ldl<const M: usize>(rows: &mut heapless::Vec<[f32; M], M>) -> Option<f32> {
 /// `x ← L⁻¹x` for the unit lower factor of [`ldl`].
 fn unit_lower_solve<R: Radiance, const M: usize>(rows: &[[f32; M]], x: &mut [R; M]) {
     for (i, row) in rows.iter().enumerate() {
-        let (head, tail) = x.split_at_mut(i);
+        let Some((head, tail)) = x.split_at_mut_checked(i) else { break };
         let Some(xi) = tail.first_mut() else { break };
         *xi = row.iter().zip(head.iter()).fold(*xi, |acc, (&l, &xj)| acc.mul_add(xj, -l));
     }
@@ -528,7 +543,7 @@ fn unit_lower_solve<R: Radiance, const M: usize>(rows: &[[f32; M]], x: &mut [R; 
 /// `x ← L⁻ᵀx` for the unit lower factor of [`ldl`].
 fn unit_upper_solve<R: Radiance, const M: usize>(rows: &[[f32; M]], x: &mut [R; M]) {
     for (i, row) in rows.iter().enumerate().rev() {
-        let (head, tail) = x.split_at_mut(i);
+        let Some((head, tail)) = x.split_at_mut_checked(i) else { continue };
         let Some(&xi) = tail.first() else { continue };
         for (&l, xj) in row.iter().zip(head.iter_mut()) {
             *xj = xj.mul_add(xi, -l);

@@ -119,6 +119,10 @@ fn main() -> ! {
     probe_counts::<16, CosinePower<1>>("photodiode_probe", 20, 200);
     probe_counts::<32, CosinePower<1>>("photodiode_probe", 10, 100);
     probe_counts::<64, Gaussian<8>>("gaussian8_probe", 4, 100);
+    // Issue #14: masked updates at N = 64 with capacity 8 and 16 (8 and 16 samples missing,
+    // and none), and the queries after one.
+    masked_counts::<8>(&[0, 8]);
+    masked_counts::<16>(&[0, 16]);
     report!("sg_clamped_cosine_fraction", 1, 200, || {
         sg::clamped_cosine_fraction(black_box(7.3), black_box(0.41))
     });
@@ -165,6 +169,33 @@ where
     let exact = count(update_reps, || black_box(&p).phong_variance(black_box(r), black_box(20.0)));
     hprintln!("# count {}_phong N={} {} instructions/call", label, N, phong);
     hprintln!("# count {}_phong_variance N={} {} instructions/call", label, N, exact);
+}
+
+/// `Probe<64, f32, Point, M>::update_masked` with `m` of the samples missing for each `m` in
+/// `counts` (every `64/m`-th; `m = 0` is `update` through the mask), one member, and after
+/// it `irradiance` and `posterior_variance` (lines `# count probe_masked_…_M{M}_m{m} N=64`).
+fn masked_counts<const M: usize>(counts: &[usize]) {
+    let mut p = probe::Probe::<64, f32, Point, M>::new();
+    let y: [f32; 64] = p.directions().map(|d| 1.0 + 0.5 * d.z + 0.25 * d.x * d.y);
+    let n = black_box(Vec3::new(0.3, -0.4, 0.5));
+    for &m in counts {
+        let valid: [bool; 64] = core::array::from_fn(|i| m == 0 || i % (64 / m.max(1)) != 1);
+        let update = count(2, || black_box(&mut p).update_masked(black_box(&y), &valid));
+        let one = count(2, || {
+            black_box(&mut p).update_masked_with(black_box(&y), &valid, probe::Selection::Member(1))
+        });
+        let _ = p.update_masked(&y, &valid);
+        let query = count(100, || black_box(&p).irradiance(n));
+        let exact = count(4, || black_box(&p).posterior_variance(n));
+        for (what, c) in [
+            ("update", update),
+            ("update_one_member", one),
+            ("irradiance", query),
+            ("posterior_variance", exact),
+        ] {
+            hprintln!("# count probe_masked_{}_M{}_m{} N=64 {} instructions/call", what, M, m, c);
+        }
+    }
 }
 
 /// Ends the QEMU run with a status.

@@ -12,7 +12,7 @@ use core::fmt::Arguments;
 #[path = "sensor_readings.rs"]
 mod sensor_readings;
 
-use sphere_quadrature::footprint::CosinePower;
+use sphere_quadrature::footprint::{CosinePower, Point};
 use sphere_quadrature::qmc::{self, LobeSampler};
 use sphere_quadrature::{bmc, probe, sg};
 use sphere_quadrature::{
@@ -179,6 +179,7 @@ pub fn run(out: &mut impl Sink) {
         out.line(format_args!("probe_zero_normal 0 {:?}", p.irradiance(Vec3::ZERO).err()));
         out.line(format_args!("probe_selected_after_bad 0 {}", p.selected()));
     }
+    missing_samples(out, &mut seq);
     let r = bmc::Renderer::<64>::new();
     error(out, "renderer64", r.irradiance(Vec3::new(0.2, 0.3, 0.9), 77, sky));
 
@@ -186,6 +187,47 @@ pub fn run(out: &mut impl Sink) {
     // taken on the host and embedded.
     sensor_probe(out, &sensor_readings::READINGS_16);
     sensor_probe(out, &sensor_readings::READINGS_32);
+}
+
+/// Missing samples (issue #14): a rotated RGB probe of capacity 16 with 13 samples missing
+/// (NaN there, never read), its member, irradiance with both variances and a glossy query;
+/// then more missing than the capacity and a NaN valid sample (errors, data kept).
+fn missing_samples(out: &mut impl Sink, seq: &mut RotationSequence) {
+    let mut p = probe::Probe::<64, [f32; 3], Point, 16>::new();
+    if p.set_rotation(seq.next_rotation()).is_err() {
+        return;
+    }
+    let valid: [bool; 64] = core::array::from_fn(|i| (i * 7 + 3) % 5 != 0);
+    let ys: [[f32; 3]; 64] =
+        core::array::from_fn(|i| if valid[i] { sky_rgb(p.directions()[i]) } else { [f32::NAN; 3] });
+    let ok = p.update_masked(&ys, &valid).is_ok();
+    out.line(format_args!("masked_update 0 {ok} {} {}", p.selected(), p.missing().len()));
+    for i in 0..8 {
+        let n = seq.next_rotation() * Vec3::Z;
+        if let (Ok(e), Ok(v)) = (p.irradiance(n), p.posterior_variance(n)) {
+            for (c, ((&ev, &var), &exact)) in e.value.iter().zip(&e.variance).zip(&v).enumerate() {
+                value(out, "masked_e", 3 * i + c, ev);
+                value(out, "masked_var", 3 * i + c, var);
+                value(out, "masked_exact_var", 3 * i + c, exact);
+            }
+        }
+    }
+    if let Ok(lobe) = sg::SphericalGaussian::phong_moments(seq.next_rotation() * Vec3::Z, 20.0) {
+        if let (Ok(g), Ok(v)) = (p.glossy(&lobe), p.glossy_variance(&lobe)) {
+            for (c, (&gv, &var)) in g.value.iter().zip(&v).enumerate() {
+                value(out, "masked_glossy", c, gv);
+                value(out, "masked_glossy_var", c, var);
+            }
+        }
+    }
+    value(out, "masked_luminance_variance", 0, p.signal_variance_of([0.2126, 0.7152, 0.0722]));
+    let mut many = [true; 64];
+    many[..17].fill(false);
+    out.line(format_args!("masked_too_many 0 {:?}", p.update_masked(&ys, &many)));
+    let mut bad = ys;
+    bad[2][0] = f32::NAN; // sample 2 is valid
+    out.line(format_args!("masked_nan_valid 0 {:?}", p.update_masked(&bad, &valid)));
+    out.line(format_args!("masked_kept 0 {} {}", p.selected(), p.missing().len()));
 }
 
 /// `sensor{N}_{what} index bits` (NaN as `nan`).

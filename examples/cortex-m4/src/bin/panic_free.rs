@@ -23,7 +23,7 @@ use core::hint::black_box;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hio};
 use sphere_quadrature::bmc::Renderer;
-use sphere_quadrature::footprint::{CosinePower, Gaussian};
+use sphere_quadrature::footprint::{CosinePower, Gaussian, Point};
 use sphere_quadrature::probe::{cosine_weighted_average, Probe, Selection};
 use sphere_quadrature::qmc::{self, LobeSampler};
 use sphere_quadrature::sg::{self, SphericalGaussian};
@@ -205,6 +205,38 @@ fn bmc_probe() {
     keep(rgb.mean_irradiance());
 }
 
+/// Issue #14: masked updates (missing samples) and every query after one, on a scalar probe
+/// of capacity 16 and an RGB one of capacity 4 (masks and samples opaque to the optimiser).
+#[inline(never)]
+fn missing_samples() {
+    let mut p = Probe::<64, f32, Point, 16>::new();
+    let ys: [f32; 64] = p.directions().map(sky);
+    let valid: [bool; 64] = core::array::from_fn(|i| black_box(i % 5 != 3));
+    keep(p.update_masked(black_box(&ys), black_box(&valid)));
+    keep(p.update_masked_with(black_box(&ys), black_box(&valid), Selection::Member(black_box(2))));
+    keep(p.missing());
+    keep(p.irradiance(dir()));
+    keep(p.posterior_variance(dir()));
+    let lobe =
+        SphericalGaussian { axis: dir(), sharpness: black_box(21.0), amplitude: black_box(0.5) };
+    keep(p.glossy(&lobe));
+    keep(p.glossy_variance(&lobe));
+    keep(p.phong(dir(), black_box(20.0)));
+    keep(p.phong_variance(dir(), black_box(20.0)));
+    keep(p.signal_variance());
+    keep(p.log_likelihood());
+    let mut rgb = Probe::<16, [f32; 3], Point, 4>::new();
+    let valid: [bool; 16] = core::array::from_fn(|i| black_box(i != 7));
+    keep(rgb.update_masked(black_box(&[[1.0, 2.0, 3.0]; 16]), black_box(&valid)));
+    keep(rgb.channel_covariance(black_box(0), black_box(2)));
+    let w = black_box([0.2126, 0.7152, 0.0722]);
+    keep(rgb.signal_variance_of(w));
+    if let Ok(e) = rgb.irradiance(dir()) {
+        keep(rgb.combine(&e, w));
+    }
+    keep(rgb.posterior_variance(dir()));
+}
+
 /// Footprint probes (issue #11): photodiodes (`CosinePower<1>`, whose glossy queries go
 /// through the Legendre series) and Gaussian samples (the deconvolved kernel).
 #[inline(never)]
@@ -280,6 +312,7 @@ fn main() -> ! {
     spherical_gaussian();
     bmc_renderer();
     bmc_probe();
+    missing_samples();
     footprint_probes();
     let points = SphericalFibonacci::<32>::new().points();
     let points = black_box(&points[..]);
