@@ -13,6 +13,7 @@
 //!   for either of the two.
 
 use sphere_quadrature::bmc::Size;
+use sphere_quadrature::footprint::Point;
 use sphere_quadrature::probe::{Estimate, Probe, ProbeSize};
 
 /// Rec. 709 luminance weights, as `reference::envmap::luminance`.
@@ -32,8 +33,9 @@ pub struct LuminanceBar {
 }
 
 impl LuminanceBar {
-    /// Once per update of `probe`: `wᵀSw` (O(N²)) and the diagonal of `S`.
-    pub fn new<const N: usize>(probe: &Probe<N, [f32; 3]>) -> Self
+    /// Once per update of `probe` (of any capacity `M` for missing samples): `wᵀSw` (O(N²))
+    /// and the diagonal of `S`.
+    pub fn new<const N: usize, const M: usize>(probe: &Probe<N, [f32; 3], Point, M>) -> Self
     where
         Size<N>: ProbeSize,
     {
