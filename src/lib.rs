@@ -29,7 +29,10 @@
 //!   the cosine-weighted average at N = 16…64 (`clamp` tier) and 0.66–0.73× the best of that
 //!   average and SH L2 (`smooth` tier). Samples may be points or have a known footprint
 //!   (`Probe<N, T, F>`): a probe whose samples integrate a lobe (a mip level, a cone, a
-//!   photodiode) models it exactly, for 10–50× lower irradiance error on real maps.
+//!   photodiode) models it exactly, for 10–50× lower irradiance error on real maps. Missing
+//!   samples (a cut ray budget, a silent sensor) take a validity mask
+//!   ([`probe::Probe::update_masked`]): the valid ones are fitted exactly, up to a capacity
+//!   `M` fixed in the type.
 //! - [`footprint`]: what a sample measures (point, Gaussian lobe, cosine-power sensor) and
 //!   the footprints' Funk–Hecke gains.
 //! - [`envmap`]: footprint samples of an equirectangular RGB map, exact (every pixel) or
