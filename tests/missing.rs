@@ -858,3 +858,116 @@ fn capacity_footprint_is_pinned() {
         assert!((4 * m * m + 6 * m..=4 * m * m + 6 * m + 16).contains(&extra), "M = {m}: {extra}");
     }
 }
+
+/// Gaussian-footprint probes (`Gaussian<8>`, N = 64) against an f64 reference of their own:
+/// a sample's covariance with the radiance is the SG `exp(ν(xᵢ·x − 1))` (the family's `λ` is
+/// `ν`), so `Cov(Yᵢ, Yⱼ)` is that SG seen through the footprint of sample `j`, in closed form
+/// (`reference::footprint::sg_convolution`), and `Cov(Yᵢ, E(n))` its irradiance
+/// (`reference::bmc::kernel_mean`): `Q_VV` from the valid directions, LU solves, no Legendre
+/// series. `V̄` (of the deconvolved radiance kernel) has no closed form, so the variances are
+/// compared through their increase over the all-valid probe's, where it cancels.
+#[test]
+fn masked_gaussian_footprint_matches_the_f64_reference() {
+    const S: u32 = 8;
+    let mut rng = Rng::new(0xF008);
+    let rot = rng.uniform_rotation();
+    let lights = field(&mut rng);
+    let mut probe = Probe::<64, f32, Gaussian<S>, 16>::new();
+    probe.set_rotation(mat3(rot)).unwrap();
+    let mut full = Probe::<64, f32, Gaussian<S>>::new();
+    full.set_rotation(mat3(rot)).unwrap();
+    let xs: Vec<[f64; 3]> = (0..64u64)
+        .map(|j| reference::vec::mat_mul_vec(rot, reference::sf::sphere_point(j, 64)))
+        .collect();
+    // Footprint samples of the constant-plus-SG field, in closed form.
+    let y: Vec<f64> = xs
+        .iter()
+        .map(|&x| {
+            0.3 + lights
+                .iter()
+                .map(|l| reference::footprint::sg_convolution(l, x, S.into()))
+                .sum::<f64>()
+        })
+        .collect();
+    let y32: [f32; 64] = core::array::from_fn(|i| y[i] as f32);
+    let y64: Vec<f64> = y32.iter().map(|&v| f64::from(v)).collect();
+    let valid = random_mask::<64>(&mut rng, 16);
+    let normals: Vec<[f64; 3]> = (0..8).map(|_| rng.uniform_sphere()).collect();
+    for (k, m) in Probe::<64, f32, Gaussian<S>>::family().enumerate() {
+        let nu = f64::from(m.lambda);
+        let sigma = f64::from(m.sigma);
+        let build = |keep: &dyn Fn(usize) -> bool| -> (Vec<usize>, Vec<f64>) {
+            let idx: Vec<usize> = (0..64).filter(|&i| keep(i)).collect();
+            let len = idx.len();
+            let mut q = vec![0.0; len * len];
+            for (a, &i) in idx.iter().enumerate() {
+                for (b, &j) in idx.iter().enumerate() {
+                    let light = SgLight { axis: xs[i], sharpness: nu, amplitude: 1.0 };
+                    q[a * len + b] = reference::footprint::sg_convolution(&light, xs[j], S.into())
+                        + if a == b { sigma * sigma } else { 0.0 };
+                }
+            }
+            (idx, q)
+        };
+        // (E(n), ζᵀQ⁻¹ζ − (1 − 1ᵀQ⁻¹ζ)²/s₁: the variance without V̄, negated) per normal.
+        let fit = |idx: &[usize], q: &[f64]| -> (Vec<(f64, f64)>, f64) {
+            let len = idx.len();
+            let yv: Vec<f64> = idx.iter().map(|&i| y64[i]).collect();
+            let qi_y = reference::bmc::lu_solve(q, len, &yv);
+            let qi_1 = reference::bmc::lu_solve(q, len, &vec![1.0; len]);
+            let s1: f64 = qi_1.iter().sum();
+            let beta = qi_y.iter().sum::<f64>() / s1;
+            let alpha: Vec<f64> = qi_y.iter().zip(&qi_1).map(|(a, b)| a - beta * b).collect();
+            let r2: f64 = yv.iter().zip(&alpha).map(|(a, b)| a * b).sum();
+            let out = normals
+                .iter()
+                .map(|&n| {
+                    let z: Vec<f64> = idx
+                        .iter()
+                        .map(|&i| {
+                            PI * reference::bmc::kernel_mean(nu, reference::vec::dot(xs[i], n))
+                        })
+                        .collect();
+                    let e = PI * beta + z.iter().zip(&alpha).map(|(a, b)| a * b).sum::<f64>();
+                    let qi_z = reference::bmc::lu_solve(q, len, &z);
+                    let zqz: f64 = z.iter().zip(&qi_z).map(|(a, b)| a * b).sum();
+                    let one: f64 = qi_z.iter().sum();
+                    (e, zqz - (PI - one).powi(2) / s1)
+                })
+                .collect();
+            (out, r2 / (len as f64 - 1.0))
+        };
+        let (vi, qv) = build(&|i| valid[i]);
+        let (ai, qa) = build(&|_| true);
+        let (masked_ref, noise) = fit(&vi, &qv);
+        let (full_ref, full_noise) = fit(&ai, &qa);
+        probe.update_masked_with(&y32, &valid, Selection::Member(k)).unwrap();
+        full.update_with(&y32, Selection::Member(k)).unwrap();
+        let cal = f64::from(m.calibration[0]);
+        let mean = masked_ref.iter().map(|r| r.0.abs()).sum::<f64>() / normals.len() as f64;
+        let (mut worst_e, mut worst_v) = (0.0f64, 0.0f64);
+        for ((&n, &(e, q_masked)), &(_, q_full)) in normals.iter().zip(&masked_ref).zip(&full_ref) {
+            let got = probe.irradiance(to32(n)).unwrap().value as f64;
+            worst_e = worst_e.max((got - e).abs() / mean);
+            // Unit variances' difference: (V̄ − q_masked) − (V̄ − q_full).
+            let want = q_full - q_masked;
+            let masked_unit = probe.posterior_variance(to32(n)).unwrap() as f64 / (noise * cal);
+            let full_unit = full.posterior_variance(to32(n)).unwrap() as f64 / (full_noise * cal);
+            let got_v = masked_unit - full_unit;
+            worst_v = worst_v.max((got_v - want).abs() / want);
+        }
+        let signal = (probe.signal_variance() as f64 - noise).abs() / noise;
+        println!(
+            "Gaussian<{S}>, 16 of 64 missing, ν = {} (cond {:.1e}): |ΔE|/mean {worst_e:.2e}, \
+             Δ(variance increase) {worst_v:.2e}, Δσ̂² {signal:.2e}",
+            m.lambda, m.condition
+        );
+        // The sample covariance here is the closed form, the probe's the baked Legendre
+        // series of the deconvolved kernel (converged to 10⁻⁸ of K₀): the bars of
+        // `tests/probe.rs`, ten times the value bar for the single-query maximum.
+        let bar = 10.0 * value_bar(m.condition);
+        assert!(worst_e < bar, "ν = {}: E differs by {worst_e:e}", m.lambda);
+        assert!(worst_v < 1e-2, "ν = {}: variance increase differs by {worst_v:e}", m.lambda);
+        assert!(signal < value_bar(m.condition).max(1e-4), "ν = {}: σ̂_f² {signal:e}", m.lambda);
+    }
+}

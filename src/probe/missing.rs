@@ -190,8 +190,9 @@ where
     ///
     /// # Errors
     /// [`Error::TooManyMissing`] when more than `M` samples are missing or fewer than two are
-    /// valid; [`Error::InvalidRadiance`] when a valid sample has a NaN or infinite channel.
-    /// Either way the probe keeps its previous data.
+    /// valid (or, not seen with the baked families, when the f32 factorisation of the missing
+    /// block fails for every member); [`Error::InvalidRadiance`] when a valid sample has a NaN
+    /// or infinite channel. Either way the probe keeps its previous data.
     pub fn update_masked(&mut self, samples: &[T; N], valid: &[bool; N]) -> Result<(), Error> {
         self.update_masked_with(samples, valid, Selection::MaxLikelihood)
     }
