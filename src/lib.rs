@@ -30,6 +30,9 @@
 //!   average and SH L2 (`smooth` tier). Samples may be points or have a known footprint
 //!   (`Probe<N, T, F>`): a probe whose samples integrate a lobe (a mip level, a cone, a
 //!   photodiode) models it exactly, for 10–50× lower irradiance error on real maps.
+//! - [`sh`]: spherical harmonics up to degree 2 (`ShL2`): a probe's posterior mean as the 9
+//!   coefficients renderers take ([`probe::Probe::radiance_sh`]), O(9) irradiance, rotation,
+//!   and the conventions of three.js, Filament and Unity.
 //! - [`footprint`]: what a sample measures (point, Gaussian lobe, cosine-power sensor) and
 //!   the footprints' Funk–Hecke gains.
 //! - [`envmap`]: footprint samples of an equirectangular RGB map, exact (every pixel) or
@@ -95,6 +98,7 @@ pub mod radiance;
 pub mod rotation;
 pub mod sf;
 pub mod sg;
+pub mod sh;
 mod tables;
 mod vec3;
 pub mod warp;

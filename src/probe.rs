@@ -22,6 +22,11 @@
 //!   with `zᵢ` in closed form (the kernel is an SG as well), and a baked direction-averaged
 //!   variance interpolated in the lobe sharpness; [`Probe::glossy_variance`] is its exact
 //!   posterior variance in O(N²).
+//! - [`Probe::radiance_sh`]: the posterior mean as the 9 spherical-harmonic coefficients
+//!   (`l ≤ 2`) that renderers take, exactly (Funk–Hecke: `c_lm = β·√(4π)·δ_l0 +
+//!   k̂_l·Σᵢ αᵢ·Y_lm(xᵢ)`), O(9N); [`Probe::radiance_sh_variance`] their posterior variances,
+//!   O(9·N²/2). [`crate::sh`] evaluates irradiance from them in O(9), rotates them and
+//!   converts them to three.js, Filament and Unity.
 //! - **Per-probe selection** (local adaptation): `build.rs` bakes a small *family* of
 //!   sharpnesses `λ` (one `σ′`); each update computes, for every member, the restricted
 //!   (REML) log marginal likelihood with `σ_f` profiled out,
@@ -176,6 +181,7 @@ use core::marker::PhantomData;
 
 mod covariance;
 mod scale;
+mod sh;
 
 /// Nodes of each baked `π·z(t)` table over `t ∈ [−1, 1]` (`gen/probe.rs` emits arrays of
 /// this length; a mismatch does not compile).
