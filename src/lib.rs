@@ -100,6 +100,7 @@ pub mod sf;
 pub mod sg;
 pub mod sh;
 mod tables;
+pub mod temporal;
 mod vec3;
 pub mod warp;
 
