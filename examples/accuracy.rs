@@ -1,5 +1,5 @@
 //! The accuracy benchmark of issue #6: irradiance `E(n) = ∫ L(ω)·max(0, n·ω) dω` on real
-//! environment maps and synthetic lights, nine estimators, N = 16 … 256, against ground truth
+//! environment maps and synthetic lights, ten estimators, N = 16 … 256, against ground truth
 //! summed over every pixel.
 //!
 //! ```text
@@ -46,26 +46,31 @@
 //! samples are RGB; the peers work on their luminance `Yⱼ` (they are linear, so this is the
 //! luminance of their RGB estimates):
 //! - `cos-avg`: `π·Σmax(0, n·xⱼ)Yⱼ / Σmax(0, n·xⱼ)`;
-//! - `SH L2`: projection on real SH up to l = 2 with weights 4π/N, convolved with the
-//!   clamped cosine (Â₀ = π, Â₁ = 2π/3, Â₂ = π/4; Ramamoorthi and Hanrahan 2001);
+//! - `SH L2`: projection on real SH up to l = 2 with weights 4π/N
+//!   (`sphere_quadrature::sh::ShL2::from_samples`), convolved with the clamped cosine
+//!   (Â₀ = π, Â₁ = 2π/3, Â₂ = π/4; Ramamoorthi and Hanrahan 2001; `ShL2::irradiance`);
 //! - `QMC probe`: `(4π/N)·Σmax(0, n·xⱼ)Yⱼ`;
 //! - `BMC fixed` and `BMC`: the RGB probe `sphere_quadrature::probe::Probe<N, [f32; 3]>` with
 //!   a fixed family member and as shipped (`Probe::update`, per-probe maximum-likelihood
 //!   selection; see [`bmc_probe`]); the luminance of its estimate, and the luminance error bar
-//!   (`common/luminance_bar.rs`).
+//!   (`common/luminance_bar.rs`);
+//! - `BMC-SH`: the shipped probe exported as SH L2 (`Probe::radiance_sh`, issue #14), the
+//!   luminance of `ShL2::irradiance`.
 //!
 //! Relative RMSE of a map = RMSE / mean |truth|. The probe's hyperparameters are trained on
 //! apartment, bridge, forest and lab; the other maps (city, dawn, hall, lobby, night, park)
 //! are held out. Per tier and N the report gives, over the held-out maps and over all maps
 //! (`common/report.rs`): the mean over maps of BMC / min(cos-avg, SH L2) per map, the ratio
 //! of the mean errors, the worst map, and the fraction of queries whose true error is within
-//! 2σ of BMC's luminance error bar; then the targets of issue #13 with met or missed, the
-//! remaining checks of issue #6, and every estimator's mean (worst map) per tier.
+//! 2σ of BMC's luminance error bar; then the targets of issue #13 with met or missed, the SH
+//! export of issue #14 (BMC-SH / BMC per tier and N, its target, and the error of the SH L2
+//! projection of the exact map, the floor of any 9-coefficient export), the remaining checks
+//! of issue #6, and every estimator's mean (worst map) per tier.
 //!
 //! `--csv FILE` writes a header and one row per (tier, N, estimator, map):
 //! `accuracy,<tier>,irradiance,<n>,<estimator>,<map>,<rel_rmse>,<coverage>` with estimators
 //! `mc`, `sobol`, `qmc-sf`, `bmc-renderer`, `cos-avg`, `sh-l2`, `qmc-probe`, `bmc-fixed`,
-//! `bmc`; coverage is the fraction of the map's queries within 2σ (`bmc`, `bmc-fixed`: the
+//! `bmc`, `bmc-sh`; coverage is the fraction of the map's queries within 2σ (`bmc`, `bmc-fixed`: the
 //! luminance bar of `Probe::irradiance`; `bmc-renderer`: `Renderer::variance()`, σ_f = 1),
 //! empty for the estimators without an error bar.
 
@@ -103,16 +108,38 @@ use reference::sh::real_sh;
 use reference::vec::dot;
 use sphere_quadrature::bmc::{BakedSize, Renderer, Size};
 use sphere_quadrature::probe::{Probe, ProbeSize, Selection};
+use sphere_quadrature::sh::ShL2;
 use sphere_quadrature::{qmc, Mat3, RotationSequence, SphericalFibonacci, Vec3};
 
 /// Sample counts.
 const NS: [usize; 5] = [16, 32, 64, 128, 256];
 /// Estimator columns; the first four are per-query, the rest probe form.
-const ESTIMATORS: [&str; 9] =
-    ["MC", "Sobol", "QMC-SF", "BMC renderer", "cos-avg", "SH L2", "QMC probe", "BMC fixed", "BMC"];
+const ESTIMATORS: [&str; ESTIMATOR_COUNT] = [
+    "MC",
+    "Sobol",
+    "QMC-SF",
+    "BMC renderer",
+    "cos-avg",
+    "SH L2",
+    "QMC probe",
+    "BMC fixed",
+    "BMC",
+    "BMC-SH",
+];
 /// The estimators' names in the CSV rows.
-const CSV_NAMES: [&str; 9] =
-    ["mc", "sobol", "qmc-sf", "bmc-renderer", "cos-avg", "sh-l2", "qmc-probe", "bmc-fixed", "bmc"];
+const CSV_NAMES: [&str; ESTIMATOR_COUNT] = [
+    "mc",
+    "sobol",
+    "qmc-sf",
+    "bmc-renderer",
+    "cos-avg",
+    "sh-l2",
+    "qmc-probe",
+    "bmc-fixed",
+    "bmc",
+    "bmc-sh",
+];
+const ESTIMATOR_COUNT: usize = 10;
 const MC: usize = 0;
 const SOBOL: usize = 1;
 const QMC_SF: usize = 2;
@@ -123,8 +150,10 @@ const QMC_PROBE: usize = 6;
 const BMC_FIXED: usize = 7;
 /// The probe as shipped: `Probe::update` (per-probe maximum-likelihood member).
 const BMC_SELECT: usize = 8;
+/// The same probe exported as SH L2 (`Probe::radiance_sh`), its irradiance in O(9).
+const BMC_SH: usize = 9;
 const PER_QUERY: std::ops::Range<usize> = 0..4;
-const PROBE_FORM: std::ops::Range<usize> = 4..9;
+const PROBE_FORM: std::ops::Range<usize> = 4..10;
 
 const TIERS: [&str; 4] = ["raw", "clamp", "smooth", "synthetic"];
 /// The query kind, as the CSV rows and the reports name it.
@@ -201,7 +230,7 @@ impl Scene {
 #[derive(Clone, Copy, Debug)]
 struct Outcome {
     /// Relative RMSE per estimator.
-    rel: [f64; 9],
+    rel: [f64; ESTIMATOR_COUNT],
     /// BMC (select) queries within 2σ of the luminance error bar, σ² from `irradiance` (O(N)).
     covered_fast: usize,
     /// The same with σ² from `posterior_variance` (exact).
@@ -214,6 +243,9 @@ struct Outcome {
     renderer_queries: usize,
     /// How many rotations chose each family member (maximum likelihood).
     selected: [usize; MAX_FAMILY],
+    /// Relative RMSE of the irradiance of the exact map's SH L2 projection: what any
+    /// 9-coefficient representation loses (the same at every N).
+    l2_floor: f64,
 }
 
 /// What the BMC probe says about one normal for one rotation of the sample set: luminance
@@ -230,6 +262,8 @@ struct BmcQuery {
     var_fast: f64,
     /// Variance of `select` from `Probe::posterior_variance` (exact, O(N²)).
     var_exact: f64,
+    /// Irradiance of `select` exported as SH L2 (`Probe::radiance_sh`, `ShL2::irradiance`).
+    sh: f64,
 }
 
 impl BmcQuery {
@@ -239,6 +273,7 @@ impl BmcQuery {
         select: f64::NAN,
         var_fast: f64::NAN,
         var_exact: f64::NAN,
+        sh: f64::NAN,
     };
 }
 
@@ -265,13 +300,15 @@ where
     let mut select = fixed.clone();
     select.update(samples).expect("finite samples");
     let (bar_fixed, bar) = (LuminanceBar::new(&fixed), LuminanceBar::new(&select));
+    let sh = select.radiance_sh();
     for (o, &n) in out.iter_mut().zip(normals) {
         let (fixed, var_fixed) = bar_fixed.estimate(&fixed.irradiance(n).expect("unit normal"));
         let e = select.irradiance(n).expect("unit normal");
         let (value, var_fast) = bar.estimate(&e);
         let exact = bar.exact(&e, select.posterior_variance(n).expect("unit normal"));
         let (_, var_exact) = bar.estimate(&exact);
-        *o = BmcQuery { fixed, var_fixed, select: value, var_fast, var_exact };
+        let sh = luminance_bar::luminance(sh.irradiance(n).expect("unit normal"));
+        *o = BmcQuery { fixed, var_fixed, select: value, var_fast, var_exact, sh };
     }
     select.selected()
 }
@@ -284,20 +321,59 @@ fn vec64(d: Vec3) -> [f64; 3] {
     [d.x as f64, d.y as f64, d.z as f64]
 }
 
-/// Real SH `Y_{l,m}(d)` for l ≤ 2 at index `l(l+1) + m`.
+/// The degree of each of the 9 harmonics `l ≤ 2`, index `l(l+1) + m`.
+const DEGREE: [usize; 9] = [0, 1, 1, 1, 2, 2, 2, 2, 2];
+
+/// Real SH `Y_lm(d)`, `l ≤ 2`, from the reference crate.
 fn sh9(d: [f64; 3]) -> [f64; 9] {
-    std::array::from_fn(|i| {
-        let l = band(i);
-        real_sh(l, i as i64 - (l * (l + 1)) as i64, d)
+    std::array::from_fn(|k| {
+        let l = DEGREE[k];
+        real_sh(l, k as i64 - (l * (l + 1)) as i64, d)
     })
 }
 
-fn band(i: usize) -> usize {
-    match i {
-        0 => 0,
-        1..=3 => 1,
-        _ => 2,
+/// Relative RMSE of the irradiance `Σ Â_l·c_lm·Y_lm(n)` of the SH L2 projection of the
+/// scene's exact luminance (pixel sums for maps, 64 × 128-point Gauss–Legendre × trapezoid
+/// quadrature for the mixtures): what any 9-coefficient representation loses, whatever the
+/// samples.
+fn l2_floor(scene: &Scene, normals: &[[f64; 3]]) -> f64 {
+    let mut c = [0.0f64; 9];
+    let mut add = |d: [f64; 3], weight: f64| {
+        for (ck, y) in c.iter_mut().zip(sh9(d)) {
+            *ck += weight * y;
+        }
+    };
+    match &scene.light {
+        Light::Map(m) => {
+            for v in 0..m.height {
+                let omega = m.pixel_solid_angle(v);
+                for u in 0..m.width {
+                    add(m.pixel_direction(u, v), omega * luminance(m.pixel(u, v)));
+                }
+            }
+        }
+        Light::Mixture(x) => {
+            let (zs, ws) = reference::quad::gauss_legendre_on(64, -1.0, 1.0);
+            for (&z, &w) in zs.iter().zip(&ws) {
+                let s = (1.0 - z * z).sqrt();
+                for j in 0..128 {
+                    let phi = 2.0 * PI * j as f64 / 128.0;
+                    let d = [s * phi.cos(), s * phi.sin(), z];
+                    add(d, w * 2.0 * PI / 128.0 * x.value(d));
+                }
+            }
+        }
     }
+    let mean_abs = scene.truth.iter().map(|t| t.abs()).sum::<f64>() / scene.truth.len() as f64;
+    let se: f64 = normals
+        .iter()
+        .zip(&scene.truth)
+        .map(|(&n, t)| {
+            let e: f64 = c.iter().zip(sh9(n)).zip(DEGREE).map(|((a, y), l)| A_HAT[l] * a * y).sum();
+            (e - t).powi(2)
+        })
+        .sum();
+    (se / normals.len() as f64).sqrt() / mean_abs
 }
 
 /// Every estimator on one scene at one N.
@@ -309,9 +385,9 @@ where
     let lum = |d: [f64; 3]| scene.lum(d);
     let lum32 = |d: Vec3| scene.lum(vec64(d)) as f32;
     let mean_abs = truth.iter().map(|t| t.abs()).sum::<f64>() / truth.len() as f64;
-    let mut se = [0.0f64; 9];
+    let mut se = [0.0f64; ESTIMATOR_COUNT];
     let mut out = Outcome {
-        rel: [0.0; 9],
+        rel: [0.0; ESTIMATOR_COUNT],
         covered_fast: 0,
         covered_exact: 0,
         covered_fixed: 0,
@@ -319,6 +395,7 @@ where
         covered_renderer: 0,
         renderer_queries: 0,
         selected: [0; MAX_FAMILY],
+        l2_floor: f64::NAN,
     };
 
     // Per-query form.
@@ -353,7 +430,6 @@ where
     // Probe form.
     let set = SphericalFibonacci::<N>::new();
     let normals32: Vec<Vec3> = normals.iter().map(|&n| vec32(n)).collect();
-    let sh_normals: Vec<[f64; 9]> = normals.iter().map(|&n| sh9(n)).collect();
     let mut rotations = RotationSequence::new(SEED_ROTATIONS ^ N as u64);
     let mut bmc = vec![BmcQuery::NAN; normals.len()];
     let w = 4.0 * PI / N as f64;
@@ -365,15 +441,9 @@ where
         let rgb = dirs.map(|d| scene.rgb(vec64(d)).map(|c| c as f32));
         let y: Vec<f64> = rgb.iter().map(|c| luminance(c.map(f64::from))).collect();
         let x: Vec<[f64; 3]> = dirs.iter().map(|&d| vec64(d)).collect();
-        let mut coef = [0.0f64; 9];
-        for (&xj, &yj) in x.iter().zip(&y) {
-            for (c, s) in coef.iter_mut().zip(sh9(xj)) {
-                *c += yj * s;
-            }
-        }
-        for (i, c) in coef.iter_mut().enumerate() {
-            *c *= w * A_HAT[band(i)];
-        }
+        // SH L2: the samples projected with the equal weights 4π/N.
+        let y32: Vec<f32> = y.iter().map(|&v| v as f32).collect();
+        let sh = ShL2::from_samples(&dirs, &y32, w as f32).expect("unit directions");
         let k = bmc_probe::<N>(rot, &dirs, &rgb, &normals32, p.fixed_member, &mut bmc);
         out.selected[k.min(MAX_FAMILY - 1)] += 1;
         for (k, (&n, &t)) in normals.iter().zip(truth).enumerate() {
@@ -384,11 +454,11 @@ where
                 den += c;
             }
             let cos_avg = if den > 0.0 { PI * num / den } else { 0.0 };
-            let sh: f64 = coef.iter().zip(&sh_normals[k]).map(|(c, s)| c * s).sum();
+            let sh = f64::from(sh.irradiance(normals32[k]).expect("unit normal"));
             let b = bmc[k];
             let estimates =
                 [(COS_AVG, cos_avg), (SH_L2, sh), (QMC_PROBE, w * num), (BMC_FIXED, b.fixed)];
-            for (e, v) in estimates.into_iter().chain([(BMC_SELECT, b.select)]) {
+            for (e, v) in estimates.into_iter().chain([(BMC_SELECT, b.select), (BMC_SH, b.sh)]) {
                 se[e] += (v - t).powi(2);
             }
             let err = (b.select - t).abs();
@@ -406,6 +476,7 @@ where
 }
 
 fn evaluate_scene(scene: &Scene, normals: &[[f64; 3]], p: &Params) -> [Outcome; 5] {
+    let floor = l2_floor(scene, normals);
     [
         evaluate::<16>(scene, normals, p),
         evaluate::<32>(scene, normals, p),
@@ -413,6 +484,7 @@ fn evaluate_scene(scene: &Scene, normals: &[[f64; 3]], p: &Params) -> [Outcome; 
         evaluate::<128>(scene, normals, p),
         evaluate::<256>(scene, normals, p),
     ]
+    .map(|o| Outcome { l2_floor: floor, ..o })
 }
 
 /// Ground truth of each map (all of one grid size share the pixel weights).
@@ -548,6 +620,120 @@ fn targets(md: &mut String, cases: &[Case], results: &[TierResult]) {
     report::targets_table(md, &t);
 }
 
+/// BMC-SH / BMC per map, and the statistics of that ratio over a subset of the maps at N
+/// index `ni`: `(maps, mean BMC, mean BMC-SH, mean L2 floor, mean of per-map ratios, ratio
+/// of means, worst (ratio, map))`.
+#[allow(clippy::type_complexity)]
+fn sh_stats(
+    tr: &TierResult,
+    ni: usize,
+    held_out_only: bool,
+) -> Option<(usize, f64, f64, f64, f64, f64, (f64, String))> {
+    let rows: Vec<(&str, &Outcome)> = tr
+        .outcomes
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| !held_out_only || tr.held_out[*k])
+        .map(|(k, o)| (tr.names[k].as_str(), &o[ni]))
+        .collect();
+    if rows.is_empty() {
+        return None;
+    }
+    let count = rows.len() as f64;
+    let mean = |f: &dyn Fn(&Outcome) -> f64| rows.iter().map(|(_, o)| f(o)).sum::<f64>() / count;
+    let (bmc, sh) = (mean(&|o| o.rel[BMC_SELECT]), mean(&|o| o.rel[BMC_SH]));
+    let floor = mean(&|o| o.l2_floor);
+    let ratio_of = |o: &Outcome| o.rel[BMC_SH] / o.rel[BMC_SELECT];
+    let mean_of_ratios = mean(&ratio_of);
+    let worst = rows
+        .iter()
+        .map(|(name, o)| (ratio_of(o), name.to_string()))
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .unwrap_or((f64::NAN, String::new()));
+    Some((rows.len(), bmc, sh, floor, mean_of_ratios, sh / bmc, worst))
+}
+
+/// The SH export of issue #14: the irradiance of `Probe::radiance_sh` (BMC-SH) against
+/// `Probe::irradiance` (BMC) on the same probes, with the target and the floor that any
+/// 9-coefficient representation has.
+fn sh_export(md: &mut String, results: &[TierResult]) {
+    const LIMIT: f64 = 1.02;
+    let _ = writeln!(
+        md,
+        "## SH export (issue #14)\n\nBMC-SH is the same probe as BMC, exported with \
+         `Probe::radiance_sh` (the exact degree-≤ 2 projection of its posterior mean) and \
+         evaluated with `ShL2::irradiance` in O(9). A map's ratio is BMC-SH's relative RMSE \
+         over BMC's. \"SH L2 of the exact map\" is the irradiance of the projection of the \
+         map itself (every pixel): the error any 9-coefficient representation has, whatever \
+         the samples, since the clamped cosine's degrees 4, 6, … (Â₄ = −π/24, …) are \
+         dropped. The degrees are orthogonal, so over the sphere of normals BMC-SH's squared \
+         error is that floor's square plus BMC's squared error in degrees ≤ 2, while BMC's is \
+         its squared error in all degrees: BMC-SH stays within 2 % of BMC only where BMC's \
+         error is large against the floor (about 5× it, unless BMC errs in degrees ≥ 4 as \
+         much as the floor), and no export to 9 coefficients can do better than the \
+         projection.\n"
+    );
+    let mut targets = Vec::new();
+    for t in [CLAMP, SMOOTH] {
+        let tr = &results[t];
+        let mut measured = Vec::new();
+        let mut met = Some(true);
+        for (ni, &n) in NS.iter().enumerate() {
+            match sh_stats(tr, ni, true) {
+                Some(s) => {
+                    let ok = s.4 <= LIMIT;
+                    let cell = format!("{} (N = {n})", ratio(s.4));
+                    measured.push(if ok { cell } else { format!("**{cell}**") });
+                    met = met.map(|m| m && ok);
+                }
+                None => met = None,
+            }
+        }
+        targets.push(report::Target {
+            statement: format!(
+                "`{}` {QUERY}: mean of per-map ratios BMC-SH / BMC ≤ {LIMIT:.2} at N = 16…256",
+                TIERS[t]
+            ),
+            measured: measured.join(", "),
+            met,
+        });
+    }
+    report::targets_table(md, &targets);
+    md.push_str(
+        "| tier | N | maps | BMC | BMC-SH | SH L2 of the exact map | BMC-SH / BMC: mean of \
+         per-map ratios | ratio of means | worst map |\n| --- | ---: | --- | ---: | ---: | \
+         ---: | ---: | ---: | --- |\n",
+    );
+    for (t, tr) in results.iter().enumerate() {
+        for (ni, &n) in NS.iter().enumerate() {
+            for held_out_only in [true, false] {
+                if held_out_only && (!tr.any_held_out() || tr.held_out.iter().all(|&h| h)) {
+                    continue;
+                }
+                let Some((maps, bmc, sh, floor, mr, rm, worst)) = sh_stats(tr, ni, held_out_only)
+                else {
+                    continue;
+                };
+                let which = if held_out_only { "held-out" } else { "all" };
+                let bold = |x: String| if held_out_only { format!("**{x}**") } else { x };
+                let _ = writeln!(
+                    md,
+                    "| {} | {n} | {which} ({maps}) | {} | {} | {} | {} | {} | {} ({}) |",
+                    TIERS[t],
+                    pct(bmc),
+                    pct(sh),
+                    pct(floor),
+                    bold(ratio(mr)),
+                    ratio(rm),
+                    ratio(worst.0),
+                    worst.1
+                );
+            }
+        }
+    }
+    md.push('\n');
+}
+
 /// The checks of issue #6 that the tables of issue #13 do not cover.
 fn issue6_checks(md: &mut String, results: &[TierResult]) {
     let ni_of = |n: usize| NS.iter().position(|&m| m == n).expect("N is measured");
@@ -610,7 +796,7 @@ fn worst_ratio(
     tr: &TierResult,
     nis: &[usize],
     held_out_only: bool,
-    f: impl Fn(&[f64; 9]) -> f64,
+    f: impl Fn(&[f64; ESTIMATOR_COUNT]) -> f64,
 ) -> Option<(f64, String, usize)> {
     let sub = held_out_only && tr.any_held_out();
     let mut worst: Option<(f64, String, usize)> = None;
@@ -808,7 +994,8 @@ fn colour(e: usize) -> RGBColor {
         RGBColor(0, 160, 170),
         RGBColor(120, 40, 40),
         RGBColor(0, 0, 0),
-    ][e % 9]
+        RGBColor(230, 120, 180),
+    ][e % ESTIMATOR_COUNT]
 }
 
 /// Log-log relative RMSE (mean over all maps) against N, one panel per tier; solid lines
@@ -1094,6 +1281,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         luminance_bar::METHOD
     );
     report::comparison_tables(&mut md, &cases, ["cos-avg", "SH L2"], BARS);
+    sh_export(&mut md, &results);
     issue6_checks(&mut md, &results);
     other_coverage(&mut md, &results);
     selection(&mut md, &results);

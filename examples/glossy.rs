@@ -30,8 +30,9 @@
 //!   (`λ = e + 1`);
 //! - `lobe-avg`: `Σ max(0, r·xⱼ)ᵉ·Yⱼ / Σ max(0, r·xⱼ)ᵉ` on the samples' luminance `Yⱼ`, the
 //!   glossy twin of the cosine-weighted average;
-//! - `SH L2`: projection of the `Yⱼ` on real SH up to l = 2 with weights 4π/N, convolved with
-//!   the Phong lobe's zonal coefficients `1, (e+1)/(e+2), e/(e+3)`.
+//! - `SH L2`: projection of the `Yⱼ` on real SH up to l = 2 with weights 4π/N
+//!   (`sphere_quadrature::sh::ShL2::from_samples`), convolved with the Phong lobe's zonal
+//!   coefficients `1, (e+1)/(e+2), e/(e+3)` (`ShL2::convolved`, `ShL2::radiance`).
 //!
 //! The peers are linear, so their estimate from the `Yⱼ` is the luminance of their RGB
 //! estimate.
@@ -76,12 +77,12 @@ use luminance_bar::LuminanceBar;
 use parallel::parallel_map;
 use reference::envmap::{luminance, EnvMap};
 use reference::rng::Rng;
-use reference::sh::real_sh;
 use reference::vec::dot;
 use report::{Case, CsvRow, MapRow};
 use sphere_quadrature::bmc::Size;
 use sphere_quadrature::probe::{Probe, ProbeSize};
 use sphere_quadrature::sg::SphericalGaussian;
+use sphere_quadrature::sh::ShL2;
 use sphere_quadrature::{Mat3, Vec3};
 
 const ALL_MAPS: [&str; 10] =
@@ -157,18 +158,6 @@ fn vec32(d: [f64; 3]) -> Vec3 {
     Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32)
 }
 
-/// Real SH `Y_{l,m}(d)`, l ≤ 2, at index `l(l+1) + m`, with the band of each index.
-fn sh9(d: [f64; 3]) -> [(usize, f64); 9] {
-    std::array::from_fn(|i| {
-        let l = match i {
-            0 => 0,
-            1..=3 => 1,
-            _ => 2,
-        };
-        (l, real_sh(l, i as i64 - (l * (l + 1)) as i64, d))
-    })
-}
-
 /// One map and tier at one N: `sums[e]` over all rotations and directions.
 fn evaluate<const N: usize>(
     map: &EnvMap,
@@ -191,14 +180,13 @@ where
         let ys: Vec<f64> = rgb.iter().map(|c| luminance(c.map(f64::from))).collect();
         probe.update(&rgb).expect("finite samples");
         let bar = LuminanceBar::new(&probe);
-        let mut sh = [0.0f64; 9];
-        for (x, &y) in xs.iter().zip(&ys) {
-            for (c, (_, v)) in sh.iter_mut().zip(sh9(*x)) {
-                *c += 4.0 * std::f64::consts::PI / N as f64 * y * v;
-            }
-        }
+        // SH L2: the samples projected with the equal weights 4π/N.
+        let y32: Vec<f32> = ys.iter().map(|&y| y as f32).collect();
+        let weight = (4.0 * std::f64::consts::PI / N as f64) as f32;
+        let sh = ShL2::from_samples(probe.directions(), &y32, weight).expect("unit directions");
         for ((&e, s), truth) in EXPONENTS.iter().zip(&mut sums).zip(truths) {
-            let zonal = [1.0, (e + 1.0) / (e + 2.0), e / (e + 3.0)];
+            let zonal = [1.0, (e + 1.0) / (e + 2.0), e / (e + 3.0)].map(|g| g as f32);
+            let lobe = sh.convolved(zonal);
             for (r, &t) in dirs.iter().zip(truth) {
                 let (g, exact_variance) = match lobe_kind {
                     LobeKind::Phong => (
@@ -228,7 +216,7 @@ where
                     den += w;
                 }
                 let avg = if den > 0.0 { num / den } else { 0.0 };
-                let shl2: f64 = sh.iter().zip(sh9(*r)).map(|(c, (l, v))| zonal[l] * c * v).sum();
+                let shl2 = f64::from(lobe.radiance(vec32(*r)).expect("unit direction"));
                 for (k, est) in [bmc, avg, shl2].into_iter().enumerate() {
                     s.sq[k] += (est - t).powi(2);
                 }

@@ -33,6 +33,9 @@
 //!   samples (a cut ray budget, a silent sensor) take a validity mask
 //!   ([`probe::Probe::update_masked`]): the valid ones are fitted exactly, up to a capacity
 //!   `M` fixed in the type.
+//! - [`sh`]: spherical harmonics up to degree 2 (`ShL2`): a probe's posterior mean as the 9
+//!   coefficients renderers take ([`probe::Probe::radiance_sh`]), O(9) irradiance, rotation,
+//!   and the conventions of three.js, Filament and Unity.
 //! - [`footprint`]: what a sample measures (point, Gaussian lobe, cosine-power sensor) and
 //!   the footprints' Funk–Hecke gains.
 //! - [`envmap`]: footprint samples of an equirectangular RGB map, exact (every pixel) or
@@ -98,7 +101,9 @@ pub mod radiance;
 pub mod rotation;
 pub mod sf;
 pub mod sg;
+pub mod sh;
 mod tables;
+pub mod temporal;
 mod vec3;
 pub mod warp;
 

@@ -22,6 +22,11 @@
 //!   with `zᵢ` in closed form (the kernel is an SG as well), and a baked direction-averaged
 //!   variance interpolated in the lobe sharpness; [`Probe::glossy_variance`] is its exact
 //!   posterior variance in O(N²).
+//! - [`Probe::radiance_sh`]: the posterior mean as the 9 spherical-harmonic coefficients
+//!   (`l ≤ 2`) that renderers take, exactly (Funk–Hecke: `c_lm = β·√(4π)·δ_l0 +
+//!   k̂_l·Σᵢ αᵢ·Y_lm(xᵢ)`), O(9N); [`Probe::radiance_sh_variance`] their posterior variances,
+//!   O(9·N²/2). [`crate::sh`] evaluates irradiance from them in O(9), rotates them and
+//!   converts them to three.js, Filament and Unity.
 //! - **Per-probe selection** (local adaptation): `build.rs` bakes a small *family* of
 //!   sharpnesses `λ` (one `σ′`); each update computes, for every member, the restricted
 //!   (REML) log marginal likelihood with `σ_f` profiled out,
@@ -169,8 +174,9 @@
 //! - **Queries**: every value, the exact variances ([`Probe::posterior_variance`],
 //!   [`Probe::glossy_variance`], [`Probe::phong_variance`]: the probe keeps the selected
 //!   member's `P_MM` factor for their Schur correction) and the channel covariance
-//!   ([`Probe::channel_covariance`], [`Probe::signal_variance_of`], [`Probe::combine`])
-//!   answer for the valid subset. The O(1) variances of [`Probe::irradiance`],
+//!   ([`Probe::channel_covariance`], [`Probe::signal_variance_of`], [`Probe::combine`]) and
+//!   the SH export ([`Probe::radiance_sh`], [`Probe::radiance_sh_variance`]) answer for the
+//!   valid subset. The O(1) variances of [`Probe::irradiance`],
 //!   [`Probe::glossy`] and [`Probe::phong`] are σ̂_f² of the valid samples times the *full*
 //!   set's baked direction-averaged unit variance (and [`Estimate::unit_variance`] is that
 //!   average): they do not see the holes, which raise the variance near the missing
@@ -197,7 +203,7 @@
 //!   vectors (`(N/2 − p)²/2` multiply-adds each), their Gram products (`m²·N/6` on average),
 //!   an `m³/6` factorisation and one forward substitution of the samples on top of
 //!   [`Probe::update`]'s solve. Cortex-M4 at `N = 64`: 297 460 instructions with 8 missing,
-//!   573 840 with 16, against 88 790 for [`Probe::update`] (README). Memory: the probe grows by
+//!   573 860 with 16, against 88 800 for [`Probe::update`] (README). Memory: the probe grows by
 //!   the missing indices and factor, `4M² + 6M` bytes and a few words; the update uses
 //!   another `4·M·N + 8M²` bytes of stack. Each exact-variance query does one more back
 //!   substitution (`N²/4` f64 multiply-adds: 261 660 → 547 330 M4 instructions for
@@ -230,6 +236,7 @@ use core::marker::PhantomData;
 mod covariance;
 mod missing;
 mod scale;
+mod sh;
 
 /// Nodes of each baked `π·z(t)` table over `t ∈ [−1, 1]` (`gen/probe.rs` emits arrays of
 /// this length; a mismatch does not compile).

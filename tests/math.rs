@@ -26,3 +26,40 @@ fn sin_cos_of_a_turn_fraction_is_accurate() {
     assert_eq!(sin_cos_turns(0), (0.0, 1.0));
     assert_eq!(sin_cos_turns(quarter), (1.0, -0.0));
 }
+
+/// `inv_sqrt` over its domain `[2⁻¹²⁵, f32::MAX]`: random bit patterns (every exponent),
+/// powers of two, the ends of the range and the neighbourhood of 1, against `1/√x` in f64, in ulps of
+/// the correctly rounded result.
+#[test]
+fn inv_sqrt_is_within_one_and_a_half_ulp() {
+    let mut rng = Rng::new(23);
+    let mut xs: Vec<f32> = (0..2_000_000)
+        .map(|_| {
+            f32::from_bits(
+                (rng.next_u64() >> 33) as u32 % (0x7F80_0000 - 0x0080_0000) + 0x0080_0000,
+            )
+        })
+        .collect();
+    xs.extend((-125..=127).map(|e| 2f32.powi(e)));
+    xs.retain(|&x| x >= 2.0 * f32::MIN_POSITIVE);
+    xs.extend([
+        2.0 * f32::MIN_POSITIVE,
+        f32::MAX,
+        1.0,
+        1.0 - f32::EPSILON / 2.0,
+        1.0 + f32::EPSILON,
+        4.0,
+    ]);
+    let (mut worst, mut at) = (0.0f64, 0.0f32);
+    for x in xs {
+        let got = f64::from(sphere_quadrature::math::inv_sqrt(x));
+        let exact = 1.0 / f64::from(x).sqrt();
+        let ulp = f64::from((exact as f32).next_up() - exact as f32);
+        let e = (got - exact).abs() / ulp;
+        if e > worst {
+            (worst, at) = (e, x);
+        }
+    }
+    println!("inv_sqrt: max error {worst:.2} ulp (x = {at:e})");
+    assert!(worst <= 1.5, "{worst}");
+}

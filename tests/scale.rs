@@ -29,6 +29,12 @@ const TINY: f64 = f32::MIN_POSITIVE as f64;
 /// number (with a margin of `tol` at both ends of the range), exactly `±∞` above `f32::MAX`,
 /// 0 or subnormal (same sign) below the normal range.
 fn check(got: f32, want: f64, tol: f64, what: &str) -> f64 {
+    check_norm(got, want, want.abs(), tol, what)
+}
+
+/// [`check`] with the error measured relative to `norm ≥ |want|` (the size of the vector
+/// `want` belongs to, for a spherical-harmonic coefficient).
+fn check_norm(got: f32, want: f64, norm: f64, tol: f64, what: &str) -> f64 {
     assert!(!got.is_nan(), "{what}: NaN (want {want:e})");
     let mag = want.abs();
     if mag > MAX * (1.0 + tol) {
@@ -41,7 +47,7 @@ fn check(got: f32, want: f64, tol: f64, what: &str) -> f64 {
         );
         0.0
     } else if mag < MAX * (1.0 - tol) && mag > TINY * (1.0 + tol) {
-        let rel = (got as f64 - want).abs() / mag;
+        let rel = (got as f64 - want).abs() / norm.max(mag);
         assert!(rel <= tol, "{what}: {got:e}, want {want:e} (relative {rel:e})");
         rel
     } else {
@@ -50,11 +56,15 @@ fn check(got: f32, want: f64, tol: f64, what: &str) -> f64 {
 }
 
 /// Every query of a probe, channel by channel: values (which scale by `c·a`) and variances
-/// (by `c²a²`), with the lobe amplitude multiplied by `amp`.
+/// (by `c²a²`), with the lobe amplitude multiplied by `amp`. `norms[i]` is the size
+/// `values[i]` is measured against: `|values[i]|`, or for a spherical-harmonic coefficient
+/// the sum of its channel's `|c_lm|` (a coefficient near zero is as accurate as the others
+/// in absolute terms, not relative to itself).
 #[derive(Debug)]
 struct Answers {
     values: Vec<(String, f64)>,
     variances: Vec<(String, f64)>,
+    norms: Vec<f64>,
 }
 
 fn channels<T: Radiance>(x: T) -> Vec<f64> {
@@ -65,11 +75,15 @@ fn answers<const N: usize, T: Radiance, F: Footprint>(p: &Probe<N, T, F>, amp: f
 where
     Size<N>: ProbeTables<F>,
 {
-    let mut a = Answers { values: Vec::new(), variances: Vec::new() };
+    let mut a = Answers { values: Vec::new(), variances: Vec::new(), norms: Vec::new() };
     let mut push = |values: bool, name: String, x: T| {
         for (c, v) in channels(x).into_iter().enumerate() {
-            let slot = if values { &mut a.values } else { &mut a.variances };
-            slot.push((format!("{name} ch{c}"), v));
+            if values {
+                a.values.push((format!("{name} ch{c}"), v));
+                a.norms.push(v.abs());
+            } else {
+                a.variances.push((format!("{name} ch{c}"), v));
+            }
         }
     };
     for n in [Vec3::Z, Vec3::new(0.3, -0.4, 0.5), Vec3::new(-0.8, 0.1, -0.2)] {
@@ -92,6 +106,20 @@ where
     }
     push(true, "mean_irradiance".into(), p.mean_irradiance());
     push(false, "signal_variance".into(), p.signal_variance());
+    // The SH export (issue #14): coefficients, measured against their channel's Σ|c|, and
+    // their variances.
+    let sh = p.radiance_sh().coefficients;
+    for (k, (&c, &v)) in sh.iter().zip(&p.radiance_sh_variance()).enumerate() {
+        push(true, format!("radiance_sh {k}"), c);
+        push(false, format!("radiance_sh_variance {k}"), v);
+    }
+    let start = a.norms.len() - 9 * T::CHANNELS;
+    for ch in 0..T::CHANNELS {
+        let sum: f64 = sh.iter().map(|c| f64::from(c.channel(ch)).abs()).sum();
+        for k in 0..9 {
+            a.norms[start + k * T::CHANNELS + ch] = sum;
+        }
+    }
     a
 }
 
@@ -99,17 +127,19 @@ where
 /// within its tolerance (`tolerance.values[i]`, `tolerance.variances[i]`).
 fn compare(base: &Answers, scaled: &Answers, c: f64, amp: f64, tol: &Answers, what: &str) -> f64 {
     let mut worst = 0.0f64;
+    let norms = base.norms.iter().map(Some).chain(std::iter::repeat(None));
     let pairs = base.values.iter().zip(&scaled.values).zip(&tol.values).map(|p| (p, true));
     let var_pairs =
         base.variances.iter().zip(&scaled.variances).zip(&tol.variances).map(|p| (p, false));
-    for ((((name, b), (_, s)), (_, t)), is_value) in pairs.chain(var_pairs) {
+    for (((((name, b), (_, s)), (_, t)), is_value), norm) in pairs.chain(var_pairs).zip(norms) {
         let a = if name.starts_with("glossy") { amp } else { 1.0 };
         let want = if is_value { c * a * b } else { c * c * a * a * b };
         if !is_value && *b == 0.0 {
             assert_eq!(*s, 0.0, "{what}: {name}");
             continue;
         }
-        let rel = check(*s as f32, want, *t, &format!("{what}: {name}"));
+        let norm = norm.map_or(want.abs(), |n| (c * a).abs() * n);
+        let rel = check_norm(*s as f32, want, norm, *t, &format!("{what}: {name}"));
         if *t > 0.0 {
             worst = worst.max(rel / t);
         }
@@ -137,6 +167,7 @@ fn uniform(like: &Answers, value: f64, variance: f64) -> Answers {
     Answers {
         values: like.values.iter().map(|(n, _)| (n.clone(), value)).collect(),
         variances: like.variances.iter().map(|(n, _)| (n.clone(), variance)).collect(),
+        norms: Vec::new(),
     }
 }
 
@@ -307,7 +338,11 @@ fn for_three_probes(
 
 impl Answers {
     fn clone_answers(&self) -> Answers {
-        Answers { values: self.values.clone(), variances: self.variances.clone() }
+        Answers {
+            values: self.values.clone(),
+            variances: self.variances.clone(),
+            norms: self.norms.clone(),
+        }
     }
 }
 
@@ -321,6 +356,15 @@ fn overflowing_results_are_infinite() {
     // Constants: exact values (π·c overflows for c above f32::MAX/π), zero variance.
     for c in [0.0f32, 1e-38, 1e-30, 1e30, 1e37, 1e38, 2e38, f32::MAX, -f32::MAX] {
         probe.update(&[[c, -c, 0.5 * c]; 32]).unwrap();
+        // The SH export: c₀₀ = √(4π)·c (+∞ past f32::MAX/√(4π)), the rest exactly 0, zero
+        // variances.
+        let sh = probe.radiance_sh().coefficients;
+        for (ch, y) in [c, -c, 0.5 * c].into_iter().enumerate() {
+            let want = (4.0 * core::f64::consts::PI).sqrt() * f64::from(y);
+            check(sh[0][ch], want, 1e-6, &format!("c₀₀ of {y:e}"));
+            assert!(sh[1..].iter().all(|v| v[ch] == 0.0), "{sh:?}");
+            assert!(probe.radiance_sh_variance().iter().all(|v| v[ch] == 0.0));
+        }
         for n in [Vec3::Z, Vec3::new(0.2, 0.9, -0.3)] {
             let e = probe.irradiance(n).unwrap();
             for (ch, y) in [c, -c, 0.5 * c].into_iter().enumerate() {
@@ -357,9 +401,9 @@ fn overflowing_results_are_infinite() {
             assert!(*b == f64::INFINITY && s.is_finite() && *s > 0.0, "{name}: {b:e} ({s:e})");
         }
     }
-    for ((name, b), (_, s)) in big.values.iter().zip(&small.values) {
+    for (((name, b), (_, s)), norm) in big.values.iter().zip(&small.values).zip(&small.norms) {
         let c = if name.ends_with("ch2") { 1.0 } else { 1e37 };
-        check(*b as f32, c * s, 1e-4, name);
+        check_norm(*b as f32, c * s, c * norm, 1e-4, name);
     }
     // Samples near ±f32::MAX: Yᵢ − Y₀ overflows f32 (the channel is centred at half scale).
     let wild: [f32; 32] = core::array::from_fn(|i| if i % 3 == 0 { 3e38 } else { -3.2e38 });

@@ -19,6 +19,11 @@ use sphere_quadrature::probe::{Estimate, Probe, ProbeSize};
 /// Rec. 709 luminance weights, as `reference::envmap::luminance`.
 pub const LUMINANCE: [f32; 3] = [0.2126, 0.7152, 0.0722];
 
+/// Luminance `wᵀc` of an RGB value, in f64.
+pub fn luminance(rgb: [f32; 3]) -> f64 {
+    LUMINANCE.iter().zip(rgb).map(|(&w, c)| f64::from(w) * f64::from(c)).sum()
+}
+
 /// How the luminance variance is obtained, for the reports.
 pub const METHOD: &str = "σ² = unit_variance × wᵀSw with w the Rec. 709 weights and S the \
      probe's REML channel covariance (`Probe::signal_variance_of`, `Probe::combine`); the exact \
@@ -44,9 +49,7 @@ impl LuminanceBar {
 
     /// Luminance value and variance of `estimate`, `unit_variance × wᵀSw`.
     pub fn estimate(&self, estimate: &Estimate<[f32; 3]>) -> (f64, f64) {
-        let value =
-            LUMINANCE.iter().zip(estimate.value).map(|(&w, c)| f64::from(w) * f64::from(c)).sum();
-        (value, f64::from(estimate.unit_variance) * f64::from(self.signal))
+        (luminance(estimate.value), f64::from(estimate.unit_variance) * f64::from(self.signal))
     }
 
     /// The same through `Probe::combine`.

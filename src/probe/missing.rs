@@ -140,7 +140,8 @@ where
     /// likelihood and the member selection are those of the `N − m` valid samples alone, and
     /// so is every query's value, [`Probe::posterior_variance`], [`Probe::glossy_variance`],
     /// [`Probe::phong_variance`], [`Probe::channel_covariance`] and what builds on it
-    /// ([`Probe::signal_variance_of`], [`Probe::combine`]). The O(1) variances of
+    /// ([`Probe::signal_variance_of`], [`Probe::combine`]), and the SH export
+    /// ([`Probe::radiance_sh`], [`Probe::radiance_sh_variance`]). The O(1) variances of
     /// [`Probe::irradiance`], [`Probe::glossy`] and [`Probe::phong`] are σ̂_f² of the valid
     /// samples times the baked direction average of the full set's unit variance: they do not
     /// see the holes (module docs, "Missing samples").

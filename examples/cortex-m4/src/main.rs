@@ -18,7 +18,7 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use sphere_quadrature::footprint::{CosinePower, Footprint, Gaussian, Kind, Point};
 use sphere_quadrature::qmc::{self, LobeSampler};
-use sphere_quadrature::{bmc, probe, sg};
+use sphere_quadrature::{bmc, probe, sg, sh};
 use sphere_quadrature::{Lobe, SphericalFibonacci, Vec3};
 
 struct Semihosting;
@@ -119,6 +119,16 @@ fn main() -> ! {
     probe_counts::<16, CosinePower<1>>("photodiode_probe", 20, 200);
     probe_counts::<32, CosinePower<1>>("photodiode_probe", 10, 100);
     probe_counts::<64, Gaussian<8>>("gaussian8_probe", 4, 100);
+    // Issue #14: the SH query of an RGB expansion, and the rotation.
+    let rgb = sh::ShL2::new(core::array::from_fn(|k| {
+        let v = 1.0 / (1.0 + k as f32);
+        [v, 0.5 * v, -0.25 * v]
+    }));
+    let rgb = black_box(rgb);
+    let unit = black_box(n.try_normalize().unwrap_or(Vec3::Z));
+    report!("sh_irradiance_rgb", 9, 2000, || black_box(&rgb).irradiance(unit));
+    let m = black_box(sphere_quadrature::Mat3::from_axis_angle(Vec3::new(1.0, 2.0, 3.0), 0.4));
+    report!("sh_rotated_rgb", 9, 200, || black_box(&rgb).rotated(&m));
     // Issue #14: masked updates at N = 64 with capacity 8 and 16 (8 and 16 samples missing,
     // and none), and the queries after one.
     masked_counts::<8>(&[0, 8]);
@@ -164,6 +174,24 @@ where
         hprintln!("# count {}_glossy N={} {} instructions/call", label, N, glossy);
         hprintln!("# count {}_glossy_variance N={} {} instructions/call", label, N, variance);
     }
+    // Issue #14: the SH L2 export, its variances, and the O(9) query on the exported
+    // coefficients (one channel here; RGB in `main`).
+    let sh = count(query_reps, || black_box(&p).radiance_sh());
+    let sh_variance = count(update_reps, || black_box(&p).radiance_sh_variance());
+    let coefficients = p.radiance_sh();
+    // A unit normal (what a renderer passes), and the probe queries' normal of length 0.71.
+    let unit = black_box(n.try_normalize().unwrap_or(Vec3::Z));
+    let sh_query = count(2000, || black_box(&coefficients).irradiance(unit));
+    let sh_query_any = count(2000, || black_box(&coefficients).irradiance(n));
+    hprintln!("# count {}_radiance_sh N={} {} instructions/call", label, N, sh);
+    hprintln!("# count {}_radiance_sh_variance N={} {} instructions/call", label, N, sh_variance);
+    hprintln!("# count {}_sh_irradiance N={} {} instructions/call", label, N, sh_query);
+    hprintln!(
+        "# count {}_sh_irradiance_non_unit N={} {} instructions/call",
+        label,
+        N,
+        sh_query_any
+    );
     let r = Vec3::new(0.6, 0.0, 0.8);
     let phong = count(query_reps, || black_box(&p).phong(black_box(r), black_box(20.0)));
     let exact = count(update_reps, || black_box(&p).phong_variance(black_box(r), black_box(20.0)));

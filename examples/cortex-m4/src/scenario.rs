@@ -169,6 +169,36 @@ pub fn run(out: &mut impl Sink) {
                 }
             }
         }
+        // SH L2 export (issue #14): the coefficients, their variances, the O(9) irradiance at
+        // the eight normals (unit and not), a rotation and the engines' forms.
+        let sh = p.radiance_sh();
+        for (k, (c, v)) in sh.coefficients.iter().zip(&p.radiance_sh_variance()).enumerate() {
+            for ch in 0..3 {
+                value(out, "probe_sh", 3 * k + ch, c[ch]);
+                value(out, "probe_sh_var", 3 * k + ch, v[ch]);
+            }
+        }
+        for (i, &n) in NORMALS.iter().enumerate() {
+            let e = sh.irradiance(n).unwrap_or([f32::NAN; 3]);
+            for (ch, &v) in e.iter().enumerate() {
+                value(out, "probe_sh_e", 3 * i + ch, v);
+            }
+        }
+        let rotated = sh.rotated(&seq.next_rotation());
+        for (k, c) in rotated.coefficients.iter().enumerate() {
+            for (ch, &v) in c.iter().enumerate() {
+                value(out, "probe_sh_rotated", 3 * k + ch, v);
+            }
+        }
+        for (k, c) in sh.filament_irradiance().iter().enumerate() {
+            for (ch, &v) in c.iter().enumerate() {
+                value(out, "probe_sh_filament", 3 * k + ch, v);
+            }
+        }
+        for (k, v) in sh.unity_shader_constants().iter().flatten().enumerate() {
+            value(out, "probe_sh_unity", k, *v);
+        }
+        out.line(format_args!("probe_sh_zero_normal 0 {:?}", sh.irradiance(Vec3::ZERO).err()));
         let flat = sg::SphericalGaussian { axis: Vec3::ZERO, sharpness: 5.0, amplitude: 1.0 };
         out.line(format_args!("probe_glossy_zero_axis 0 {:?}", p.glossy(&flat).err()));
         let nan = sg::SphericalGaussian { axis: Vec3::Z, sharpness: f32::NAN, amplitude: 1.0 };
@@ -272,6 +302,12 @@ where
                 sensor_value::<N>(out, "glossy_fast_var", c, fast);
                 sensor_value::<N>(out, "glossy_var", c, var);
             }
+        }
+    }
+    // The SH export of the unfiltered radiance (issue #14).
+    for (k, c) in p.radiance_sh().coefficients.iter().enumerate() {
+        for (ch, &v) in c.iter().enumerate() {
+            sensor_value::<N>(out, "sh", 3 * k + ch, v);
         }
     }
     let mut bad = *readings;

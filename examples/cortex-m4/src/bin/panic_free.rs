@@ -27,6 +27,7 @@ use sphere_quadrature::footprint::{CosinePower, Gaussian, Point};
 use sphere_quadrature::probe::{cosine_weighted_average, Probe, Selection};
 use sphere_quadrature::qmc::{self, LobeSampler};
 use sphere_quadrature::sg::{self, SphericalGaussian};
+use sphere_quadrature::sh::ShL2;
 use sphere_quadrature::{metrics, FibonacciPoints, Lobe, Mat3, SphericalFibonacci, Vec3};
 
 // The only `unsafe` of this binary: declaring a symbol that no object defines. It is never
@@ -265,6 +266,42 @@ fn footprint_probes() {
     keep(g.phong_variance(dir(), black_box(20.0)));
 }
 
+/// The SH L2 export (issue #14): the probe's projection and its variances (point, RGB and
+/// footprint probes), and every `ShL2` function.
+#[inline(never)]
+fn sh_export(ys: &[f32]) {
+    let mut p = Probe::<64>::new();
+    let samples: [f32; 64] = p.directions().map(sky);
+    keep(p.update(black_box(&samples)));
+    keep(p.radiance_sh());
+    keep(p.radiance_sh_variance());
+    let mut rgb = Probe::<16, [f32; 3]>::new();
+    keep(rgb.update(black_box(&[[1.0, 2.0, 3.0]; 16])));
+    let sh = rgb.radiance_sh();
+    keep(rgb.radiance_sh_variance());
+    keep(sh.irradiance(dir()));
+    keep(sh.radiance(dir()));
+    keep(sh.convolved(black_box([1.0, 0.5, 0.25])));
+    keep(sh.rotated(&Mat3::from_axis_angle(dir(), black_box(0.4))));
+    keep(sh.three_js());
+    keep(sh.filament_irradiance());
+    keep(sh.filament_radiance());
+    keep(sh.unity());
+    keep(sh.unity_shader_constants());
+    keep(ShL2::<f32>::basis(dir()));
+    let dirs = [dir(), dir2(), dir()];
+    let values = [ys.first().copied().unwrap_or(1.0), 2.0, 3.0];
+    keep(ShL2::from_samples(black_box(&dirs[..]), black_box(&values[..]), black_box(0.5)));
+    let mut g = Probe::<64, f32, Gaussian<8>>::new();
+    keep(g.update(black_box(&samples)));
+    keep(g.radiance_sh());
+    keep(g.radiance_sh_variance());
+    let mut c = Probe::<16, f32, CosinePower<1>>::new();
+    keep(c.update(black_box(&[1.5; 16])));
+    keep(c.radiance_sh());
+    keep(c.radiance_sh_variance());
+}
+
 #[inline(never)]
 fn metrics_distance(points: &[Vec3]) {
     keep(metrics::energy(points));
@@ -314,6 +351,7 @@ fn main() -> ! {
     bmc_probe();
     missing_samples();
     footprint_probes();
+    sh_export(black_box(&ys[..]));
     let points = SphericalFibonacci::<32>::new().points();
     let points = black_box(&points[..]);
     metrics_distance(points);
