@@ -146,7 +146,7 @@ pub fn interpolate(learned: &[Learned], n: usize, e: u32) -> Result<(f64, f64), 
     Ok((mix(a.l, b.l), mix(a.sigma, b.sigma)))
 }
 
-/// The optimal sample sets `optimal = N e` lines refer to (`examples/optimal_sets.rs`).
+/// The optimal sample sets `optimal = N e` lines refer to (`eval/src/bin/optimal_sets.rs`).
 pub const OPTIMAL_FILE: &str = "tables/optimal_sets.txt";
 
 /// One optimal set of [`OPTIMAL_FILE`]: `set phongE N l sigma var_sf var_opt` and `N` lines

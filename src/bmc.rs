@@ -27,12 +27,12 @@
 //! `build.rs` solves in f64 (Cholesky with one step of iterative refinement; generator
 //! `gen/bmc.rs`, sets in `tables/bmc.txt`) and bakes `w` rounded once to f32, one `static`
 //! array per size. Only the baked sizes compile: `N` ∈ {16, 32, 64, 80, 128, 256}. The
-//! hyperparameters are **learned** offline on real maps (`examples/renderer.rs --learn`, issue
+//! hyperparameters are **learned** offline on real maps (`eval/src/bin/renderer.rs --learn`, issue
 //! #12: the (l, σ′) whose estimates have the smallest RMSE ratio to QMC-SF over the clamp and
 //! smooth tiers of four training maps; the report is `docs/renderer.md`). On point-sampled
 //! real lighting this renderer ties QMC-SF on the same samples; for light as smooth as
 //! mixtures of spherical Gaussians of sharpness 2…20, the preset `tables/bmc_smooth.txt`
-//! (uniform set, learned by `examples/learn_hyperparameters.rs`) is many times better than
+//! (uniform set, learned by `eval/src/bin/learn_hyperparameters.rs`) is many times better than
 //! QMC-SF (`docs/hyperparameters.md`) — select it with the variable below. For a probe
 //! that shares its samples among many normals, see [`crate::probe`].
 //!
@@ -84,7 +84,7 @@
 //! - The baked f32 weights agree with the independent f64 reference (other point formula,
 //!   `zᵢ` by I₀ₑ quadrature, LU solves) to 3.4–4.7·10⁻⁸ of the largest weight (f32
 //!   rounding); `Σw − 1` is below 1.3·10⁻⁸.
-//! - On real maps (`examples/renderer.rs`, `docs/renderer.md`, held-out maps) the renderer
+//! - On real maps (`eval/src/bin/renderer.rs`, `docs/renderer.md`, held-out maps) the renderer
 //!   ties QMC-SF on the same samples on the `clamp` tier (0.98–1.07× at N = 32–128) and is
 //!   0.46–0.50× QMC-SF on the `smooth` tier.
 //! - Relative RMS error of irradiance of single spherical-Gaussian lights (sharpness 2…20,

@@ -25,7 +25,7 @@
 //!   irradiance, and the Phong lobe with the cosine factor ([`bmc::GlossyRenderer`]).
 //! - [`probe`]: a Bayesian Monte Carlo lighting probe: N samples in, irradiance with a
 //!   posterior variance for any normal out, with per-probe kernel selection by marginal
-//!   likelihood. On the held-out maps of `examples/accuracy.rs` it has 0.76–0.87× the error of
+//!   likelihood. On the held-out maps of `eval/src/bin/accuracy.rs` it has 0.76–0.87× the error of
 //!   the cosine-weighted average at N = 16…64 (`clamp` tier) and 0.66–0.73× the best of that
 //!   average and SH L2 (`smooth` tier). Samples may be points or have a known footprint
 //!   (`Probe<N, T, F>`): a probe whose samples integrate a lobe (a mip level, a cone, a

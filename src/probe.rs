@@ -41,7 +41,7 @@
 //!   `clamp` tier of the held-out maps). Every variance the probe reports is therefore
 //!   multiplied by a per-member factor [`Member::calibration`] (irradiance; glossy at lobe
 //!   sharpness μ = 7, 22, 102, linear in `ln μ` between), fitted offline so that 95 % of the
-//!   errors on the training maps fall within 2σ (`examples/probe_trust.rs` writes the
+//!   errors on the training maps fall within 2σ (`eval/src/bin/probe_trust.rs` writes the
 //!   `calibration = …` lines of `tables/probe.txt`; `docs/probe_trust.md`). On the held-out
 //!   maps, with the f64 engine of that program, 2σ then holds for 94–99 % of the `clamp`
 //!   queries and 96–100 % of the `smooth` ones at N = 16 … 256 (irradiance and Phong
@@ -99,7 +99,7 @@
 //!   point probe's (README, Cortex-M4 table).
 //!
 //! On real maps footprint samples cut the irradiance error by 10–50× against the
-//! cosine-weighted average of point samples at the same `N` (`examples/footprint.rs`,
+//! cosine-weighted average of point samples at the same `N` (`eval/src/bin/footprint.rs`,
 //! `docs/footprint.md`). [`crate::envmap`] takes footprint samples of an equirectangular map.
 //!
 //! ```
@@ -193,7 +193,7 @@
 //!   footprints (`Gaussian<8>`, N = 64, 16 missing) against a closed-form reference of their
 //!   sample covariance: irradiance within the same bars (9·10⁻⁴ at `cond(Q)` 2.8·10⁵), the
 //!   exact variance's increase over the full set's within 4·10⁻³.
-//! - **On real maps** (`examples/missing.rs`, `docs/missing.md`; `clamp` tier, held-out maps,
+//! - **On real maps** (`eval/src/bin/missing.rs`, `docs/missing.md`; `clamp` tier, held-out maps,
 //!   a seeded random subset missing): the masked probe's irradiance error over the
 //!   cosine-weighted average of the valid samples, mean of per-map ratios at 5 / 25 / 50 %
 //!   missing, is 0.83 / 0.83 / 0.84 at N = 16, 0.92 / 0.95 / 0.90 at N = 64 and
@@ -728,7 +728,7 @@ where
     /// Phong lobe's first Legendre moment) this is the normalised Phong-lobe average of the
     /// radiance about the mirror direction `r`: the glossy term of a prefiltered environment.
     /// The SG stands in for the Phong lobe: on smooth lighting that leaves an error floor of
-    /// about 1 % at `e = 5` (`examples/glossy.rs`, `docs/glossy.md`), less for sharper lobes.
+    /// about 1 % at `e = 5` (`eval/src/bin/glossy.rs`, `docs/glossy.md`), less for sharper lobes.
     /// The lobe is integrated over the whole sphere (no horizon clipping, no cosine factor:
     /// below the horizon a lobe of `μ = 22` keeps `e^(−22)` of its peak).
     ///

@@ -139,7 +139,7 @@ impl SphericalGaussian {
     /// against Phong's 0.625 at `e = 5`; at `e = 1` it is 0.328 against 0.25, worse than
     /// [`Self::phong_lobe`]'s 0.194).
     /// Integrating *smooth* lighting, what matters is the low Legendre moments, not the
-    /// pointwise fit: on the `smooth` maps of `examples/glossy.rs` (held-out means) the probe's
+    /// pointwise fit: on the `smooth` maps of `eval/src/bin/glossy.rs` (held-out means) the probe's
     /// glossy error at `e = 5` is 1.3 % (N = 64) and 1.1 % (N = 256) with this lobe, against
     /// 2.5 % and 2.4 % with [`Self::phong_lobe`].
     ///

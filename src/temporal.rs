@@ -26,7 +26,7 @@
 //! irradiance, `Σ Â_l·m_lm·Y_lm(n)`, with variance `Σ (Â_l·Y_lm(n))²·v_lm`, the coefficients
 //! taken as independent) and [`TemporalProbe::radiance_sh`] for a renderer.
 //!
-//! Measured (`cargo run --release --example temporal`, `docs/temporal.md`): see the README's
+//! Measured (`cargo eval temporal`, `docs/temporal.md`): see the README's
 //! temporal section; on point-sampled real maps the error after 16 static updates is about a
 //! third of one update's, and a switch between two similar maps can go undetected.
 //!
@@ -68,7 +68,7 @@ use core::f32::consts::PI;
 
 /// The default threshold of the innovation test: `χ²` over the 9 coefficients of a channel.
 /// Chosen on the training maps (apartment, bridge, forest, lab; `clamp` tier, N = 64) by
-/// `examples/temporal.rs -- --threshold T`: 10 and 20 reset on static light (the error after
+/// `eval/src/bin/temporal.rs -- --threshold T`: 10 and 20 reset on static light (the error after
 /// 32 updates rose again to 24 % and 20 %), 30 did not (15 % after 16 updates against 46 %
 /// for one), 50 detected fewer switches. See [`TemporalProbe::with_threshold`].
 pub const DEFAULT_THRESHOLD: f32 = 30.0;

@@ -370,7 +370,7 @@ const refs = new Map();
 const cells = sphereCells();
 
 /**
- * The `clamp` lighting of examples/accuracy.rs: luminance clamped at 30 × the map's
+ * The `clamp` lighting of eval/src/bin/accuracy.rs: luminance clamped at 30 × the map's
  * solid-angle mean (the sun and lamps are direct light that a renderer samples separately).
  */
 function clampMap({ w, h, rgb }) {

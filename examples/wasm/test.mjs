@@ -1,11 +1,11 @@
 // Runs the sphere-quadrature WebAssembly module under Node (no npm packages) and prints
 // `key index bits` lines: first the shared Cortex-M4 scenario (run inside the module), then
 // every scalar export and the probe-style buffer round trip on fixed inputs. The host twin,
-// examples/wasm_scenario.rs, prints the same lines from native code; .ci/run diffs the two.
+// eval/src/bin/wasm_scenario.rs, prints the same lines from native code; .ci/run diffs the two.
 //
 //   (cd examples/wasm && cargo build --release --target wasm32-unknown-unknown)
 //   node examples/wasm/test.mjs > wasm.txt
-//   cargo run --release --example wasm_scenario | diff wasm.txt -
+//   cargo eval wasm_scenario | diff wasm.txt -
 import { readFileSync } from "node:fs";
 
 const path = new URL(
@@ -34,7 +34,7 @@ if (len < 0) throw new Error("scenario output overflowed the module's buffer");
 const text = new TextDecoder().decode(new Uint8Array(memory.buffer, w.out_ptr(), len));
 out.push(...text.split("\n").filter((l) => l.length > 0));
 
-// 2. Scalar exports on the inputs of examples/wasm_scenario.rs (same formulas; all inputs
+// 2. Scalar exports on the inputs of eval/src/bin/wasm_scenario.rs (same formulas; all inputs
 // are dyadic rationals, exact in both f64 and f32).
 const COUNT = 27;
 function normal(i) {

@@ -1,10 +1,10 @@
 //! The computation run both on the emulated Cortex-M4 and on the host. Every value is
 //! printed as `key index bits` with the exact f32 bits (NaN as `nan`), so the two outputs
 //! can be compared line by line. Shared with the host through `#[path]`
-//! (`examples/device_scenario.rs`); `no_std`, no allocation.
+//! (`eval/src/bin/device_scenario.rs`); `no_std`, no allocation.
 //!
 //! The photodiode readings of the sensor part are generated on the host
-//! (`examples/sensor_readings.rs`) into `sensor_readings.rs`, next to this file.
+//! (`eval/src/bin/sensor_readings.rs`) into `sensor_readings.rs`, next to this file.
 
 use core::fmt::Arguments;
 

@@ -1,6 +1,6 @@
 //! The scalar API exported by the WebAssembly module: plain numbers in, plain numbers out,
 //! errors as NaN (or −1 for indices). Shared with the host through `#[path]`
-//! (`examples/wasm_scenario.rs`), which calls the same functions natively; the crate root must
+//! (`eval/src/bin/wasm_scenario.rs`), which calls the same functions natively; the crate root must
 //! declare `mod scenario` (the Cortex-M4 scenario, for its procedural `sky`).
 
 use sphere_quadrature::bmc::Size;

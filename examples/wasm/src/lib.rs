@@ -7,7 +7,7 @@
 //! wasm32 without the `atomics` target feature they compile to plain loads and stores).
 //!
 //! `examples/wasm/test.mjs` (Node) calls every export; `.ci/run` compares its output with the
-//! host's (`examples/device_scenario.rs` + `examples/wasm_scenario.rs`) bit for bit.
+//! host's (`eval/src/bin/device_scenario.rs` + `eval/src/bin/wasm_scenario.rs`) bit for bit.
 //!
 //! ```text
 //! cd examples/wasm && cargo build --release --target wasm32-unknown-unknown

@@ -1,5 +1,5 @@
 //! Host-side f64 Bayesian Monte Carlo for arbitrary sample sets, and the other pieces of
-//! `examples/renderer.rs` that the crate does not provide: the query distribution, the
+//! `eval/src/bin/renderer.rs` that the crate does not provide: the query distribution, the
 //! lobe-frame quadrature rule, Phong × cosine ground-truth pixel weights, and filtered
 //! importance sampling (FIS) reads of a luminance mip pyramid.
 //!

@@ -2,9 +2,9 @@
 //! item 2; seed "Learn the hyperparameters").
 //!
 //! ```text
-//! cargo run --release --example learn_hyperparameters                 # print the report
-//! cargo run --release --example learn_hyperparameters -- --write      # and write the tables
-//! cargo run --release --example learn_hyperparameters -- --maps a.hdr b.hdr   # other maps
+//! cargo eval learn_hyperparameters                 # print the report
+//! cargo eval learn_hyperparameters -- --write      # and write the tables
+//! cargo eval learn_hyperparameters -- --maps a.hdr b.hdr   # other maps
 //! ```
 //!
 //! Model: k(x, x′) = σ_f²·exp(−|x − x′|²/l²) + σ_n²δ on unit vectors, |x − x′|² = 2 − 2x·x′,
@@ -13,7 +13,7 @@
 //!
 //! Training data for the probe form: the N-point spherical Fibonacci sphere set, rotated as a
 //! whole by 32 seeded uniform rotations per map, reading Yⱼ = luminance of the nearest pixel of
-//! each of the two lighting tiers that `examples/accuracy.rs` builds from a map: `clamp` (each
+//! each of the two lighting tiers that `eval/src/bin/accuracy.rs` builds from a map: `clamp` (each
 //! pixel's luminance clamped at 30 × the map's solid-angle mean) and `smooth` (the clamped map
 //! box-downsampled to 128×64 and convolved with the normalised spherical Gaussian of sharpness
 //! 10, `common/tiers.rs`), the same rotations in both tiers. The training maps are apartment,
@@ -44,15 +44,15 @@
 //! With `--write` it writes `tables/probe.txt` (`probe = N sigma lambda1 …`),
 //! `tables/bmc_smooth.txt` (`set = N l sigma`: the renderer's smooth-light preset, which a user
 //! selects with `SPHERE_QUADRATURE_BMC_TABLE`; the shipped `tables/bmc.txt` is learned on real
-//! maps by `examples/renderer.rs --learn`) and the report `docs/hyperparameters.md`; without it,
+//! maps by `eval/src/bin/renderer.rs --learn`) and the report `docs/hyperparameters.md`; without it,
 //! it only prints the report. Q depends only on the point set's dot products, so one Cholesky
 //! factor per (N, λ, σ′) serves every rotation.
 
 #[allow(dead_code)]
-#[path = "common/compare.rs"]
+#[path = "../../../examples/common/compare.rs"]
 mod compare;
 #[allow(dead_code)]
-#[path = "common/tiers.rs"]
+#[path = "../common/tiers.rs"]
 mod tiers;
 
 use tiers::Mixture;
@@ -455,7 +455,7 @@ fn main() {
             }
         }
     }
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
     let paths: Vec<PathBuf> = if custom.is_empty() {
         TRAINING_MAPS.iter().map(|m| root.join(format!("examples/envmaps/{m}.hdr"))).collect()
     } else {
@@ -493,8 +493,8 @@ fn main() {
     emit!(rep);
     emit!(
         rep,
-        "Written by `cargo run --release --example learn_hyperparameters -- --write` \
-         (`examples/learn_hyperparameters.rs`; its module docs explain the method)."
+        "Written by `cargo eval learn_hyperparameters -- --write` \
+         (`eval/src/bin/learn_hyperparameters.rs`; its module docs explain the method)."
     );
     emit!(rep);
     emit!(
@@ -505,7 +505,7 @@ fn main() {
     emit!(rep);
     emit!(
         rep,
-        "- Training maps ({}): {}. Two lighting tiers of each, as `examples/accuracy.rs` builds \
+        "- Training maps ({}): {}. Two lighting tiers of each, as `eval/src/bin/accuracy.rs` builds \
          them: `clamp` (luminance clamped at {}× the map's solid-angle mean) and `smooth` (the \
          clamped map box-downsampled to {}×{} and convolved with the normalised spherical \
          Gaussian of sharpness {}).",
@@ -997,15 +997,15 @@ fn main() {
     emit!(rep, "## Rerun");
     emit!(rep);
     emit!(rep, "```text");
-    emit!(rep, "cargo run --release --example learn_hyperparameters             # report only");
-    emit!(rep, "cargo run --release --example learn_hyperparameters -- --write  # and write tables/probe.txt, tables/bmc_smooth.txt, this file");
+    emit!(rep, "cargo eval learn_hyperparameters             # report only");
+    emit!(rep, "cargo eval learn_hyperparameters -- --write  # and write tables/probe.txt, tables/bmc_smooth.txt, this file");
     emit!(rep, "```");
     emit!(rep);
     emit!(rep, "The default run took {secs:.0} s (release, one thread).");
 
     if write {
         let mut probe_txt = probe_table(&probe_results, &names);
-        // The footprint probes of issue #11 (learned by examples/footprint.rs) share the file:
+        // The footprint probes of issue #11 (learned by eval/src/bin/footprint.rs) share the file:
         // keep their block as it is.
         if let Ok(old) = std::fs::read_to_string(root.join("tables/probe.txt")) {
             if let Some(at) = old.find("\n#\n# Footprint probes") {
@@ -1032,10 +1032,7 @@ fn main() {
 fn probe_table(results: &[ProbeResult], names: &[String]) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Probe-form Gaussian-process hyperparameters (issue #6), written by");
-    let _ = writeln!(
-        s,
-        "# `cargo run --release --example learn_hyperparameters -- --write`; do not edit by hand."
-    );
+    let _ = writeln!(s, "# `cargo eval learn_hyperparameters -- --write`; do not edit by hand.");
     let _ = writeln!(s, "# `probe = N sigma lambda1 lambda2 ...`, one line per N, N strictly increasing; `#` starts");
     let _ = writeln!(s, "# a comment. N: spherical Fibonacci sphere samples. sigma: σ′ = σ_n/σ_f shared by the family.");
     let _ = writeln!(
@@ -1120,7 +1117,7 @@ fn bmc_table(results: &[RenderResult]) -> String {
         "# exp(−|x − x′|²/l²) (sharpness λ = 2/l²). sigma: σ′ = σ_n/σ_f, the noise (nugget) ratio."
     );
     let _ = writeln!(s, "#");
-    let _ = writeln!(s, "# LEARNED by `cargo run --release --example learn_hyperparameters -- --write`: REML maximum");
+    let _ = writeln!(s, "# LEARNED by `cargo eval learn_hyperparameters -- --write`: REML maximum");
     let _ = writeln!(
         s,
         "# likelihood over l ∈ {{{}}} × σ′ ∈ {{{}}} on {DRAWS} synthetic",

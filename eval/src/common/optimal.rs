@@ -1,5 +1,5 @@
 //! The optimal BMC sample sets of `tables/optimal_sets.txt` (issue #12 item 4, the seed's
-//! step 2), written by `examples/optimal_sets.rs`, and their loader for the renderer.
+//! step 2), written by `eval/src/bin/optimal_sets.rs`, and their loader for the renderer.
 //!
 //! Include it next to the f64 engine, which it names as `super::engine`:
 //!

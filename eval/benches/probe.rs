@@ -1,4 +1,4 @@
-//! Probe and renderer costs in one run (issue #6): `cargo bench --bench probe`.
+//! Probe and renderer costs in one run (issue #6): `cargo bench -p sphere-quadrature-eval --bench probe`.
 //!
 //! - probe `irradiance` (O(N)) against the cosine-weighted average query it competes with, at
 //!   N = 64 and 256, on the same samples and normals;

@@ -5,21 +5,21 @@
 //! pick the same member.
 //!
 //! ```text
-//! cargo run --release --example precision                 # ten maps, writes docs/precision.md
-//! cargo run --release --example precision -- --quick --out target/precision
+//! cargo eval precision                 # ten maps, writes docs/precision.md
+//! cargo eval precision -- --quick --out target/precision
 //! ```
 //!
 //! Per map (`clamp` and `smooth` tiers, luminance), N ∈ {16, …, 256}, 32 seeded rotations × 256 seeded
 //! normals: relative RMS difference = RMS(E₃₂ − E₆₄) / mean |E₆₄|, the issue's bar being 10⁻⁵.
 
 #[allow(dead_code)]
-#[path = "common/compare.rs"]
+#[path = "../../../examples/common/compare.rs"]
 mod compare;
 #[allow(dead_code, unused_imports)]
-#[path = "../gen/mod.rs"]
+#[path = "../../../gen/mod.rs"]
 mod gen;
 #[allow(dead_code)]
-#[path = "common/tiers.rs"]
+#[path = "../common/tiers.rs"]
 mod tiers;
 
 use std::error::Error;
@@ -122,7 +122,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let names: &[&str] = if quick { &QUICK_MAPS } else { &MAPS };
     let (n_rot, n_normals) = if quick { (4, 32) } else { (32, 256) };
     let start = std::time::Instant::now();
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/envmaps");
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("examples/envmaps");
     // `clamp` then `smooth` of every map.
     let mut maps: Vec<EnvMap> = Vec::new();
     let mut labels: Vec<String> = Vec::new();
@@ -155,7 +155,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     writeln!(md, "# f32 probe against the f64 model on the benchmark's maps\n")?;
     writeln!(
         md,
-        "`cargo run --release --example precision{}` ({:.0} s): `clamp` and `smooth` tiers of {}, {n_rot} \
+        "`cargo eval precision{}` ({:.0} s): `clamp` and `smooth` tiers of {}, {n_rot} \
          rotations × {n_normals} normals per map; relative RMS difference of the irradiance \
          RMS(E₃₂ − E₆₄) / mean |E₆₄|, pooled over the maps, per selected member (the f64 side \
          uses the member the f32 probe selected). Issue #6's bar: 10⁻⁵.\n",

@@ -1,5 +1,5 @@
 //! One H and one C table lookup against the closed forms they replace, in one run:
-//! `cargo bench --bench sg_lookup`. The closed forms are written here in f32 with the same
+//! `cargo bench -p sphere-quadrature-eval --bench sg_lookup`. The closed forms are written here in f32 with the same
 //! `libm` functions the library uses, so both sides pay for the same math.
 
 #![allow(missing_docs)] // `criterion_group!` expands to an undocumented `pub fn`

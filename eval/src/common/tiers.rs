@@ -1,4 +1,4 @@
-//! Lighting tiers of `examples/accuracy.rs` beyond `raw` and `clamp` (those are in
+//! Lighting tiers of `eval/src/bin/accuracy.rs` beyond `raw` and `clamp` (those are in
 //! `compare.rs`): the `smooth` tier (a clamped map box-downsampled and convolved with a
 //! normalised spherical Gaussian) and the `synthetic` tier (random spherical-Gaussian
 //! mixtures with exact irradiance).

@@ -2,10 +2,10 @@
 //! the same `key index bits` lines, so `.ci/run` can compare them with QEMU's output.
 //!
 //! ```text
-//! cargo run --release --example device_scenario
+//! cargo eval device_scenario
 //! ```
 
-#[path = "cortex-m4/src/scenario.rs"]
+#[path = "../../../examples/cortex-m4/src/scenario.rs"]
 mod scenario;
 
 struct Stdout;

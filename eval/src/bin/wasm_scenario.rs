@@ -4,13 +4,13 @@
 //! `.ci/run` can compare them with Node's output bit for bit.
 //!
 //! ```text
-//! cargo run --release --example wasm_scenario
+//! cargo eval wasm_scenario
 //! ```
 
-#[path = "cortex-m4/src/scenario.rs"]
+#[path = "../../../examples/cortex-m4/src/scenario.rs"]
 mod scenario;
 
-#[path = "wasm/src/api.rs"]
+#[path = "../../../examples/wasm/src/api.rs"]
 mod api;
 
 use sphere_quadrature::bmc::Size;
