@@ -4,11 +4,12 @@
 //! Bayesian Monte Carlo weighted sum `Σ wᵢYᵢ` ([`crate::bmc`]) with integers only.
 //!
 //! # Formats
-//! - Radiance: [`U16F16`], unsigned Q16.16 in a `u32` (the bit layout of
-//!   `fixed::types::U16F16`, so `fixed::types::U16F16::from_bits(x.to_bits())` converts for
-//!   free). Range `[0, 65536)` in steps of 2⁻¹⁶. Radiance is non-negative; there is no NaN or
-//!   infinity in fixed point: [`U16F16::from_f32`] maps NaN and negatives to 0 and values
-//!   ≥ 65536 to [`U16F16::MAX`].
+//! - Radiance: [`U16F16`], the `fixed` crate's unsigned Q16.16 (re-exported, so values come
+//!   and go as `fixed::types::U16F16` with all of that crate's arithmetic and formatting).
+//!   Range `[0, 65536)` in steps of 2⁻¹⁶. Radiance is non-negative; there is no NaN or
+//!   infinity in fixed point: [`u16f16_from_f32`] maps NaN and negatives to 0 and values
+//!   ≥ 65536 to [`U16F16::MAX`]. Signed data (SH coefficients, differences) use [`I16F16`]
+//!   ([`i16f16_from_f32`], [`weighted_sum_signed`], [`BmcFixed::mean_signed`]).
 //! - Weights: unsigned Q1.31 in a `u32` (`q = w·2³¹`). [`BmcFixed`] uses weights baked by
 //!   `build.rs` from the f64 solve (`gen/bmc.rs`, `q31`): each within 2⁻³¹ of the f64 weight,
 //!   rounded so that `Σq = 2³¹` **exactly**. All baked BMC weights are positive.
@@ -39,11 +40,11 @@
 //! top of the range. Constants are exact (`Σq = 2³¹`).
 //!
 //! ```
-//! use sphere_quadrature::fixed_point::{BmcFixed, U16F16};
+//! use sphere_quadrature::fixed_point::{u16f16_from_f32, BmcFixed, U16F16};
 //!
 //! let bmc = BmcFixed::<64>::new();
 //! // A constant is exact: the baked weights sum to exactly 2³¹.
-//! let c = U16F16::from_f32(2.5);
+//! let c = u16f16_from_f32(2.5);
 //! assert_eq!(bmc.mean_radiance(&[c; 64]), c);
 //! // The top of the range does not overflow.
 //! assert_eq!(bmc.mean_radiance(&[U16F16::MAX; 64]), U16F16::MAX);
@@ -51,59 +52,69 @@
 
 use crate::bmc::{BakedSize, Size};
 
-/// Unsigned Q16.16 fixed point: `bits / 2¹⁶`, range `[0, 65536)`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct U16F16(u32);
+pub use fixed::types::{I16F16, U16F16};
 
-impl U16F16 {
-    /// 0.
-    pub const ZERO: Self = Self(0);
-    /// 1.
-    pub const ONE: Self = Self(1 << 16);
-    /// The largest value, `65536 − 2⁻¹⁶`.
-    pub const MAX: Self = Self(u32::MAX);
-    /// Number of fractional bits.
-    pub const FRAC_BITS: u32 = 16;
+/// `x` as [`U16F16`], rounded to nearest, saturating: NaN and negatives give 0, values
+/// ≥ 65536 (and +∞) give [`U16F16::MAX`]. (`fixed`'s own `saturating_from_num` panics on NaN;
+/// radiance from a sensor or a renderer can be NaN.)
+///
+/// ```
+/// use sphere_quadrature::fixed_point::{u16f16_from_f32, U16F16};
+///
+/// assert_eq!(u16f16_from_f32(1.5), U16F16::from_bits(0x1_8000));
+/// assert_eq!(u16f16_from_f32(f32::NAN), U16F16::ZERO);
+/// assert_eq!(u16f16_from_f32(1e9), U16F16::MAX);
+/// ```
+#[must_use]
+pub fn u16f16_from_f32(x: f32) -> U16F16 {
+    u16f16_from_f64(f64::from(x))
+}
 
-    /// The value with these raw bits (`bits / 2¹⁶`).
-    #[must_use]
-    pub const fn from_bits(bits: u32) -> Self {
-        Self(bits)
+/// `x` as [`U16F16`], rounded to nearest, saturating as [`u16f16_from_f32`].
+#[must_use]
+pub fn u16f16_from_f64(x: f64) -> U16F16 {
+    let s = x * 65536.0 + 0.5;
+    // `as` saturates: NaN → 0, negative → 0, too large → u32::MAX.
+    U16F16::from_bits(if s >= 0.0 { s as u32 } else { 0 })
+}
+
+/// `x` as [`I16F16`], rounded to nearest (ties up), saturating: NaN gives 0, values below
+/// −32768 (and −∞) give [`I16F16::MIN`], values ≥ 32768 (and +∞) give [`I16F16::MAX`].
+///
+/// ```
+/// use sphere_quadrature::fixed_point::{i16f16_from_f32, I16F16};
+///
+/// assert_eq!(i16f16_from_f32(-1.5), I16F16::from_bits(-0x1_8000));
+/// assert_eq!(i16f16_from_f32(f32::NAN), I16F16::ZERO);
+/// assert_eq!(i16f16_from_f32(-1e9), I16F16::MIN);
+/// ```
+#[must_use]
+pub fn i16f16_from_f32(x: f32) -> I16F16 {
+    i16f16_from_f64(f64::from(x))
+}
+
+/// `x` as [`I16F16`], rounded to nearest (ties up), saturating as [`i16f16_from_f32`].
+#[must_use]
+pub fn i16f16_from_f64(x: f64) -> I16F16 {
+    // `as` saturates and maps NaN to 0; `floor` keeps the rounding the same on both sides.
+    I16F16::from_bits(libm::floor(x * 65536.0 + 0.5) as i32)
+}
+
+/// The exact `Σ qᵢuᵢ` of Q1.31 weights and 32-bit samples, in `u128`.
+#[inline]
+fn exact_sum<const N: usize>(weights_q31: &[u32; N], samples: impl Iterator<Item = u32>) -> u128 {
+    // ARMv6-M has only a 32 × 32 → 32 multiply, and a `u64` product is a library call
+    // (`__aeabi_lmul`), so split both operands into 16-bit halves: `q·y = 2³²·qₕyₕ +
+    // 2¹⁶·(qₕyₗ + qₗyₕ) + qₗyₗ`, each partial product < 2³², summed in its own `u64` (no
+    // overflow for N < 2³²), combined once at the end in `u128`.
+    let (mut hh, mut mid, mut ll) = (0u64, 0u64, 0u64);
+    for (&q, y) in weights_q31.iter().zip(samples) {
+        let (qh, ql, yh, yl) = (q >> 16, q & 0xFFFF, y >> 16, y & 0xFFFF);
+        hh += u64::from(qh * yh);
+        mid += u64::from(qh * yl) + u64::from(ql * yh);
+        ll += u64::from(ql * yl);
     }
-
-    /// The raw bits.
-    #[must_use]
-    pub const fn to_bits(self) -> u32 {
-        self.0
-    }
-
-    /// `x` rounded to nearest, saturating: NaN and negatives give 0, values ≥ 65536 (and +∞)
-    /// give [`U16F16::MAX`].
-    #[must_use]
-    pub fn from_f32(x: f32) -> Self {
-        Self::from_f64(f64::from(x))
-    }
-
-    /// `x` rounded to nearest, saturating as [`U16F16::from_f32`].
-    #[must_use]
-    pub fn from_f64(x: f64) -> Self {
-        let s = x * 65536.0 + 0.5;
-        // `as` saturates: NaN → 0, negative → 0, too large → u32::MAX.
-        Self(if s >= 0.0 { s as u32 } else { 0 })
-    }
-
-    /// The value as f32 (rounded to nearest f32: 24 significant bits).
-    #[must_use]
-    pub fn to_f32(self) -> f32 {
-        self.0 as f32 / 65536.0
-    }
-
-    /// The value as f64 (exact).
-    #[must_use]
-    pub fn to_f64(self) -> f64 {
-        f64::from(self.0) / 65536.0
-    }
+    (u128::from(hh) << 32) + (u128::from(mid) << 16) + u128::from(ll)
 }
 
 /// `Σ qᵢYᵢ / 2³¹` for Q1.31 weights `qᵢ` (`u32`, `q = w·2³¹`) and [`U16F16`] samples, rounded
@@ -114,19 +125,43 @@ impl U16F16 {
 #[must_use]
 #[inline]
 pub fn weighted_sum<const N: usize>(weights_q31: &[u32; N], samples: &[U16F16; N]) -> U16F16 {
-    // ARMv6-M has only a 32 × 32 → 32 multiply, and a `u64` product is a library call
-    // (`__aeabi_lmul`), so split both operands into 16-bit halves: `q·y = 2³²·qₕyₕ +
-    // 2¹⁶·(qₕyₗ + qₗyₕ) + qₗyₗ`, each partial product < 2³², summed in its own `u64` (no
-    // overflow for N < 2³²), combined once at the end in `u128`.
-    let (mut hh, mut mid, mut ll) = (0u64, 0u64, 0u64);
-    for (&q, &y) in weights_q31.iter().zip(samples) {
-        let (qh, ql, yh, yl) = (q >> 16, q & 0xFFFF, y.0 >> 16, y.0 & 0xFFFF);
-        hh += u64::from(qh * yh);
-        mid += u64::from(qh * yl) + u64::from(ql * yh);
-        ll += u64::from(ql * yl);
-    }
-    let acc = (u128::from(hh) << 32) + (u128::from(mid) << 16) + u128::from(ll);
-    U16F16(u32::try_from((acc + (1 << 30)) >> 31).unwrap_or(u32::MAX))
+    let acc = exact_sum(weights_q31, samples.iter().map(|y| y.to_bits()));
+    U16F16::from_bits(u32::try_from((acc + (1 << 30)) >> 31).unwrap_or(u32::MAX))
+}
+
+/// `Σ qᵢYᵢ / 2³¹` for Q1.31 weights and signed [`I16F16`] samples (spherical-harmonic
+/// coefficients, differences, signed sensor readings), rounded to nearest (ties up) once,
+/// saturating at [`I16F16::MIN`] / [`I16F16::MAX`] (never wrapping).
+///
+/// Exact for every input, with the same unsigned arithmetic as [`weighted_sum`]: each sample
+/// is offset by 2³¹ (`Yᵢ + 2³¹ = bits ⊕ 2³¹` as `u32`), and `2³¹·Σqᵢ` is taken off the exact sum.
+/// With weights summing to at most 1 the result lies between the smallest and the largest
+/// sample.
+///
+/// ```
+/// use sphere_quadrature::fixed_point::{weighted_sum_signed, I16F16};
+///
+/// let half = 1u32 << 30; // 0.5 in Q1.31
+/// let y = [I16F16::from_num(-3), I16F16::from_num(1)];
+/// assert_eq!(weighted_sum_signed(&[half, half], &y), I16F16::from_num(-1));
+/// ```
+#[must_use]
+#[inline]
+pub fn weighted_sum_signed<const N: usize>(
+    weights_q31: &[u32; N],
+    samples: &[I16F16; N],
+) -> I16F16 {
+    let offset_sum =
+        exact_sum(weights_q31, samples.iter().map(|y| y.to_bits() as u32 ^ 0x8000_0000));
+    let weight_sum: u64 = weights_q31.iter().map(|&q| u64::from(q)).sum();
+    // Σqᵢ(Yᵢ + 2³¹) − 2³¹Σqᵢ, both exact (< 2¹²⁸ and < 2⁹⁵ for N < 2³²).
+    let exact = offset_sum as i128 - (i128::from(weight_sum) << 31);
+    let rounded = (exact + (1 << 30)) >> 31;
+    I16F16::from_bits(i32::try_from(rounded).unwrap_or(if rounded < 0 {
+        i32::MIN
+    } else {
+        i32::MAX
+    }))
 }
 
 /// Implemented for exactly the sizes with baked fixed-point BMC weights; sealed.
@@ -190,5 +225,13 @@ where
     #[must_use]
     pub fn mean_radiance(&self, samples: &[U16F16; N]) -> U16F16 {
         weighted_sum(Self::WEIGHTS, samples)
+    }
+
+    /// The same weighted mean `Σ wᵢYᵢ` of signed samples (for example one spherical-harmonic
+    /// coefficient's or one colour difference's values in each direction); between the
+    /// smallest and the largest sample, so it never saturates.
+    #[must_use]
+    pub fn mean_signed(&self, samples: &[I16F16; N]) -> I16F16 {
+        weighted_sum_signed(Self::WEIGHTS, samples)
     }
 }

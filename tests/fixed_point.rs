@@ -15,7 +15,10 @@ mod common;
 
 use gen::bmc;
 use sphere_quadrature::bmc::Renderer;
-use sphere_quadrature::fixed_point::{weighted_sum, BmcFixed, U16F16};
+use sphere_quadrature::fixed_point::{
+    i16f16_from_f32, u16f16_from_f32, u16f16_from_f64, weighted_sum, weighted_sum_signed, BmcFixed,
+    I16F16, U16F16,
+};
 
 /// The generator's sets (f64 weights), in the order of `tables/bmc.txt`.
 fn sets() -> Vec<bmc::Baked> {
@@ -81,12 +84,12 @@ fn relative_error_against_f64_is_below_1e_3() {
                 // Uniform raw bits: the whole range [0, 65536).
                 0 => U16F16::from_bits(rng.next() as u32),
                 // Log-uniform over [2⁻⁷, 2¹⁶): HDR radiance, 23 octaves.
-                1 => U16F16::from_f64(2f64.powf(-7.0 + 23.0 * rng.unit())),
+                1 => u16f16_from_f64(2f64.powf(-7.0 + 23.0 * rng.unit())),
                 // A smooth sky: 1 + 0.5·z-like values with a small range.
-                _ => U16F16::from_f64(1.0 + 0.5 * rng.unit()),
+                _ => u16f16_from_f64(1.0 + 0.5 * rng.unit()),
             });
-            let fixed = bmc.mean_radiance(&ys).to_f64();
-            let exact: f64 = ys.iter().zip(&w).map(|(y, w)| y.to_f64() * w).sum();
+            let fixed = bmc.mean_radiance(&ys).to_num::<f64>();
+            let exact: f64 = ys.iter().zip(&w).map(|(y, w)| y.to_num::<f64>() * w).sum();
             let rel = (fixed - exact).abs() / exact;
             let lsb = (fixed - exact).abs() * 65536.0;
             let bound = 1.0 / f64::from(q_min) + 0.5 / (exact * 65536.0);
@@ -114,9 +117,9 @@ fn fixed_agrees_with_the_f32_renderer() {
     let mut worst = 0.0f64;
     for _ in 0..1000 {
         let yf: [f32; 64] = core::array::from_fn(|_| (1000.0 * rng.unit()) as f32);
-        let yq = yf.map(U16F16::from_f32);
+        let yq = yf.map(u16f16_from_f32);
         let f = f64::from(r.estimate(&yf)) / core::f64::consts::PI;
-        let q = bmc.mean_radiance(&yq).to_f64();
+        let q = bmc.mean_radiance(&yq).to_num::<f64>();
         worst = worst.max((f - q).abs() / f);
     }
     println!("N = 64: fixed vs f32 renderer / π: max relative difference {worst:.2e}");
@@ -152,11 +155,62 @@ fn saturates_and_never_wraps() {
     // Empty sum.
     assert_eq!(weighted_sum::<0>(&[], &[]), U16F16::ZERO);
     // Conversions saturate: no NaN in fixed point.
-    assert_eq!(U16F16::from_f32(f32::NAN), U16F16::ZERO);
-    assert_eq!(U16F16::from_f32(-1.0), U16F16::ZERO);
-    assert_eq!(U16F16::from_f32(f32::NEG_INFINITY), U16F16::ZERO);
-    assert_eq!(U16F16::from_f32(65536.0), U16F16::MAX);
-    assert_eq!(U16F16::from_f32(f32::INFINITY), U16F16::MAX);
-    assert_eq!(U16F16::from_f32(1.5).to_bits(), 0x1_8000);
-    assert_eq!(U16F16::from_f32(1.5).to_f32(), 1.5);
+    assert_eq!(u16f16_from_f32(f32::NAN), U16F16::ZERO);
+    assert_eq!(u16f16_from_f32(-1.0), U16F16::ZERO);
+    assert_eq!(u16f16_from_f32(f32::NEG_INFINITY), U16F16::ZERO);
+    assert_eq!(u16f16_from_f32(65536.0), U16F16::MAX);
+    assert_eq!(u16f16_from_f32(f32::INFINITY), U16F16::MAX);
+    assert_eq!(u16f16_from_f32(1.5).to_bits(), 0x1_8000);
+    assert_eq!(u16f16_from_f32(1.5).to_num::<f32>(), 1.5);
+}
+
+/// The signed sum against an independent exact computation in `i128` (`Σ qᵢ·bitsᵢ`, rounded
+/// half up), for uniform random bits (both signs, the whole range), baked and random weights.
+#[test]
+fn signed_sum_is_exact_and_rounded_once() {
+    let mut rng = Rng(7);
+    let exact = |q: &[u32], y: &[I16F16]| -> i32 {
+        let s: i128 = q.iter().zip(y).map(|(&q, y)| i128::from(q) * i128::from(y.to_bits())).sum();
+        let r = (s + (1 << 30)).div_euclid(1 << 31);
+        r.clamp(i128::from(i32::MIN), i128::from(i32::MAX)) as i32
+    };
+    for_each_size!(N => {
+        let bmc = BmcFixed::<N>::new();
+        let q = BmcFixed::<N>::weights_q31();
+        for trial in 0..500 {
+            let ys: [I16F16; N] = core::array::from_fn(|_| match trial % 2 {
+                0 => I16F16::from_bits(rng.next() as u32 as i32),
+                _ => i16f16_from_f32((200.0 * rng.unit() - 100.0) as f32),
+            });
+            assert_eq!(bmc.mean_signed(&ys).to_bits(), exact(q, &ys), "N = {N}, trial {trial}");
+        }
+        // Constants, including the extremes, are exact.
+        for c in [I16F16::MIN, I16F16::from_bits(-1), I16F16::ZERO, I16F16::DELTA, I16F16::MAX] {
+            assert_eq!(bmc.mean_signed(&[c; N]), c, "N = {N}, {c}");
+        }
+    });
+    // Weights summing to more than one saturate at both ends, never wrap.
+    let q = [u32::MAX; 8];
+    assert_eq!(weighted_sum_signed(&q, &[I16F16::MAX; 8]), I16F16::MAX);
+    assert_eq!(weighted_sum_signed(&q, &[I16F16::MIN; 8]), I16F16::MIN);
+    let ys: [I16F16; 8] =
+        core::array::from_fn(|i| I16F16::from_bits((rng.next() as i32) >> (i % 4)));
+    assert_eq!(weighted_sum_signed(&q, &ys).to_bits(), exact(&q, &ys));
+    // Conversions: nearest, saturating, NaN to zero.
+    assert_eq!(i16f16_from_f32(-1.5).to_bits(), -0x1_8000);
+    assert_eq!(i16f16_from_f32(f32::NAN), I16F16::ZERO);
+    assert_eq!(i16f16_from_f32(f32::NEG_INFINITY), I16F16::MIN);
+    assert_eq!(i16f16_from_f32(f32::INFINITY), I16F16::MAX);
+    assert_eq!(i16f16_from_f32(32768.0), I16F16::MAX);
+    assert_eq!(i16f16_from_f32(-32768.0), I16F16::MIN);
+}
+
+/// The re-exported types are the `fixed` crate's: values pass to and from it unchanged.
+#[test]
+fn types_are_the_fixed_crates() {
+    let y: fixed::types::U16F16 = u16f16_from_f32(2.25);
+    assert_eq!(y, fixed::types::U16F16::from_num(2.25));
+    let s: fixed::types::I16F16 =
+        BmcFixed::<64>::new().mean_signed(&[fixed::types::I16F16::from_num(-0.75); 64]);
+    assert_eq!(s, fixed::types::I16F16::from_num(-0.75));
 }

@@ -72,7 +72,7 @@ pub fn halton(n: usize) -> Vec<[f64; 3]> {
 pub fn grid_shape(n: usize) -> (usize, usize) {
     let target = (n as f64 / PI).sqrt();
     let rows = (1..=n)
-        .filter(|&r| n.is_multiple_of(r))
+        .filter(|&r| n % r == 0)
         .min_by(|&a, &b| {
             let da = (a as f64 / target).ln().abs();
             let db = (b as f64 / target).ln().abs();

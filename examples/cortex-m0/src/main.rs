@@ -83,20 +83,23 @@ fn main() -> ! {
 
     for k in 0..4 {
         let yq: [U16F16; N] = core::array::from_fn(|i| U16F16::from_bits(radiance_bits(k, i)));
-        let yf: [f32; N] = yq.map(U16F16::to_f32);
+        let yf: [f32; N] = yq.map(|y| y.to_num::<f32>());
         let q = fixed.mean_radiance(&yq);
         let e = float.estimate(&yf);
         // f64 reference on the device: the f32-rounded weights (6·10⁻⁸ from the f64 ones).
-        let exact: f64 =
-            yq.iter().zip(Renderer::<N>::weights()).map(|(y, &w)| y.to_f64() * f64::from(w)).sum();
-        let rel_q = (q.to_f64() - exact).abs() / exact;
+        let exact: f64 = yq
+            .iter()
+            .zip(Renderer::<N>::weights())
+            .map(|(y, &w)| y.to_num::<f64>() * f64::from(w))
+            .sum();
+        let rel_q = (q.to_num::<f64>() - exact).abs() / exact;
         let rel_f = (f64::from(e) / core::f64::consts::PI - exact).abs() / exact;
         hprintln!(
             "vector {}: fixed mean_radiance bits=0x{:08x} ({}), f32 estimate bits=0x{:08x} ({}), \
              rel err vs f64: fixed {:e}, f32 {:e}",
             k,
             q.to_bits(),
-            q.to_f32(),
+            q.to_num::<f32>(),
             e.to_bits(),
             e,
             rel_q as f32,
@@ -120,7 +123,7 @@ fn main() -> ! {
     }
 
     let yq: [U16F16; N] = core::array::from_fn(|i| U16F16::from_bits(radiance_bits(2, i)));
-    let yf: [f32; N] = yq.map(U16F16::to_f32);
+    let yf: [f32; N] = yq.map(|y| y.to_num::<f32>());
     let n_fixed = count(50, cal, || fixed.mean_radiance(black_box(&yq)));
     let n_float = count(50, cal, || float.estimate(black_box(&yf)));
     hprintln!("# count bmc_fixed_mean_radiance N={} {} instructions/call", N, n_fixed);
