@@ -18,7 +18,7 @@ tarball=$(ls "$work"/sphere-quadrature-*.tgz)
 echo "packed $(basename "$tarball") ($(wc -c < "$tarball") bytes):"
 tar -tzvf "$tarball" | awk '{print "  " $3 " " $6}'
 mkdir "$work/consumer"
-cp "$here/test.mjs" "$here/types.ts" "$here/tsconfig.json" "$work/consumer/"
+cp "$here/test.mjs" "$here/bench.mjs" "$here/types.ts" "$here/tsconfig.json" "$work/consumer/"
 printf '{ "name": "consumer", "private": true, "type": "module" }\n' > "$work/consumer/package.json"
 (cd "$work/consumer" && npm install --offline --no-audit --no-fund --silent "$tarball")
 (cd "$work/consumer" && node test.mjs "$reference")
