@@ -13,7 +13,7 @@
 //
 //   node test.mjs REFERENCE
 import { readFileSync, statSync } from "node:fs";
-import { fileURLToPath } from "node:url";
+import { createRequire } from "node:module";
 import { Probe, ProbeError, SIZES } from "sphere-quadrature";
 
 let failures = 0;
@@ -46,7 +46,9 @@ async function rejects(promise, code, what) {
 }
 
 // 1. The installed package and its modules.
-const entry = fileURLToPath(import.meta.resolve("sphere-quadrature"));
+// Resolved as Node resolves the package (its "exports" map), from this consumer project.
+const resolve = createRequire(import.meta.url).resolve;
+const entry = resolve("sphere-quadrature");
 ok(entry.includes(`node_modules/sphere-quadrature/`), `the package resolves into node_modules: ${entry}`);
 ok(JSON.stringify(SIZES) === "[16,32,64,128,256]", `SIZES ${SIZES}`);
 const EXPORTS = [
@@ -55,7 +57,7 @@ const EXPORTS = [
 ];
 const bytesOf = {};
 for (const n of SIZES) {
-  const file = fileURLToPath(import.meta.resolve(`sphere-quadrature/wasm/probe-${n}.wasm`));
+  const file = resolve(`sphere-quadrature/wasm/probe-${n}.wasm`);
   const bytes = readFileSync(file);
   bytesOf[n] = bytes;
   const module = new WebAssembly.Module(bytes);
