@@ -4,6 +4,7 @@
 // non-zero when the check fails.
 //
 //   (cd examples/wasm && npm ci && cargo build --release --target wasm32-unknown-unknown)
+//   examples/wasm/package/build.sh      # the JS package's modules (the page's BMC probe)
 //   node examples/wasm/browser_test.mjs
 //
 // Environment: CHROMIUM (default /usr/bin/chromium), SCREENSHOT (default docs/wasm_probe.png),
@@ -81,6 +82,7 @@ try {
         `lobe avg of footprint samples ${pct(m.fag)}; pyramid deviation ${(100 * m.dev).toFixed(3)} %`,
     );
   }
+  console.log(`JS package: ${r.packageIdentical} values equal to bmc_shade bit for bit; errors ${r.packageErrors}`);
   console.log(`timing: ${stats}`);
   console.log(`screenshot: ${SHOT}`);
   for (const l of logs) console.log(l);

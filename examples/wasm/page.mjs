@@ -7,6 +7,8 @@
 // Served from the repository root (examples/wasm/browser_test.mjs does that), so the map is at
 // ../envmaps/<name>.hdr and the module at target/… relative to this page.
 
+import { Probe, ProbeError } from "./package/index.js";
+
 const WASM = "target/wasm32-unknown-unknown/release/sphere_quadrature_wasm.wasm";
 const MAPS = ["apartment", "bridge", "city", "dawn", "forest", "hall", "lab", "lobby", "night", "park"];
 /** Grid of normals per sphere (the reference sums all 131 072 pixels for each). */
@@ -203,24 +205,41 @@ function qmcPerPixel(wasm, map, cells, n, e) {
 }
 
 /**
- * One Bayesian Monte Carlo probe for the whole sphere: wasm gives its N directions (rotation
- * `seed`), JS writes the N RGB radiance samples there (the nearest pixel), and one
- * `bmc_shade` call updates the probe and answers every cell (irradiance about the normal,
- * Phong glossy about the mirror direction). The same N samples also feed the peers a probe
- * would otherwise use: the cosine-weighted average (diffuse) and the Phong-lobe-weighted
- * average (glossy).
+ * One Bayesian Monte Carlo probe for the whole sphere, through the JavaScript package
+ * (examples/wasm/package, `Probe` of its module for N): its N directions (rotation `seed`), JS
+ * writes the N RGB radiance samples there (the nearest pixel), `update`, then `irradiance`
+ * about each cell's normal and `glossy` (normalised Phong) about its mirror direction. The same
+ * N samples also feed the peers a probe would otherwise use: the cosine-weighted average
+ * (diffuse) and the Phong-lobe-weighted average (glossy).
  */
-function bmcProbe(wasm, map, cells, n, e, seed) {
-  const w = wasm;
-  const got = w.bmc_shade_directions(n, seed);
-  if (got !== n) throw new Error(`bmc_shade_directions returned ${got}, expected ${n}`);
-  const dirs = new Float32Array(w.memory.buffer, w.dirs_ptr(), 3 * n).slice();
-  const samples = new Float32Array(w.memory.buffer, w.samples_ptr(), 3 * n);
-  for (let j = 0; j < n; j++) {
-    const i = pixelOf(map, dirs[3 * j], dirs[3 * j + 1], dirs[3 * j + 2]);
-    for (let ch = 0; ch < 3; ch++) samples[3 * j + ch] = map.rgb[i + ch];
+async function bmcProbe(map, cells, n, e, seed) {
+  const probe = await Probe.create({ n, seed });
+  try {
+    const dirs = probe.directions();
+    const ys = new Float32Array(3 * n);
+    for (let j = 0; j < n; j++) {
+      const i = pixelOf(map, dirs[3 * j], dirs[3 * j + 1], dirs[3 * j + 2]);
+      for (let ch = 0; ch < 3; ch++) ys[3 * j + ch] = map.rgb[i + ch];
+    }
+    probe.update(ys);
+    const live = cells.filter((c) => c);
+    const shaded = new Float32Array(6 * live.length);
+    live.forEach((c, q) => {
+      shaded.set(probe.irradiance(c.n).value, 6 * q);
+      shaded.set(probe.glossy(c.r, e).value, 6 * q + 3);
+    });
+    return { ...shadeAndAverage(cells, n, e, dirs, ys, shaded), ys, shaded };
+  } finally {
+    probe.dispose();
   }
-  return shadeAndAverage(wasm, "bmc_shade", cells, n, e, seed, dirs, samples.slice());
+}
+
+/**
+ * The same probe through the module's own `bmc_shade` export (the crate's probe, one call for
+ * every cell): the page checks that the package answers bit for bit as it does.
+ */
+function bmcShade(wasm, cells, n, e, seed, ys) {
+  return shadeWith(wasm, "bmc_shade", cells, n, e, seed, ys);
 }
 
 /** Writes the map into the module's map buffer (once per map and lighting). */
@@ -266,17 +285,19 @@ function footprintProbe(wasm, map, cells, n, e, seed, samplers) {
       for (let ch = 0; ch < 3; ch++) deviation = Math.max(deviation, Math.abs(b[3 * j + ch] - a[3 * j + ch]) / top);
     }
   }
-  const out = taken.map(({ ys, ms }) => ({ ...shadeAndAverage(w, "footprint_shade", cells, n, e, seed, dirs, ys), ms }));
+  const out = taken.map(({ ys, ms }) => ({
+    ...shadeAndAverage(cells, n, e, dirs, ys, shadeWith(w, "footprint_shade", cells, n, e, seed, ys)),
+    ms,
+  }));
   return { out, deviation };
 }
 
 /**
- * Writes `ys` (RGB at `dirs`) into the module's sample buffer and the cells' normal and mirror
- * direction into its query buffer, calls `shade` (`bmc_shade` or `footprint_shade`), and
- * returns the probe's pictures (`dp` diffuse, `gp` glossy) and those of the weighted averages
- * of `ys` (`da`, `ga`).
+ * Writes `ys` into the module's sample buffer and the cells' normal and mirror direction into
+ * its query buffer, calls `shade` (`bmc_shade` or `footprint_shade`) and returns its answers:
+ * irradiance RGB and glossy RGB per live cell.
  */
-function shadeAndAverage(wasm, shade, cells, n, e, seed, dirs, ys) {
+function shadeWith(wasm, shade, cells, n, e, seed, ys) {
   const w = wasm;
   new Float32Array(w.memory.buffer, w.samples_ptr(), 3 * n).set(ys);
   const live = cells.filter((c) => c);
@@ -287,7 +308,15 @@ function shadeAndAverage(wasm, shade, cells, n, e, seed, dirs, ys) {
   });
   const code = w[shade](n, seed, live.length, e);
   if (code !== 0) throw new Error(`${shade} returned error code ${code}`);
-  const shaded = new Float32Array(w.memory.buffer, w.shaded_ptr(), 6 * live.length);
+  return new Float32Array(w.memory.buffer, w.shaded_ptr(), 6 * live.length).slice();
+}
+
+/**
+ * The probe's pictures (`dp` diffuse, `gp` glossy) from `shaded` (irradiance RGB and glossy
+ * RGB per live cell) and those of the weighted averages of `ys` (RGB at `dirs`; `da`, `ga`).
+ */
+function shadeAndAverage(cells, n, e, dirs, ys, shaded) {
+  const live = cells.filter((c) => c);
   const dp = new Float32Array(3 * G * G).fill(NaN);
   const gp = new Float32Array(3 * G * G).fill(NaN);
   const da = new Float32Array(3 * G * G).fill(NaN);
@@ -439,13 +468,22 @@ async function evaluate(wasm, name, lighting, n, e, samplers) {
   };
   let first = null;
   let deviation = 0;
+  // The package's answers against the module's `bmc_shade` for the first rotation, bit for bit.
+  const identical = { same: 0, total: 0 };
   const ms = { point: 0, samples: samplers.map(() => 0), footprint: 0 };
   for (const seed of SEEDS) {
     const ta = performance.now();
-    const b = bmcProbe(wasm, map, cells, n, e, seed);
+    const b = await bmcProbe(map, cells, n, e, seed);
     const tb = performance.now();
+    if (seed === SEEDS[0]) {
+      const want = new Uint32Array(bmcShade(wasm, cells, n, e, seed, b.ys).buffer);
+      const got = new Uint32Array(b.shaded.buffer);
+      identical.total += want.length;
+      identical.same += want.filter((v, i) => v === got[i] && got.length === want.length).length;
+    }
+    const tc = performance.now();
     const f = footprintProbe(wasm, map, cells, n, e, seed, samplers);
-    ms.footprint += (performance.now() - tb) / SEEDS.length;
+    ms.footprint += (performance.now() - tc) / SEEDS.length;
     ms.point += (tb - ta) / SEEDS.length;
     f.out.forEach((o, i) => (ms.samples[i] += o.ms / SEEDS.length));
     if (samplers.length === 2) deviation = Math.max(deviation, f.deviation);
@@ -462,9 +500,9 @@ async function evaluate(wasm, name, lighting, n, e, samplers) {
   const sampler = (i) => Object.keys(SAMPLERS).find((k) => SAMPLERS[k] === samplers[i]);
   const s = wasm.footprint_sharpness(n);
   return {
-    dr, gr, dq, gq, first, err, deviation, ms,
+    dr, gr, dq, gq, first, err, deviation, ms, identical,
     rows: [
-      ["BMC probe, point samples", err.bmc.d, err.bmc.g],
+      ["BMC probe, point samples (JS package)", err.bmc.d, err.bmc.g],
       ["weighted average of the point samples", err.avg.d, err.avg.g],
       ...samplers.map((_, i) => [`BMC probe, footprint samples (S = ${s}, ${sampler(i)})`, err.fp[i].d, err.fp[i].g]),
       [`weighted average of the footprint samples (${sampler(0)})`, err.fpAvg.d, err.fpAvg.g],
@@ -499,9 +537,34 @@ async function show(wasm) {
     .map(([what, d, g]) => `<tr><td>${what}</td><td>${name} (${lighting})</td><td>${n}</td><td>${e}</td><td>${pct(d)}</td><td>${pct(g)}</td></tr>`)
     .join("");
   $("status").textContent =
-    `reference ${r.refMs.toFixed(0)} ms (cached after first use); per orientation: point probe ${r.ms.point.toFixed(0)} ms, ` +
+    `reference ${r.refMs.toFixed(0)} ms (cached after first use); per orientation: point probe (JS package) ${r.ms.point.toFixed(0)} ms, ` +
     `footprint probe ${r.ms.footprint.toFixed(0)} ms (of which ${sampler} sampling ${r.ms.samples[0].toFixed(0)} ms); ` +
     `QMC per pixel ${r.qmcMs.toFixed(0)} ms`;
+}
+
+/** The package's exceptions in the browser: each `[ok, what]`. */
+async function packageErrors() {
+  const code = async (f) => {
+    try {
+      await f();
+    } catch (e) {
+      return e instanceof ProbeError ? e.code : `not a ProbeError: ${e}`;
+    }
+    return "nothing thrown";
+  };
+  const p = await Probe.create({ n: 16, seed: 1 });
+  const bad = new Float32Array(48).fill(1);
+  bad[7] = NaN;
+  const got = [
+    ["InvalidSize", await code(() => Probe.create({ n: 48 }))],
+    ["InvalidRadiance", await code(() => p.update(bad))],
+    ["LengthMismatch", await code(() => p.update(new Float32Array(16)))],
+    ["InvalidDirection", await code(() => p.irradiance([0, 0, 0]))],
+    ["InvalidExponent", await code(() => p.glossy([0, 0, 1], -1))],
+  ];
+  p.dispose();
+  got.push(["InvalidHandle", await code(() => p.directions())]);
+  return got.map(([want, c]) => [want === c, c]);
 }
 
 async function check(wasm) {
@@ -510,6 +573,8 @@ async function check(wasm) {
   const rows = [];
   const samplers = [SAMPLERS.exact, SAMPLERS.pyramid];
   const ms = [0, 0];
+  const identical = { same: 0, total: 0 };
+  const errors = await packageErrors();
   for (const name of MAPS) {
     $("check").textContent = `check: running (${name})…`;
     const r = await evaluate(wasm, name, CHECK.lighting, CHECK.n, CHECK.e, samplers);
@@ -519,6 +584,8 @@ async function check(wasm) {
       fad: fpAvg.d, fag: fpAvg.g, dev: r.deviation,
     });
     r.ms.samples.forEach((t, i) => (ms[i] += t / MAPS.length));
+    identical.same += r.identical.same;
+    identical.total += r.identical.total;
   }
   const keys = ["bd", "bg", "ad", "ag", "fd", "fg", "pd", "pg", "fad", "fag"];
   const m = Object.fromEntries(keys.map((k) => [k, rows.reduce((s, r) => s + r[k], 0) / rows.length]));
@@ -533,6 +600,9 @@ async function check(wasm) {
       `cosine-weighted average of point samples) = ${pct(pointBound)}`],
     [m.fg < m.bg && m.fg < m.fag && m.pg < m.bg && m.pg < m.fag,
       "footprint probe glossy (exact and pyramid) below the point probe's and the lobe-weighted average of the footprint samples"],
+    [identical.total > 0 && identical.same === identical.total,
+      `JS package's probe equals the module's bmc_shade bit for bit (${identical.same} of ${identical.total} values, first rotation of each map)`],
+    [errors.every(([ok]) => ok), `JS package throws ProbeError (${errors.map(([ok, what]) => `${what}${ok ? "" : " ✗"}`).join(", ")})`],
     [m.dev <= CHECK.pyramidMax, `pyramid samples within ${pct(CHECK.pyramidMax)} of the exact ones (worst ${(100 * m.dev).toFixed(3)} %)`],
   ];
   const pass = verdicts.every(([ok]) => ok);
@@ -559,6 +629,8 @@ async function check(wasm) {
   el.dataset.footprintAverageDiffuse = String(m.fad);
   el.dataset.footprintAverageGlossy = String(m.fag);
   el.dataset.pyramidDeviation = String(m.dev);
+  el.dataset.packageIdentical = `${identical.same}/${identical.total}`;
+  el.dataset.packageErrors = JSON.stringify(errors);
   el.dataset.samplingMs = JSON.stringify({ exact: ms[0], pyramid: ms[1] });
   el.dataset.perMap = JSON.stringify(rows);
   el.dataset.pass = String(pass);

@@ -1,0 +1,275 @@
+//! The WebAssembly modules of the `sphere-quadrature` npm package (`examples/wasm/package`):
+//! RGB Bayesian Monte Carlo probes `Probe<N, [f32; 3]>` of one baked size `N` per build
+//! (cargo feature `n16`, `n32`, `n64`, `n128` or `n256`), behind a handful of plain
+//! `extern "C"` exports that the package's `index.js` wraps in its `Probe` class. Nothing
+//! else: no test or scenario exports, no imports.
+//!
+//! State without `unsafe`: the probes live in a `std::sync::Mutex<Vec<…>>` (on
+//! `wasm32-unknown-unknown` without threads std's lock is a plain flag and its allocator
+//! grows the memory with `memory.grow`, an instruction, not an import), addressed by
+//! integer handles. Arrays cross the boundary through one static buffer of atomics, `IO`,
+//! whose address `io_ptr` exports: JavaScript writes samples there before
+//! `probe_update` and reads results from there after a query (atomics give the interior
+//! mutability without `unsafe`; without the `atomics` target feature they are plain loads
+//! and stores).
+//!
+//! Every export returns 0 or a positive error code ([`code`]); `probe_new` returns a handle
+//! (≥ 0) or a negated code.
+//!
+//! ```text
+//! cd examples/wasm/package-wasm
+//! cargo build --release --target wasm32-unknown-unknown --features n64
+//! ```
+// `#[no_mangle]` is the only construct the `unsafe_code` lint flags here (exports need their
+// symbol names); it is allowed on the `exports` module only. No `unsafe` blocks.
+#![deny(unsafe_code)]
+
+use std::boxed::Box;
+use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
+use std::sync::Mutex;
+use std::vec::Vec;
+
+use sphere_quadrature::probe::Probe;
+use sphere_quadrature::sg::SphericalGaussian;
+use sphere_quadrature::{Error, RotationSequence, Vec3};
+
+#[cfg(not(any(
+    feature = "n16",
+    feature = "n32",
+    feature = "n64",
+    feature = "n128",
+    feature = "n256"
+)))]
+compile_error!("enable one size feature: n16, n32, n64, n128 or n256");
+
+// More than one size feature defines `N` twice, which fails to compile too.
+/// The probe's sample count, fixed per build.
+#[cfg(feature = "n16")]
+const N: usize = 16;
+/// The probe's sample count, fixed per build.
+#[cfg(feature = "n32")]
+const N: usize = 32;
+/// The probe's sample count, fixed per build.
+#[cfg(feature = "n64")]
+const N: usize = 64;
+/// The probe's sample count, fixed per build.
+#[cfg(feature = "n128")]
+const N: usize = 128;
+/// The probe's sample count, fixed per build.
+#[cfg(feature = "n256")]
+const N: usize = 256;
+
+/// The probe of this module: `N` RGB point samples.
+type RgbProbe = Probe<N, [f32; 3]>;
+
+/// Floats of the [`IO`] buffer: `3·N` samples or directions, 27 SH coefficients or
+/// variances, 6 query results.
+const IO_LEN: usize = if 3 * N > 27 { 3 * N } else { 27 };
+
+/// The exchange buffer (f32 bits), at `io_ptr()`.
+static IO: [AtomicU32; IO_LEN] = [const { AtomicU32::new(0) }; IO_LEN];
+
+/// The live probes; `None` marks a freed handle (reused by the next `probe_new`).
+static PROBES: Mutex<Vec<Option<Box<RgbProbe>>>> = Mutex::new(Vec::new());
+
+/// Error code of a handle that names no live probe (never created, or freed).
+const INVALID_HANDLE: i32 = 100;
+/// Error code of anything else (an `Error` variant added later; a poisoned lock).
+const OTHER: i32 = 255;
+
+/// The error code of `e` (one per variant; `index.js` maps them back to names).
+fn code(e: Error) -> i32 {
+    match e {
+        Error::InvalidDirection => 1,
+        Error::InvalidExponent => 2,
+        Error::LengthMismatch => 3,
+        Error::InvalidSize => 4,
+        Error::InvalidParameter => 5,
+        Error::InvalidSharpness => 6,
+        Error::InvalidRadiance => 7,
+        Error::TooManyMissing => 8,
+        _ => OTHER,
+    }
+}
+
+/// Writes `values` to the start of [`IO`].
+fn store(values: impl IntoIterator<Item = f32>) {
+    for (v, a) in values.into_iter().zip(&IO) {
+        a.store(v.to_bits(), Relaxed);
+    }
+}
+
+/// Runs `f` on probe `handle`; 0, or the error code.
+fn with_probe(handle: u32, f: impl FnOnce(&mut RgbProbe) -> Result<(), Error>) -> i32 {
+    let Ok(mut probes) = PROBES.lock() else { return OTHER };
+    let Some(Some(p)) = probes.get_mut(handle as usize) else { return INVALID_HANDLE };
+    f(p).map_or_else(code, |()| 0)
+}
+
+/// A new probe (rotation `seed`); its handle, or a negated error code.
+fn new_probe(seed: u32) -> i32 {
+    let mut p = Box::new(RgbProbe::new());
+    if seed != 0 {
+        if let Err(e) = p.set_rotation(RotationSequence::new(u64::from(seed)).next_rotation()) {
+            return -code(e);
+        }
+    }
+    let Ok(mut probes) = PROBES.lock() else { return -OTHER };
+    let slot = match probes.iter().position(Option::is_none) {
+        Some(i) => i,
+        None => {
+            probes.push(None);
+            probes.len() - 1
+        }
+    };
+    let Ok(handle) = i32::try_from(slot) else { return -OTHER };
+    if let Some(s) = probes.get_mut(slot) {
+        *s = Some(p);
+    }
+    handle
+}
+
+/// Frees probe `handle`; 0, or [`INVALID_HANDLE`].
+fn free_probe(handle: u32) -> i32 {
+    let Ok(mut probes) = PROBES.lock() else { return OTHER };
+    match probes.get_mut(handle as usize) {
+        Some(slot @ Some(_)) => {
+            *slot = None;
+            0
+        }
+        _ => INVALID_HANDLE,
+    }
+}
+
+/// The probe's directions, x, y, z each, into [`IO`].
+fn directions(p: &mut RgbProbe) -> Result<(), Error> {
+    store(p.directions().iter().flat_map(|d| [d.x, d.y, d.z]));
+    Ok(())
+}
+
+/// Updates the probe with the `3·N` floats (r, g, b per direction) at the start of [`IO`].
+fn update(p: &mut RgbProbe) -> Result<(), Error> {
+    let mut ys = [[0.0f32; 3]; N];
+    for (y, a) in ys.iter_mut().zip(IO.chunks_exact(3)) {
+        for (c, v) in y.iter_mut().zip(a) {
+            *c = f32::from_bits(v.load(Relaxed));
+        }
+    }
+    p.update(&ys)
+}
+
+/// `[r, g, b, var_r, var_g, var_b]` into [`IO`].
+fn store_estimate([r, g, b]: [f32; 3], [vr, vg, vb]: [f32; 3]) {
+    store([r, g, b, vr, vg, vb]);
+}
+
+/// Irradiance about `normal` with its variance into [`IO`].
+fn irradiance(p: &RgbProbe, normal: Vec3) -> Result<(), Error> {
+    let e = p.irradiance(normal)?;
+    store_estimate(e.value, e.variance);
+    Ok(())
+}
+
+/// Normalised Phong glossy radiance about `r` (exponent `e`, the lobe
+/// `SphericalGaussian::phong_moments`) with its exact variance into [`IO`].
+fn glossy(p: &RgbProbe, r: Vec3, e: f32) -> Result<(), Error> {
+    let lobe = SphericalGaussian::phong_moments(r, e)?;
+    let value = p.glossy(&lobe)?.value;
+    store_estimate(value, p.glossy_variance(&lobe)?);
+    Ok(())
+}
+
+/// The 9 RGB SH coefficients (r, g, b each) into [`IO`].
+fn radiance_sh(p: &RgbProbe) -> Result<(), Error> {
+    store(p.radiance_sh().coefficients.into_iter().flatten());
+    Ok(())
+}
+
+/// The 9 RGB SH coefficient variances (r, g, b each) into [`IO`].
+fn radiance_sh_variance(p: &RgbProbe) -> Result<(), Error> {
+    store(p.radiance_sh_variance().into_iter().flatten());
+    Ok(())
+}
+
+#[allow(unsafe_code)] // `#[no_mangle]` only; every body is one safe call.
+mod exports {
+    use super::{with_probe, Vec3, IO, IO_LEN, N};
+
+    /// The module's probe size `N`.
+    #[no_mangle]
+    pub extern "C" fn probe_size() -> u32 {
+        N as u32
+    }
+
+    /// Address of the exchange buffer (`io_len()` f32) in the module's memory.
+    #[no_mangle]
+    pub extern "C" fn io_ptr() -> usize {
+        IO.as_ptr() as usize
+    }
+
+    /// Length of the exchange buffer in f32: `max(3·N, 27)`.
+    #[no_mangle]
+    pub extern "C" fn io_len() -> u32 {
+        IO_LEN as u32
+    }
+
+    /// A new probe without data, on the spherical Fibonacci set rotated by
+    /// `RotationSequence::new(seed).next_rotation()` (unrotated for `seed` = 0); its handle
+    /// (≥ 0), or a negated error code.
+    #[no_mangle]
+    pub extern "C" fn probe_new(seed: u32) -> i32 {
+        super::new_probe(seed)
+    }
+
+    /// Frees probe `handle`; 0, or 100 (no such probe).
+    #[no_mangle]
+    pub extern "C" fn probe_free(handle: u32) -> i32 {
+        super::free_probe(handle)
+    }
+
+    /// Writes the probe's `N` unit directions (x, y, z each) to the exchange buffer; 0, or an
+    /// error code.
+    #[no_mangle]
+    pub extern "C" fn probe_directions(handle: u32) -> i32 {
+        with_probe(handle, super::directions)
+    }
+
+    /// Updates the probe with the `N` RGB samples (r, g, b each, in the order of the
+    /// directions) in the exchange buffer; 0, or an error code (7: a NaN or infinite sample;
+    /// the probe keeps its previous data).
+    #[no_mangle]
+    pub extern "C" fn probe_update(handle: u32) -> i32 {
+        with_probe(handle, super::update)
+    }
+
+    /// Writes `[r, g, b, var_r, var_g, var_b]`, the irradiance about `(nx, ny, nz)` and its
+    /// posterior variance, to the exchange buffer; 0, or an error code (1: a zero or
+    /// non-finite normal).
+    #[no_mangle]
+    pub extern "C" fn probe_irradiance(handle: u32, nx: f32, ny: f32, nz: f32) -> i32 {
+        with_probe(handle, |p| super::irradiance(p, Vec3::new(nx, ny, nz)))
+    }
+
+    /// Writes `[r, g, b, var_r, var_g, var_b]`, the normalised Phong glossy radiance about
+    /// `(rx, ry, rz)` with exponent `e` (lobe `SphericalGaussian::phong_moments`) and its
+    /// exact posterior variance, to the exchange buffer; 0, or an error code (1: a zero or
+    /// non-finite direction; 2: a negative or non-finite exponent).
+    #[no_mangle]
+    pub extern "C" fn probe_glossy(handle: u32, rx: f32, ry: f32, rz: f32, e: f32) -> i32 {
+        with_probe(handle, |p| super::glossy(p, Vec3::new(rx, ry, rz), e))
+    }
+
+    /// Writes the 9 RGB spherical-harmonic coefficients of the posterior mean radiance
+    /// (index `l(l + 1) + m`, r, g, b each) to the exchange buffer; 0, or an error code.
+    #[no_mangle]
+    pub extern "C" fn probe_radiance_sh(handle: u32) -> i32 {
+        with_probe(handle, |p| super::radiance_sh(p))
+    }
+
+    /// Writes the posterior variances of the 9 RGB coefficients to the exchange buffer; 0,
+    /// or an error code.
+    #[no_mangle]
+    pub extern "C" fn probe_radiance_sh_variance(handle: u32) -> i32 {
+        with_probe(handle, |p| super::radiance_sh_variance(p))
+    }
+}
