@@ -49,3 +49,12 @@ pub fn map_file(s: &str) -> Result<PathBuf, String> {
         Err("no such map file".into())
     }
 }
+
+/// clap value parser of a count that must be at least 1.
+pub fn positive(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(0) => Err("must be positive".into()),
+        Ok(n) => Ok(n),
+        Err(e) => Err(e.to_string()),
+    }
+}
