@@ -81,6 +81,9 @@ mod compare;
 mod tiers;
 
 #[allow(dead_code)]
+#[path = "../common/cli.rs"]
+mod cli;
+#[allow(dead_code)]
 #[path = "../common/luminance_bar.rs"]
 mod luminance_bar;
 #[path = "../common/parallel.rs"]
@@ -99,6 +102,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
+use clap::Parser;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
 use reference::envmap::{luminance, EnvMap};
@@ -1090,62 +1094,49 @@ fn name_of(path: &Path) -> String {
     path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
 }
 
-const HELP: &str = "accuracy benchmark: irradiance on environment maps (issues #6, #13)
-
-USAGE: cargo eval accuracy -- [MAP.hdr ...] [OPTIONS]
-
-  MAP.hdr           equirectangular maps (default: the ten in examples/envmaps/); maps named
-                    apartment, bridge, forest or lab count as training maps, the rest as held out
-  --out DIR         write DIR/accuracy.md and DIR/accuracy.png (`--out docs` regenerates the
-                    repository's docs); without it the report goes to stdout only
-  --csv FILE        also write rows accuracy,<tier>,irradiance,<n>,<estimator>,<map>,<rel_rmse>,<coverage>
-                    (coverage: fraction of queries within 2σ, empty without an error bar)
-  --quick           2 maps, 2 mixtures, 64 normals, 8 rotations, 1 draw (CI)
-  --fixed-member K  family member of the BMC fixed probe (default 1)
-  --threads T       worker threads (default: all cores)
-  --help            this text";
+/// accuracy benchmark: irradiance on environment maps (issues #6, #13)
+#[derive(Parser)]
+#[command(bin_name = "cargo eval accuracy --")]
+struct Args {
+    /// Equirectangular .hdr maps (default: the ten in examples/envmaps/); maps named
+    /// apartment, bridge, forest or lab count as training maps, the rest as held out
+    #[arg(value_name = "MAPS", value_parser = cli::map_file, verbatim_doc_comment)]
+    maps: Vec<PathBuf>,
+    /// Write DIR/accuracy.md and DIR/accuracy.png (`--out docs` regenerates the
+    /// repository's docs); without it the report goes to stdout only
+    #[arg(long, value_name = "DIR", verbatim_doc_comment)]
+    out: Option<PathBuf>,
+    /// Also write rows
+    /// accuracy,<tier>,irradiance,<n>,<estimator>,<map>,<rel_rmse>,<coverage>
+    /// (coverage: fraction of queries within 2σ, empty without an error bar)
+    #[arg(long, value_name = "FILE", verbatim_doc_comment)]
+    csv: Option<PathBuf>,
+    /// 2 maps, 2 mixtures, 64 normals, 8 rotations, 1 draw (CI)
+    #[arg(long)]
+    quick: bool,
+    /// Family member of the BMC fixed probe
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    fixed_member: usize,
+    /// Worker threads (default: all cores)
+    #[arg(long, value_name = "T")]
+    threads: Option<usize>,
+}
 
 fn main() -> Result<(), Box<dyn Error>> {
     let start = Instant::now();
     let raw_args: Vec<String> = std::env::args().skip(1).collect();
-    let mut out: Option<PathBuf> = None;
-    let mut csv: Option<PathBuf> = None;
-    let mut quick = false;
-    let mut fixed_member = 1;
-    let mut threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let mut paths: Vec<PathBuf> = Vec::new();
-    let mut args = raw_args.iter();
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "--help" | "-h" => {
-                println!("{HELP}");
-                return Ok(());
-            }
-            "--out" => out = Some(PathBuf::from(args.next().ok_or("--out needs a directory")?)),
-            "--csv" => csv = Some(PathBuf::from(args.next().ok_or("--csv needs a file")?)),
-            "--quick" => quick = true,
-            "--fixed-member" => {
-                fixed_member = args.next().ok_or("--fixed-member needs an index")?.parse()?;
-            }
-            "--threads" => threads = args.next().ok_or("--threads needs a count")?.parse()?,
-            s if s.starts_with("--") => {
-                return Err(format!("unknown option {s} (see --help)").into())
-            }
-            s => paths.push(PathBuf::from(s)),
-        }
-    }
+    let Args { maps: mut paths, out, csv, quick, fixed_member, threads } = Args::parse();
+    let threads = cli::threads(threads);
     let p = Params {
         normals: if quick { 64 } else { 256 },
         draws: if quick { 1 } else { 4 },
         rotations: if quick { 8 } else { 32 },
         mixtures: if quick { 2 } else { 10 },
         fixed_member,
-        threads: threads.max(1),
+        threads,
     };
     if paths.is_empty() {
-        let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("examples/envmaps");
-        let names: &[&str] = if quick { &QUICK_MAPS } else { &ALL_MAPS };
-        paths = names.iter().map(|n| dir.join(format!("{n}.hdr"))).collect();
+        paths = cli::bundled_maps(if quick { &QUICK_MAPS } else { &ALL_MAPS });
     }
     if families().iter().any(|f| fixed_member >= f.len()) {
         return Err(format!("--fixed-member {fixed_member} is outside a baked probe family").into());

@@ -8,6 +8,8 @@
 #[path = "../../../examples/cortex-m4/src/scenario.rs"]
 mod scenario;
 
+use clap::Parser;
+
 struct Stdout;
 
 impl scenario::Sink for Stdout {
@@ -16,6 +18,13 @@ impl scenario::Sink for Stdout {
     }
 }
 
+/// device_scenario: the host twin of the Cortex-M4 scenario, as `key index bits` lines
+/// (no options; `--features micromath` for that backend)
+#[derive(Parser)]
+#[command(bin_name = "cargo eval device_scenario", verbatim_doc_comment)]
+struct Args {}
+
 fn main() {
+    Args::parse();
     scenario::run(&mut Stdout);
 }

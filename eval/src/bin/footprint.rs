@@ -37,10 +37,14 @@
 //! About 2 minutes for all ten maps on two cores; `--quick` (two maps, N ∈ {16, 64}, two
 //! rotations) takes seconds.
 
+#[allow(dead_code)]
+#[path = "../common/cli.rs"]
+mod cli;
 #[path = "../../../examples/common/compare.rs"]
 #[allow(dead_code)]
 mod compare;
 
+use clap::{Parser, ValueEnum};
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
 use reference::envmap::{luminance, EnvMap};
@@ -281,78 +285,60 @@ fn evaluate_all(scene: &Scene, stem: &str, sizes: &[usize]) -> Table {
     t
 }
 
+/// footprint benchmark (issue #11)
+#[derive(Parser)]
+#[command(bin_name = "cargo eval footprint --")]
 struct Args {
+    /// Equirectangular .hdr maps (default: examples/envmaps/*.hdr)
+    #[arg(value_name = "MAPS", value_parser = cli::map_file)]
     maps: Vec<PathBuf>,
+    /// clamp (default: luminance capped at 30× the map mean) or raw
+    #[arg(long = "tier", value_name = "T", value_enum, default_value_t = Tier::Clamp)]
+    #[arg(hide_possible_values = true, hide_default_value = true)]
+    tier: Tier,
+    /// Rows footprint,<estimator>,<n>,<footprint>,<query>,<map>,<rel_rmse>,<coverage2s>
+    #[arg(long, value_name = "FILE")]
     csv: Option<PathBuf>,
-    out: PathBuf,
-    clamp: bool,
+    /// Report folder (default target/footprint; `--out docs` to update the docs)
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Training map stems (default apartment,bridge,forest,lab)
+    #[arg(long, value_name = "A,B,…", value_delimiter = ',', hide_default_value = true)]
+    #[arg(default_values = ["apartment", "bridge", "forest", "lab"])]
     train: Vec<String>,
+    /// Random probe rotations per map
+    #[arg(long, value_name = "R", default_value_t = 4)]
     rotations: usize,
+    /// Two maps, N = 16 and 64, two rotations (CI)
+    #[arg(long)]
     quick: bool,
+    /// Worker threads (default: all cores, at most one per map)
+    #[arg(long, value_name = "T")]
+    threads: Option<usize>,
 }
 
-const HELP: &str = "footprint benchmark (issue #11)
+/// The lighting tier of `--tier`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Tier {
+    /// Luminance capped at 30× the map mean.
+    Clamp,
+    /// The map as it is.
+    Raw,
+}
 
-USAGE: cargo eval footprint -- [MAPS…] [OPTIONS]
-
-  MAPS             equirectangular .hdr maps (default: examples/envmaps/*.hdr)
-  --tier T         clamp (default: luminance capped at 30× the map mean) or raw
-  --csv FILE       rows footprint,<estimator>,<n>,<footprint>,<query>,<map>,<rel_rmse>,<coverage2s>
-  --out DIR        report folder (default target/footprint; `--out docs` to update the docs)
-  --train A,B,…    training map stems (default apartment,bridge,forest,lab)
-  --rotations R    random probe rotations per map (default 4)
-  --quick          two maps, N = 16 and 64, two rotations (CI)
-  --help           this text";
-
-fn parse_args() -> Result<Option<Args>, Box<dyn Error>> {
-    let mut a = Args {
-        maps: Vec::new(),
-        csv: None,
-        out: PathBuf::from("target/footprint"),
-        clamp: true,
-        train: ["apartment", "bridge", "forest", "lab"].map(String::from).to_vec(),
-        rotations: 4,
-        quick: false,
-    };
-    let mut it = std::env::args().skip(1);
-    while let Some(arg) = it.next() {
-        let mut value = || it.next().ok_or_else(|| format!("{arg} needs a value"));
-        match arg.as_str() {
-            "--help" | "-h" => return Ok(None),
-            "--csv" => a.csv = Some(PathBuf::from(value()?)),
-            "--out" => a.out = PathBuf::from(value()?),
-            "--tier" => {
-                a.clamp = match value()?.as_str() {
-                    "clamp" => true,
-                    "raw" => false,
-                    t => return Err(format!("unknown tier {t} (clamp or raw)").into()),
-                }
-            }
-            "--train" => a.train = value()?.split(',').map(String::from).collect(),
-            "--rotations" => a.rotations = value()?.parse()?,
-            "--quick" => a.quick = true,
-            s if s.starts_with("--") => {
-                return Err(format!("unknown option {s}; see --help").into())
-            }
-            path => a.maps.push(PathBuf::from(path)),
-        }
-    }
+/// The arguments, defaults filled in.
+fn parse_args() -> Result<Args, Box<dyn Error>> {
+    let mut a = Args::parse();
     if a.maps.is_empty() {
-        let mut maps: Vec<PathBuf> =
-            std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/envmaps"))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|x| x == "hdr"))
-                .collect();
-        maps.sort();
+        a.maps = cli::all_bundled_maps()?;
         if a.quick {
-            maps.retain(|p| p.file_stem().is_some_and(|s| s == "apartment" || s == "park"));
+            a.maps.retain(|p| p.file_stem().is_some_and(|s| s == "apartment" || s == "park"));
         }
-        a.maps = maps;
     }
     if a.quick {
         a.rotations = a.rotations.min(2);
     }
-    Ok(Some(a))
+    Ok(a)
 }
 
 fn stem(p: &std::path::Path) -> String {
@@ -360,12 +346,11 @@ fn stem(p: &std::path::Path) -> String {
 }
 
 fn main() -> Result<(), Box<dyn Error>> {
-    let Some(args) = parse_args()? else {
-        println!("{HELP}");
-        return Ok(());
-    };
+    let args = parse_args()?;
+    let clamp = args.tier == Tier::Clamp;
+    let out = args.out.clone().unwrap_or_else(|| cli::repo_root().join("target/footprint"));
     let sizes: Vec<usize> = if args.quick { vec![16, 64] } else { vec![16, 32, 64, 128, 256] };
-    let tier = if args.clamp { "clamp" } else { "raw" };
+    let tier = if clamp { "clamp" } else { "raw" };
     let start = std::time::Instant::now();
     let mut rng = Rng::new(0x00F0_07F0);
     let rotations: Vec<Mat3> = (0..args.rotations)
@@ -382,7 +367,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let mut scenes: Vec<(String, EnvMap)> = Vec::new();
     for p in &args.maps {
         let map = EnvMap::load(p)?;
-        let map = if args.clamp { compare::clamped(&map) } else { map };
+        let map = if clamp { compare::clamped(&map) } else { map };
         scenes.push((stem(p), map));
     }
     // Truth weights per grid size (one set serves every map of that size).
@@ -396,7 +381,7 @@ fn main() -> Result<(), Box<dyn Error>> {
             w
         });
     }
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(scenes.len());
+    let threads = cli::threads(args.threads).min(scenes.len());
     let next = std::sync::atomic::AtomicUsize::new(0);
     let table: Table = std::thread::scope(|scope| {
         let handles: Vec<_> = (0..threads)
@@ -444,13 +429,13 @@ fn main() -> Result<(), Box<dyn Error>> {
         std::fs::write(csv, s)?;
     }
     let report = report(&table, &args, tier, &sizes);
-    std::fs::create_dir_all(&args.out)?;
+    std::fs::create_dir_all(&out)?;
     // `footprint.md`/`.png` for the clamp tier, `footprint_raw.*` for the raw one.
-    let name = if args.clamp { "footprint" } else { "footprint_raw" };
-    std::fs::write(args.out.join(format!("{name}.md")), &report.0)?;
-    plot(&report.1, &args.out.join(format!("{name}.png")))?;
+    let name = if clamp { "footprint" } else { "footprint_raw" };
+    std::fs::write(out.join(format!("{name}.md")), &report.0)?;
+    plot(&report.1, &out.join(format!("{name}.png")))?;
     println!("{}", report.0);
-    eprintln!("wrote {}/{name}.md ({:.0} s)", args.out.display(), start.elapsed().as_secs_f64());
+    eprintln!("wrote {}/{name}.md ({:.0} s)", out.display(), start.elapsed().as_secs_f64());
     Ok(())
 }
 

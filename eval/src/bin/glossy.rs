@@ -53,6 +53,9 @@
 //! luminance bar of the O(N) query (`bmc` only; empty for the peers).
 
 #[allow(dead_code)]
+#[path = "../common/cli.rs"]
+mod cli;
+#[allow(dead_code)]
 #[path = "../../../examples/common/compare.rs"]
 mod compare;
 #[allow(dead_code)]
@@ -73,6 +76,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
+use clap::{Parser, ValueEnum};
 use luminance_bar::LuminanceBar;
 use parallel::parallel_map;
 use reference::envmap::{luminance, EnvMap};
@@ -124,7 +128,7 @@ impl Sums {
 }
 
 /// How BMC answers a Phong-lobe query.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 enum LobeKind {
     /// `Probe::phong`: the lobe exactly.
     Phong,
@@ -135,15 +139,6 @@ enum LobeKind {
 }
 
 impl LobeKind {
-    fn parse(s: &str) -> Result<Self, String> {
-        match s {
-            "phong" => Ok(Self::Phong),
-            "sg-moments" => Ok(Self::SgMoments),
-            "sg-l2" => Ok(Self::SgL2),
-            other => Err(format!("--lobe {other}: expected phong, sg-moments or sg-l2")),
-        }
-    }
-
     /// The report's file name.
     fn report(self) -> &'static str {
         match self {
@@ -350,64 +345,52 @@ fn targets(md: &mut String, cases: &[Case], held_out: &str) {
     report::targets_table(md, &t);
 }
 
+/// glossy benchmark: normalised Phong radiance from probe samples (issue #13)
+#[derive(Parser)]
+#[command(bin_name = "cargo eval glossy --")]
 struct Args {
+    /// Equirectangular .hdr maps (default: the ten in examples/envmaps/); maps named
+    /// apartment, bridge, forest or lab count as training maps, the rest as held out
+    #[arg(value_name = "MAPS", value_parser = cli::map_file, verbatim_doc_comment)]
     maps: Vec<PathBuf>,
+    /// Write DIR/glossy.md (`--out docs` regenerates the repository's docs); without
+    /// it the report goes to stdout only
+    #[arg(long, value_name = "DIR", verbatim_doc_comment)]
     out: Option<PathBuf>,
+    /// Also write rows
+    /// glossy,<tier>,glossy-<e>,<n>,<estimator>,<map>,<rel_rmse>,<coverage>
+    /// (coverage: fraction of queries within 2σ, empty without an error bar)
+    #[arg(long, value_name = "FILE", verbatim_doc_comment)]
     csv: Option<PathBuf>,
+    /// 2 maps, 32 directions, 4 rotations (CI)
+    #[arg(long)]
     quick: bool,
+    /// How BMC answers the Phong lobe: phong (Probe::phong, exact; the default),
+    /// sg-moments (Probe::glossy with SphericalGaussian::phong_moments; writes
+    /// glossy_sg_moments.md) or sg-l2 (phong_lobe; writes glossy_sg_l2.md)
+    #[arg(
+        long,
+        value_name = "L",
+        value_enum,
+        default_value_t = LobeKind::Phong,
+        hide_possible_values = true,
+        hide_default_value = true,
+        verbatim_doc_comment
+    )]
     lobe: LobeKind,
-    threads: usize,
+    /// Worker threads (default: all cores)
+    #[arg(long, value_name = "T")]
+    threads: Option<usize>,
 }
 
-const HELP: &str = "glossy benchmark: normalised Phong radiance from probe samples (issue #13)
-
-USAGE: cargo eval glossy -- [MAP.hdr ...] [OPTIONS]
-
-  MAP.hdr       equirectangular maps (default: the ten in examples/envmaps/); maps named
-                apartment, bridge, forest or lab count as training maps, the rest as held out
-  --out DIR     write DIR/glossy.md (`--out docs` regenerates the repository's docs); without
-                it the report goes to stdout only
-  --csv FILE    also write rows glossy,<tier>,glossy-<e>,<n>,<estimator>,<map>,<rel_rmse>,<coverage>
-                (coverage: fraction of queries within 2σ, empty without an error bar)
-  --quick       2 maps, 32 directions, 4 rotations (CI)
-  --lobe L      how BMC answers the Phong lobe: phong (Probe::phong, exact; the default),
-                sg-moments (Probe::glossy with SphericalGaussian::phong_moments; writes
-                glossy_sg_moments.md) or sg-l2 (phong_lobe; writes glossy_sg_l2.md)
-  --threads T   worker threads (default: all cores)
-  --help        this text";
-
-/// The arguments, or `None` after `--help`.
-fn parse_args(raw: &[String]) -> Result<Option<Args>, Box<dyn Error>> {
-    let mut a = Args {
-        maps: Vec::new(),
-        out: None,
-        csv: None,
-        quick: false,
-        lobe: LobeKind::Phong,
-        threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
-    };
-    let mut it = raw.iter();
-    while let Some(arg) = it.next() {
-        let mut value = || it.next().ok_or_else(|| format!("{arg} needs a value"));
-        match arg.as_str() {
-            "--help" | "-h" => return Ok(None),
-            "--out" => a.out = Some(PathBuf::from(value()?)),
-            "--csv" => a.csv = Some(PathBuf::from(value()?)),
-            "--quick" => a.quick = true,
-            "--lobe" => a.lobe = LobeKind::parse(value()?)?,
-            "--threads" => a.threads = value()?.parse::<usize>()?.max(1),
-            s if s.starts_with("--") => {
-                return Err(format!("unknown option {s} (see --help)").into())
-            }
-            path => a.maps.push(PathBuf::from(path)),
-        }
-    }
+/// The arguments, the default maps filled in.
+fn parse_args() -> (Args, usize) {
+    let mut a = Args::parse();
     if a.maps.is_empty() {
-        let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("examples/envmaps");
-        let names: &[&str] = if a.quick { &QUICK_MAPS } else { &ALL_MAPS };
-        a.maps = names.iter().map(|n| dir.join(format!("{n}.hdr"))).collect();
+        a.maps = cli::bundled_maps(if a.quick { &QUICK_MAPS } else { &ALL_MAPS });
     }
-    Ok(Some(a))
+    let threads = cli::threads(a.threads);
+    (a, threads)
 }
 
 fn name_of(path: &Path) -> String {
@@ -416,10 +399,7 @@ fn name_of(path: &Path) -> String {
 
 fn main() -> Result<(), Box<dyn Error>> {
     let raw_args: Vec<String> = std::env::args().skip(1).collect();
-    let Some(args) = parse_args(&raw_args)? else {
-        println!("{HELP}");
-        return Ok(());
-    };
+    let (args, threads) = parse_args();
     let (n_dirs, n_rot) = if args.quick { (32, 4) } else { (128, 16) };
     let start = Instant::now();
 
@@ -442,7 +422,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         .map(|p| EnvMap::load(p).map(|m| compare::clamped(&m)))
         .collect::<Result<_, _>>()
         .map_err(|e| format!("cannot load a map: {e}"))?;
-    let smooth: Vec<EnvMap> = parallel_map(&clamped, args.threads, |_, m| tiers::smooth(m));
+    let smooth: Vec<EnvMap> = parallel_map(&clamped, threads, |_, m| tiers::smooth(m));
     let scenes: Vec<Scene> = [clamped, smooth]
         .into_iter()
         .enumerate()
@@ -480,7 +460,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         (0..scenes.len()).flat_map(|s| (0..NS.len()).map(move |ni| (s, ni))).collect();
     jobs.sort_by_key(|&(s, ni)| (std::cmp::Reverse(ni), s));
     let done = AtomicUsize::new(0);
-    let results = parallel_map(&jobs, args.threads, |_, &(s, ni)| {
+    let results = parallel_map(&jobs, threads, |_, &(s, ni)| {
         let sums = evaluate_at(ni, &scenes[s].map, &truths[s], &dirs, &rotations, args.lobe);
         let d = done.fetch_add(1, Ordering::Relaxed) + 1;
         if d % scenes.len() == 0 {
@@ -514,7 +494,7 @@ fn main() -> Result<(), Box<dyn Error>> {
          N ∈ {NS:?}, e ∈ {{{}}}; relative RMSE of luminance (RMSE / mean |truth|) \
          against every-pixel ground truth; estimators ({}) and tiers in the example's header. \
          Maps: {}; held out (not used to train the probe's hyperparameters): {held_out}.\n",
-        args.threads,
+        threads,
         EXPONENTS.map(|e| e.to_string()).join(", "),
         ESTIMATORS.join(", "),
         names.join(", ")

@@ -9,6 +9,7 @@
 //! cargo eval js_package_reference > reference.txt
 //! ```
 
+use clap::Parser;
 use sphere_quadrature::bmc::Size;
 use sphere_quadrature::probe::{Probe, ProbeSize};
 use sphere_quadrature::sg::SphericalGaussian;
@@ -111,7 +112,15 @@ where
     }
 }
 
+/// The host reference of the JavaScript package's Node test: every baked size, two rotation
+/// seeds, directions, queries with variances, SH coefficients and error names, one value per
+/// line on stdout (`cargo eval js_package_reference > reference.txt`).
+#[derive(Parser)]
+#[command(bin_name = "cargo eval js_package_reference", verbatim_doc_comment)]
+struct Args {}
+
 fn main() {
+    let Args {} = Args::parse();
     run::<16>();
     run::<32>();
     run::<64>();

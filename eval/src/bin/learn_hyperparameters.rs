@@ -4,7 +4,7 @@
 //! ```text
 //! cargo eval learn_hyperparameters                 # print the report
 //! cargo eval learn_hyperparameters -- --write      # and write the tables
-//! cargo eval learn_hyperparameters -- --maps a.hdr b.hdr   # other maps
+//! cargo eval learn_hyperparameters -- a.hdr b.hdr   # other maps (`--maps a.hdr b.hdr` too)
 //! ```
 //!
 //! Model: k(x, x′) = σ_f²·exp(−|x − x′|²/l²) + σ_n²δ on unit vectors, |x − x′|² = 2 − 2x·x′,
@@ -44,10 +44,13 @@
 //! With `--write` it writes `tables/probe.txt` (`probe = N sigma lambda1 …`),
 //! `tables/bmc_smooth.txt` (`set = N l sigma`: the renderer's smooth-light preset, which a user
 //! selects with `SPHERE_QUADRATURE_BMC_TABLE`; the shipped `tables/bmc.txt` is learned on real
-//! maps by `eval/src/bin/renderer.rs --learn`) and the report `docs/hyperparameters.md`; without it,
+//! maps by `eval/src/bin/renderer.rs --learn --write`) and the report `docs/hyperparameters.md`; without it,
 //! it only prints the report. Q depends only on the point set's dot products, so one Cholesky
 //! factor per (N, λ, σ′) serves every rotation.
 
+#[allow(dead_code)]
+#[path = "../common/cli.rs"]
+mod cli;
 #[allow(dead_code)]
 #[path = "../../../examples/common/compare.rs"]
 mod compare;
@@ -59,9 +62,10 @@ use tiers::Mixture;
 
 use std::f64::consts::PI;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
+use clap::Parser;
 use reference::envmap::{luminance, EnvMap};
 use reference::rng::Rng;
 use reference::sf::{hemisphere_point, sphere_point};
@@ -436,31 +440,36 @@ struct RenderResult {
     qmc_rms: f64,
 }
 
+/// learn_hyperparameters: learns the Gaussian-process hyperparameters of Bayesian Monte Carlo
+/// offline (issue #6): prints the report; --write also rewrites tables/ and the docs
+#[derive(Parser)]
+#[command(bin_name = "cargo eval learn_hyperparameters --", verbatim_doc_comment)]
+struct Args {
+    /// Equirectangular .hdr training maps (default: apartment, bridge, forest and lab in
+    /// examples/envmaps/)
+    #[arg(value_name = "MAPS", value_parser = cli::map_file, verbatim_doc_comment)]
+    maps: Vec<PathBuf>,
+    /// The maps, as the earlier `--maps a.hdr b.hdr …` (same as positional MAPS)
+    #[arg(long = "maps", value_name = "MAPS", num_args = 1.., hide = true)]
+    #[arg(value_parser = cli::map_file)]
+    maps_option: Vec<PathBuf>,
+    /// Also write the report to DIR/hyperparameters.md
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Write tables/probe.txt, tables/bmc_smooth.txt and docs/hyperparameters.md
+    #[arg(long)]
+    write: bool,
+}
+
 fn main() {
     let start = Instant::now();
-    let mut write = false;
-    let mut custom: Vec<PathBuf> = Vec::new();
-    let mut in_maps = false;
-    for a in std::env::args().skip(1) {
-        match a.as_str() {
-            "--write" => {
-                write = true;
-                in_maps = false;
-            }
-            "--maps" => in_maps = true,
-            _ if in_maps && !a.starts_with("--") => custom.push(PathBuf::from(a)),
-            _ => {
-                eprintln!("usage: learn_hyperparameters [--write] [--maps a.hdr b.hdr …]");
-                std::process::exit(2);
-            }
-        }
-    }
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
-    let paths: Vec<PathBuf> = if custom.is_empty() {
-        TRAINING_MAPS.iter().map(|m| root.join(format!("examples/envmaps/{m}.hdr"))).collect()
-    } else {
-        custom
-    };
+    let args = Args::parse();
+    let write = args.write;
+    let mut custom = args.maps;
+    custom.extend(args.maps_option);
+    let root = cli::repo_root();
+    let paths: Vec<PathBuf> =
+        if custom.is_empty() { cli::bundled_maps(&TRAINING_MAPS) } else { custom };
     let names: Vec<String> = paths
         .iter()
         .map(|p| {
@@ -1003,6 +1012,14 @@ fn main() {
     emit!(rep);
     emit!(rep, "The default run took {secs:.0} s (release, one thread).");
 
+    if let Some(dir) = &args.out {
+        let path = dir.join("hyperparameters.md");
+        if let Err(e) = std::fs::create_dir_all(dir).and_then(|()| std::fs::write(&path, &rep)) {
+            eprintln!("cannot write {}: {e}", path.display());
+            std::process::exit(1);
+        }
+        println!("wrote {}", path.display());
+    }
     if write {
         let mut probe_txt = probe_table(&probe_results, &names);
         // The footprint probes of issue #11 (learned by eval/src/bin/footprint.rs) share the file:

@@ -45,6 +45,9 @@
 //! `cos-avg-valid`.
 
 #[allow(dead_code)]
+#[path = "../common/cli.rs"]
+mod cli;
+#[allow(dead_code)]
 #[path = "../../../examples/common/compare.rs"]
 mod compare;
 #[allow(dead_code)]
@@ -56,6 +59,7 @@ mod parallel;
 #[path = "../common/report.rs"]
 mod report;
 
+use clap::Parser;
 use luminance_bar::LuminanceBar;
 use parallel::parallel_map;
 use report::{pct, ratio, Case, MapRow, Maps};
@@ -326,59 +330,47 @@ fn name_of(path: &Path) -> String {
     path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
 }
 
-const HELP: &str =
-    "missing-samples benchmark: irradiance from a probe with missing samples (issue #14)
-
-USAGE: cargo eval missing -- [MAP.hdr ...] [OPTIONS]
-
-  MAP.hdr       equirectangular maps (default: the ten in examples/envmaps/); maps named
-                apartment, bridge, forest or lab count as training maps, the rest as held out
-  --out DIR     write DIR/missing.md (`--out docs` regenerates the repository's docs); without
-                it the report goes to stdout only
-  --csv FILE    also write rows missing,clamp,<fraction>,<n>,<method>,<map>,<rel_rmse>
-                (methods bmc-masked, cos-avg-valid)
-  --quick       2 maps, N = 64 only, 64 normals, 8 rotations (CI)
-  --threads T   worker threads (default: all cores)
-  --help        this text
-
-Which samples are missing: for every rotation of the probe and missing fraction f (0, 5, 25,
-50 %), a seeded uniform random subset of round(f·N) samples (the same subsets for every map).";
+/// missing-samples benchmark: irradiance from a probe with missing samples (issue #14)
+#[derive(Parser)]
+#[command(
+    bin_name = "cargo eval missing --",
+    after_help = "Which samples are missing: for every rotation of the probe and missing \
+                  fraction f (0, 5, 25,\n50 %), a seeded uniform random subset of round(f·N) \
+                  samples (the same subsets for every map)."
+)]
+struct Args {
+    /// Equirectangular .hdr maps (default: the ten in examples/envmaps/); maps named
+    /// apartment, bridge, forest or lab count as training maps, the rest as held out
+    #[arg(value_name = "MAPS", value_parser = cli::map_file, verbatim_doc_comment)]
+    maps: Vec<PathBuf>,
+    /// Write DIR/missing.md (`--out docs` regenerates the repository's docs); without
+    /// it the report goes to stdout only
+    #[arg(long, value_name = "DIR", verbatim_doc_comment)]
+    out: Option<PathBuf>,
+    /// Also write rows missing,clamp,<fraction>,<n>,<method>,<map>,<rel_rmse>
+    /// (methods bmc-masked, cos-avg-valid)
+    #[arg(long, value_name = "FILE", verbatim_doc_comment)]
+    csv: Option<PathBuf>,
+    /// 2 maps, N = 64 only, 64 normals, 8 rotations (CI)
+    #[arg(long)]
+    quick: bool,
+    /// Worker threads (default: all cores)
+    #[arg(long, value_name = "T")]
+    threads: Option<usize>,
+}
 
 fn main() -> Result<(), Box<dyn Error>> {
     let start = Instant::now();
     let raw_args: Vec<String> = std::env::args().skip(1).collect();
-    let mut out: Option<PathBuf> = None;
-    let mut csv: Option<PathBuf> = None;
-    let mut quick = false;
-    let mut threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let mut paths: Vec<PathBuf> = Vec::new();
-    let mut args = raw_args.iter();
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "--help" | "-h" => {
-                println!("{HELP}");
-                return Ok(());
-            }
-            "--out" => out = Some(PathBuf::from(args.next().ok_or("--out needs a directory")?)),
-            "--csv" => csv = Some(PathBuf::from(args.next().ok_or("--csv needs a file")?)),
-            "--quick" => quick = true,
-            "--threads" => threads = args.next().ok_or("--threads needs a count")?.parse()?,
-            s if s.starts_with("--") => {
-                return Err(format!("unknown option {s} (see --help)").into())
-            }
-            s => paths.push(PathBuf::from(s)),
-        }
-    }
+    let Args { maps: mut paths, out, csv, quick, threads } = Args::parse();
     let p = Params {
         ns: if quick { vec![64] } else { NS.to_vec() },
         normals: if quick { 64 } else { 256 },
         rotations: if quick { 8 } else { 32 },
-        threads: threads.max(1),
+        threads: cli::threads(threads),
     };
     if paths.is_empty() {
-        let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("examples/envmaps");
-        let names: &[&str] = if quick { &QUICK_MAPS } else { &ALL_MAPS };
-        paths = names.iter().map(|n| dir.join(format!("{n}.hdr"))).collect();
+        paths = cli::bundled_maps(if quick { &QUICK_MAPS } else { &ALL_MAPS });
     }
     let mut rng = Rng::new(SEED_NORMALS);
     let normals: Vec<[f64; 3]> = (0..p.normals).map(|_| rng.uniform_sphere()).collect();

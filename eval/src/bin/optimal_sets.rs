@@ -4,8 +4,9 @@
 //! (format: `common/optimal.rs`, which the renderer loads).
 //!
 //! ```text
-//! cargo eval optimal_sets                     # tables/optimal_sets.txt
-//! cargo eval optimal_sets -- --out docs       # and docs/optimal_sets.md
+//! cargo eval optimal_sets                     # target/eval/optimal_sets/optimal_sets.txt
+//! cargo eval optimal_sets -- --write          # tables/optimal_sets.txt
+//! cargo eval optimal_sets -- --write --out docs   # and docs/optimal_sets.md
 //! cargo eval optimal_sets -- --check tables/optimal_sets.txt   # CI
 //! cargo eval optimal_sets -- --self-test      # gradient vs differences
 //! cargo eval optimal_sets -- --only phong50 --n 32   # one set (target/)
@@ -53,6 +54,9 @@
 //! to f32 (renormalised, rounded again), and `var_sf`, `var_opt` are computed in f64 with the
 //! engine's closed-form `zᵢ` (`Rule::kernel_means`) from the stored numbers.
 
+#[allow(dead_code)]
+#[path = "../common/cli.rs"]
+mod cli;
 #[path = "../common/renderer_engine.rs"]
 mod engine;
 #[allow(dead_code)]
@@ -72,6 +76,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
+use clap::Parser;
 use engine::{Brdf, Gls, LobeFrame, Query, Rule};
 use optimal::{unit, OptimalSet};
 use reference::rng::Rng;
@@ -110,31 +115,62 @@ const UNIT_TOL: f64 = 1e-6;
 
 const HYPER_FILE: &str = "tables/renderer_hyperparameters.txt";
 const TABLE_FILE: &str = "tables/optimal_sets.txt";
-const PARTIAL_TABLE: &str = "target/optimal_sets/optimal_sets.txt";
 
-const HELP: &str = "\
-optimal_sets: optimal BMC sample sets (issue #12 item 4): minimise the model's posterior
-variance over N directions per (N, BRDF) and write them as a table
+/// optimal_sets: optimal BMC sample sets (issue #12 item 4): minimise the model's posterior
+/// variance over N directions per (N, BRDF) and write them as a table
+#[derive(Parser)]
+#[command(bin_name = "cargo eval optimal_sets --", verbatim_doc_comment)]
+struct Cli {
+    /// Where to write the sets (default target/eval/optimal_sets/optimal_sets.txt)
+    #[arg(long, value_name = "FILE", conflicts_with = "write")]
+    table: Option<PathBuf>,
+    /// Write the sets to tables/optimal_sets.txt (all keys and sizes: not
+    /// with --only or --n)
+    #[arg(long, conflicts_with_all = ["only", "n"], verbatim_doc_comment)]
+    write: bool,
+    /// Hyperparameters (default tables/renderer_hyperparameters.txt, `err` rows)
+    #[arg(long, value_name = "FILE")]
+    hyper_file: Option<PathBuf>,
+    /// Also write DIR/optimal_sets.md (report; runs a σ′ sweep for it;
+    /// `--write --out docs` regenerates the repository's docs)
+    #[arg(long, value_name = "DIR", verbatim_doc_comment)]
+    out: Option<PathBuf>,
+    /// One key only: diffuse, phong1, phong5, phong10, phong20, phong50,
+    /// phong100, phong200, phong500 (repeatable)
+    #[arg(long, value_name = "KEY", value_parser = KEYS, verbatim_doc_comment)]
+    #[arg(hide_possible_values = true)]
+    only: Vec<String>,
+    /// One size only: 16, 32, 64, 80, 128 (repeatable)
+    #[arg(long, value_name = "N", value_parser = baked_size)]
+    n: Vec<usize>,
+    /// Iteration cap per start
+    #[arg(long, value_name = "K", default_value_t = 400)]
+    iterations: usize,
+    /// Jittered restarts per set besides the SF starts
+    #[arg(long, value_name = "R", default_value_t = 1)]
+    restarts: usize,
+    /// Worker threads (default: all cores)
+    #[arg(long, value_name = "T")]
+    threads: Option<usize>,
+    /// Recompute var_sf and var_opt of every set of FILE and fail on a relative
+    /// difference above 1e-9 or a direction that is not a unit vector; writes
+    /// nothing
+    #[arg(long, value_name = "FILE", verbatim_doc_comment)]
+    check: Option<PathBuf>,
+    /// Analytic gradient against central differences, and consistency checks
+    #[arg(long)]
+    self_test: bool,
+}
 
-USAGE: cargo eval optimal_sets -- [OPTIONS]
-
-OPTIONS:
-  --table FILE       where to write the sets (default tables/optimal_sets.txt; with --only or
-                     --n the default is target/optimal_sets/optimal_sets.txt)
-  --hyper-file FILE  hyperparameters (default tables/renderer_hyperparameters.txt, `err` rows)
-  --out DIR          also write DIR/optimal_sets.md (report; runs a σ′ sweep for it)
-  --only KEY         one key only: diffuse, phong1, phong5, phong10, phong20, phong50,
-                     phong100, phong200, phong500 (repeatable)
-  --n N              one size only: 16, 32, 64, 80, 128 (repeatable)
-  --iterations K     iteration cap per start (default 400)
-  --restarts R       jittered restarts per set besides the SF starts (default 1)
-  --threads T        worker threads (default: all cores)
-  --check FILE       recompute var_sf and var_opt of every set of FILE and fail on a relative
-                     difference above 1e-9 or a direction that is not a unit vector; writes
-                     nothing
-  --self-test        analytic gradient against central differences, and consistency checks
-  --help             this text
-";
+/// clap value parser of `--n`: a size with baked sets.
+fn baked_size(s: &str) -> Result<usize, String> {
+    let n: usize = s.parse().map_err(|e| format!("{e}"))?;
+    if NS.contains(&n) {
+        Ok(n)
+    } else {
+        Err(format!("N = {n} is not baked (16, 32, 64, 80 or 128)"))
+    }
+}
 
 #[derive(Clone, Debug)]
 struct Options {
@@ -151,58 +187,27 @@ struct Options {
     args: Vec<String>,
 }
 
-fn parse_args() -> Result<Option<Options>, Box<dyn Error>> {
+fn parse_args() -> Options {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
-    let mut o = Options {
-        table: None,
-        hyper_file: root.join(HYPER_FILE),
-        out: None,
-        only: Vec::new(),
-        ns: Vec::new(),
-        iterations: 400,
-        restarts: 1,
-        threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
-        check: None,
-        self_test: false,
-        args: args.clone(),
-    };
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        let mut value = |what: &str| -> Result<String, Box<dyn Error>> {
-            Ok(it.next().ok_or(format!("{a} needs {what}"))?.clone())
-        };
-        match a.as_str() {
-            "--help" | "-h" => {
-                print!("{HELP}");
-                return Ok(None);
-            }
-            "--table" => o.table = Some(PathBuf::from(value("a file")?)),
-            "--hyper-file" => o.hyper_file = PathBuf::from(value("a file")?),
-            "--out" => o.out = Some(PathBuf::from(value("a directory")?)),
-            "--only" => {
-                let k = value("a key")?;
-                if !KEYS.contains(&k.as_str()) {
-                    return Err(format!("unknown key {k} (see --help)").into());
-                }
-                o.only.push(k);
-            }
-            "--n" => {
-                let n: usize = value("a size")?.parse()?;
-                if !NS.contains(&n) {
-                    return Err(format!("N = {n} is not baked (see --help)").into());
-                }
-                o.ns.push(n);
-            }
-            "--iterations" => o.iterations = value("a count")?.parse()?,
-            "--restarts" => o.restarts = value("a count")?.parse()?,
-            "--threads" => o.threads = value("a count")?.parse::<usize>()?.max(1),
-            "--check" => o.check = Some(PathBuf::from(value("a file")?)),
-            "--self-test" => o.self_test = true,
-            s => return Err(format!("unknown argument {s} (see --help)").into()),
-        }
+    let c = Cli::parse();
+    let root = cli::repo_root();
+    Options {
+        table: Some(if c.write {
+            root.join(TABLE_FILE)
+        } else {
+            c.table.unwrap_or_else(|| cli::default_out("optimal_sets").join("optimal_sets.txt"))
+        }),
+        hyper_file: c.hyper_file.unwrap_or_else(|| root.join(HYPER_FILE)),
+        out: c.out,
+        only: c.only,
+        ns: c.n,
+        iterations: c.iterations,
+        restarts: c.restarts,
+        threads: cli::threads(c.threads),
+        check: c.check,
+        self_test: c.self_test,
+        args,
     }
-    Ok(Some(o))
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1545,8 +1550,9 @@ fn report(
     }
     let _ = writeln!(w, "\n## Reproduce\n");
     let _ = writeln!(w, "```text");
-    let _ = writeln!(w, "cargo eval optimal_sets                 # tables/optimal_sets.txt");
-    let _ = writeln!(w, "cargo eval optimal_sets -- --out docs   # and this report");
+    let _ =
+        writeln!(w, "cargo eval optimal_sets -- --write              # tables/optimal_sets.txt");
+    let _ = writeln!(w, "cargo eval optimal_sets -- --write --out docs   # and this report");
     let _ = writeln!(w, "cargo eval optimal_sets -- --check tables/optimal_sets.txt");
     let _ = writeln!(w, "cargo eval optimal_sets -- --self-test");
     let _ = writeln!(w, "```");
@@ -1554,7 +1560,7 @@ fn report(
 }
 
 fn main() -> Result<(), Box<dyn Error>> {
-    let Some(o) = parse_args()? else { return Ok(()) };
+    let o = parse_args();
     if let Some(path) = &o.check {
         return check(path, o.threads);
     }
@@ -1609,12 +1615,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let outcomes: Vec<Outcome> = outcomes.into_iter().map(|x| x.expect("every job ran")).collect();
     let secs = clock.elapsed().as_secs_f64();
     let cpu1 = cpu_seconds();
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
-    let filtered = !o.only.is_empty() || !o.ns.is_empty();
-    let table = o
-        .table
-        .clone()
-        .unwrap_or_else(|| root.join(if filtered { PARTIAL_TABLE } else { TABLE_FILE }));
+    let table = o.table.clone().expect("parse_args sets the table");
     if let Some(dir) = table.parent() {
         std::fs::create_dir_all(dir)?;
     }

@@ -9,10 +9,15 @@
 //! `<out>/energy.png`, `<out>/spectra.png` and `<out>/points.png`.
 //!
 //! ```text
-//! cargo eval point_sets                 # writes docs/point_sets/
-//! cargo eval point_sets -- --out DIR    # writes DIR instead
+//! cargo eval point_sets                           # writes target/point_sets/
+//! cargo eval point_sets -- --out docs/point_sets  # regenerates docs/point_sets/
 //! ```
 
+#[allow(dead_code)]
+#[path = "../common/cli.rs"]
+mod cli;
+
+use clap::Parser;
 use reference::fit::loglog_slope;
 use std::error::Error;
 use std::fmt::Write as _;
@@ -74,16 +79,18 @@ fn colour(i: usize) -> RGBColor {
     ][i % 5]
 }
 
+/// point_sets: point-set quality tables and plots (SF against random, Sobol, Halton, jittered)
+#[derive(Parser)]
+#[command(bin_name = "cargo eval point_sets --")]
+struct Args {
+    /// Write DIR/{table.md, energy.png, spectra.png, points.png} (default
+    /// target/point_sets; `--out docs/point_sets` regenerates the repository's docs)
+    #[arg(long, value_name = "DIR", verbatim_doc_comment)]
+    out: Option<PathBuf>,
+}
+
 fn main() -> Result<(), Box<dyn Error>> {
-    let mut out =
-        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("target/point_sets");
-    let mut args = std::env::args().skip(1);
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "--out" => out = PathBuf::from(args.next().ok_or("--out needs a directory")?),
-            _ => return Err(format!("unknown argument {a}").into()),
-        }
-    }
+    let out = Args::parse().out.unwrap_or_else(|| cli::repo_root().join("target/point_sets"));
     std::fs::create_dir_all(&out)?;
     register_font("sans-serif", FontStyle::Normal, ttf_noto_sans::REGULAR)
         .map_err(|_| "the embedded font did not parse")?;

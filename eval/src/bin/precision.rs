@@ -5,13 +5,18 @@
 //! pick the same member.
 //!
 //! ```text
-//! cargo eval precision                 # ten maps, writes docs/precision.md
+//! cargo eval precision                 # ten maps, writes target/eval/precision/precision.md
+//! cargo eval precision -- --out docs    # regenerates docs/precision.md
 //! cargo eval precision -- --quick --out target/precision
+//! cargo eval precision -- a.hdr b.hdr --csv rows.csv
 //! ```
 //!
 //! Per map (`clamp` and `smooth` tiers, luminance), N ∈ {16, …, 256}, 32 seeded rotations × 256 seeded
 //! normals: relative RMS difference = RMS(E₃₂ − E₆₄) / mean |E₆₄|, the issue's bar being 10⁻⁵.
 
+#[allow(dead_code)]
+#[path = "../common/cli.rs"]
+mod cli;
 #[allow(dead_code)]
 #[path = "../../../examples/common/compare.rs"]
 mod compare;
@@ -24,8 +29,9 @@ mod tiers;
 
 use std::error::Error;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
+use clap::Parser;
 use reference::envmap::{luminance, EnvMap};
 use reference::rng::Rng;
 use sphere_quadrature::bmc::Size;
@@ -111,28 +117,53 @@ where
     Ok(out)
 }
 
+/// precision: the baked f32 probe against the same model solved in f64 (issue #6)
+#[derive(Parser)]
+#[command(bin_name = "cargo eval precision --")]
+struct Args {
+    /// Equirectangular .hdr maps (default: the ten in examples/envmaps/)
+    #[arg(value_name = "MAPS", value_parser = cli::map_file)]
+    maps: Vec<PathBuf>,
+    /// Write DIR/precision.md (default target/eval/precision; `--out docs` regenerates
+    /// the repository's docs)
+    #[arg(long, value_name = "DIR", verbatim_doc_comment)]
+    out: Option<PathBuf>,
+    /// Also write rows precision,<tier>,<n>,<map>,<rel_diff> (relative RMS difference
+    /// RMS(E₃₂ − E₆₄) / mean |E₆₄| of one map and tier over every member)
+    #[arg(long, value_name = "FILE", verbatim_doc_comment)]
+    csv: Option<PathBuf>,
+    /// 2 maps, 4 rotations, 32 normals (CI)
+    #[arg(long)]
+    quick: bool,
+}
+
 fn main() -> Result<(), Box<dyn Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let quick = args.iter().any(|a| a == "--quick");
-    let out = args
+    let raw_args: Vec<String> = std::env::args().skip(1).collect();
+    let args = Args::parse();
+    let quick = args.quick;
+    let out = args.out.unwrap_or_else(|| cli::default_out("precision"));
+    let paths = if args.maps.is_empty() {
+        cli::bundled_maps(if quick { &QUICK_MAPS[..] } else { &MAPS[..] })
+    } else {
+        args.maps
+    };
+    let names: Vec<String> = paths
         .iter()
-        .position(|a| a == "--out")
-        .and_then(|i| args.get(i + 1))
-        .map_or_else(|| PathBuf::from("docs"), PathBuf::from);
-    let names: &[&str] = if quick { &QUICK_MAPS } else { &MAPS };
+        .map(|p| p.file_stem().map_or("map".into(), |s| s.to_string_lossy().into_owned()))
+        .collect();
     let (n_rot, n_normals) = if quick { (4, 32) } else { (32, 256) };
     let start = std::time::Instant::now();
-    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("examples/envmaps");
     // `clamp` then `smooth` of every map.
     let mut maps: Vec<EnvMap> = Vec::new();
-    let mut labels: Vec<String> = Vec::new();
-    for n in names {
-        let clamp = compare::clamped(&EnvMap::load(dir.join(format!("{n}.hdr")))?);
+    let mut labels: Vec<(String, &str)> = Vec::new();
+    for (path, n) in paths.iter().zip(&names) {
+        let map = EnvMap::load(path).map_err(|e| format!("cannot load a map: {e}"))?;
+        let clamp = compare::clamped(&map);
         let smooth = tiers::smooth(&clamp);
         maps.push(clamp);
-        labels.push(format!("{n} clamp"));
+        labels.push((n.clone(), "clamp"));
         maps.push(smooth);
-        labels.push(format!("{n} smooth"));
+        labels.push((n.clone(), "smooth"));
     }
     let mut rng = Rng::new(0x9EC1_0001);
     let v = |d: [f64; 3]| Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32);
@@ -155,11 +186,11 @@ fn main() -> Result<(), Box<dyn Error>> {
     writeln!(md, "# f32 probe against the f64 model on the benchmark's maps\n")?;
     writeln!(
         md,
-        "`cargo eval precision{}` ({:.0} s): `clamp` and `smooth` tiers of {}, {n_rot} \
+        "`{}` ({:.0} s): `clamp` and `smooth` tiers of {}, {n_rot} \
          rotations × {n_normals} normals per map; relative RMS difference of the irradiance \
          RMS(E₃₂ − E₆₄) / mean |E₆₄|, pooled over the maps, per selected member (the f64 side \
          uses the member the f32 probe selected). Issue #6's bar: 10⁻⁵.\n",
-        if quick { " -- --quick" } else { "" },
+        command(&raw_args),
         start.elapsed().as_secs_f64(),
         names.join(", ")
     )?;
@@ -169,17 +200,19 @@ fn main() -> Result<(), Box<dyn Error>> {
          f64 selection agrees |"
     )?;
     writeln!(md, "| ---: | ---: | --- | --- | ---: |")?;
+    let mut csv = String::from("benchmark,tier,n,map,rel_diff\n");
     for (n, tallies, family) in &results {
         let k = family.len();
         let (mut sq, mut abs, mut count) = (vec![0.0; k], vec![0.0; k], vec![0usize; k]);
         let (mut agree, mut probes) = (0, 0);
-        let mut worst = (0.0f64, "");
-        for (t, name) in tallies.iter().zip(&labels) {
+        let mut worst = (0.0f64, String::new());
+        for (t, (name, tier)) in tallies.iter().zip(&labels) {
             let (s, a, c): (f64, f64, usize) =
                 (t.sq.iter().sum(), t.abs.iter().sum(), t.count.iter().sum());
             let rel = (s / c as f64).sqrt() / (a / c as f64);
+            let _ = writeln!(csv, "precision,{tier},{n},{name},{rel:.6e}");
             if rel > worst.0 {
-                worst = (rel, name.as_str());
+                worst = (rel, format!("{name} {tier}"));
             }
             for j in 0..k {
                 sq[j] += t.sq[j];
@@ -213,10 +246,26 @@ fn main() -> Result<(), Box<dyn Error>> {
             per.join("; ")
         )?;
     }
+    if let Some(path) = &args.csv {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir)?;
+        }
+        std::fs::write(path, &csv)?;
+        eprintln!("wrote {}", path.display());
+    }
     std::fs::create_dir_all(&out)?;
     let path = out.join("precision.md");
     std::fs::write(&path, &md)?;
     print!("{md}");
     eprintln!("wrote {}", path.display());
     Ok(())
+}
+
+/// The command line as the report records it.
+fn command(raw_args: &[String]) -> String {
+    if raw_args.is_empty() {
+        "cargo eval precision".to_string()
+    } else {
+        format!("cargo eval precision -- {}", raw_args.join(" "))
+    }
 }

@@ -35,6 +35,9 @@
 //! checked instead of fitted.
 
 #[allow(dead_code)]
+#[path = "../common/cli.rs"]
+mod cli;
+#[allow(dead_code)]
 #[path = "../../../examples/common/compare.rs"]
 mod compare;
 #[path = "../common/parallel.rs"]
@@ -48,6 +51,7 @@ use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use clap::Parser;
 use reference::envmap::{luminance, EnvMap};
 use reference::rng::Rng;
 use reference::sh::real_sh;
@@ -471,81 +475,55 @@ struct MapJob {
     tiers: [EnvMap; 2],
 }
 
-#[derive(Clone)]
+/// probe trust (issue #13): member choice and error-bar calibration
+#[derive(Clone, Parser)]
+#[command(bin_name = "cargo eval probe_trust --")]
 struct Args {
+    /// Equirectangular .hdr maps (default: examples/envmaps/*.hdr)
+    #[arg(value_name = "MAPS", value_parser = cli::map_file)]
     maps: Vec<PathBuf>,
+    /// Rows
+    /// probe_trust,<part>,<tier>,<query>,<n>,<method>,<map>,<rel_rmse>,<coverage2s>
+    #[arg(long, value_name = "FILE", verbatim_doc_comment)]
     csv: Option<PathBuf>,
+    /// Also write DIR/probe_trust.md (`--out docs` updates the docs)
+    #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
+    /// Write the calibration lines of tables/probe.txt (needs training maps)
+    #[arg(long)]
     write: bool,
+    /// Training map stems (default apartment,bridge,forest,lab)
+    #[arg(long, value_name = "A,B,…", value_delimiter = ',', hide_default_value = true)]
+    #[arg(default_values = ["apartment", "bridge", "forest", "lab"])]
     train: Vec<String>,
+    /// Random probe rotations per map
+    #[arg(long, value_name = "R", default_value_t = 16, value_parser = cli::positive)]
     rotations: usize,
+    /// Query axes per map
+    #[arg(long, value_name = "Q", default_value_t = 64, value_parser = cli::positive)]
     normals: usize,
+    /// Two maps, N = 16 and 32, four rotations, 16 axes (CI)
+    #[arg(long)]
     quick: bool,
+    /// Worker threads (default: all cores)
+    #[arg(long, value_name = "T")]
+    threads: Option<usize>,
 }
 
-const HELP: &str = "probe trust (issue #13): member choice and error-bar calibration
-
-USAGE: cargo eval probe_trust -- [MAPS…] [OPTIONS]
-
-  MAPS             equirectangular .hdr maps (default: examples/envmaps/*.hdr)
-  --csv FILE       rows probe_trust,<part>,<tier>,<query>,<n>,<method>,<map>,<rel_rmse>,<coverage2s>
-  --out DIR        also write DIR/probe_trust.md (`--out docs` updates the docs)
-  --write          write the calibration lines of tables/probe.txt (needs training maps)
-  --train A,B,…    training map stems (default apartment,bridge,forest,lab)
-  --rotations R    random probe rotations per map (default 16)
-  --normals Q      query axes per map (default 64)
-  --quick          two maps, N = 16 and 32, four rotations, 16 axes (CI)
-  --help           this text";
-
-fn parse_args() -> Result<Option<Args>, Box<dyn Error>> {
-    let mut a = Args {
-        maps: Vec::new(),
-        csv: None,
-        out: None,
-        write: false,
-        train: ["apartment", "bridge", "forest", "lab"].map(String::from).to_vec(),
-        rotations: 16,
-        normals: 64,
-        quick: false,
-    };
-    let mut it = std::env::args().skip(1);
-    while let Some(arg) = it.next() {
-        let mut value = || it.next().ok_or_else(|| format!("{arg} needs a value"));
-        match arg.as_str() {
-            "--help" | "-h" => return Ok(None),
-            "--csv" => a.csv = Some(PathBuf::from(value()?)),
-            "--out" => a.out = Some(PathBuf::from(value()?)),
-            "--write" => a.write = true,
-            "--train" => a.train = value()?.split(',').map(String::from).collect(),
-            "--rotations" => a.rotations = value()?.parse()?,
-            "--normals" => a.normals = value()?.parse()?,
-            "--quick" => a.quick = true,
-            s if s.starts_with("--") => {
-                return Err(format!("unknown option {s}; see --help").into())
-            }
-            path => a.maps.push(PathBuf::from(path)),
-        }
-    }
+/// The arguments, defaults filled in.
+fn parse_args() -> Result<Args, Box<dyn Error>> {
+    let mut a = Args::parse();
     if a.maps.is_empty() {
-        let mut maps: Vec<PathBuf> =
-            std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/envmaps"))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|x| x == "hdr"))
-                .collect();
-        maps.sort();
+        a.maps = cli::all_bundled_maps()?;
         if a.quick {
-            maps.retain(|p| p.file_stem().is_some_and(|s| s == "apartment" || s == "lobby"));
+            a.maps.retain(|p| p.file_stem().is_some_and(|s| s == "apartment" || s == "lobby"));
         }
-        a.maps = maps;
     }
     if a.quick {
         a.rotations = a.rotations.min(4);
         a.normals = a.normals.min(16);
     }
-    if a.rotations == 0 || a.normals == 0 {
-        return Err("--rotations and --normals must be positive".into());
-    }
-    Ok(Some(a))
+    Ok(a)
 }
 
 fn stem(p: &Path) -> String {
@@ -554,8 +532,7 @@ fn stem(p: &Path) -> String {
 
 fn main() {
     match parse_args() {
-        Ok(None) => println!("{HELP}"),
-        Ok(Some(args)) => {
+        Ok(args) => {
             if let Err(e) = run(&args) {
                 eprintln!("probe_trust: {e}");
                 std::process::exit(1);
@@ -570,10 +547,10 @@ fn main() {
 
 fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     let start = std::time::Instant::now();
-    let table_path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("tables/probe.txt");
+    let table_path = cli::repo_root().join("tables/probe.txt");
     let table_text = std::fs::read_to_string(&table_path)?;
     let (families, baked_calibration) = read_table(&table_text)?;
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = cli::threads(args.threads);
     let jobs: Vec<MapJob> = parallel::parallel_map(&args.maps, threads, |_, path| {
         let map = EnvMap::load(path).map_err(|e| format!("{}: {e}", path.display()))?;
         let clamp = compare::clamped(&map);

@@ -11,7 +11,8 @@
 //! $R                           # ten bundled maps, target/renderer
 //! $R --out docs                # docs/renderer.md + .png
 //! $R --quick                   # CI smoke run (seconds)
-//! $R --learn                   # tables/renderer_hyperparameters.txt
+//! $R --learn                   # target/renderer/renderer_hyperparameters.txt
+//! $R --learn --write           # tables/renderer_hyperparameters.txt
 //! $R --self-test               # engine convergence checks
 //! $R a.hdr b.hdr --csv rows.csv
 //! ```
@@ -60,7 +61,7 @@
 //! `raw`, `clamp` (luminance ≤ 30× the map mean), `smooth` (clamp → 128×64 → SG blur of
 //! sharpness 10) and `synthetic` (10 seeded SG mixtures), as `eval/src/bin/accuracy.rs`.
 //! Hyperparameters `(l, σ′)` per (BRDF, N) are read from
-//! `tables/renderer_hyperparameters.txt` (written by `--learn` on the training maps' clamp
+//! `tables/renderer_hyperparameters.txt` (written by `--learn --write` on the training maps' clamp
 //! tier: `err`, the grid point whose estimates have the smallest mean RMSE ratio to QMC on the
 //! same samples — what the crate bakes; `ml`, REML; `cov`, the seed's covariance fit; `--hyper`
 //! picks the rows the f64 estimators use); held-out figures exclude the training maps
@@ -83,6 +84,9 @@
 //! (tier, estimator, N, BRDF, map). The full run takes about 3 minutes on 2 cores, `--quick`
 //! under 20 s, `--learn` 30 s.
 
+#[allow(dead_code)]
+#[path = "../common/cli.rs"]
+mod cli;
 #[allow(dead_code)]
 #[path = "../../../examples/common/compare.rs"]
 mod compare;
@@ -107,6 +111,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
+use clap::Parser;
 use engine::{Brdf, Gls, LobeFrame, LumPyramid, Query, Reml, Rule};
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
@@ -203,8 +208,8 @@ fn l_grid() -> Vec<f64> {
 struct Options {
     out: PathBuf,
     csv: Option<PathBuf>,
-    quick: bool,
     learn: bool,
+    write: bool,
     self_test: bool,
     hyper_file: PathBuf,
     hyper_method: String,
@@ -216,92 +221,82 @@ struct Options {
     args: Vec<String>,
 }
 
-const HELP: &str = "\
-renderer: the BMC renderer benchmark of issue #12 (item 6)
+/// renderer: the BMC renderer benchmark of issue #12 (item 6)
+#[derive(Parser)]
+#[command(bin_name = "cargo eval renderer --")]
+struct Cli {
+    /// Equirectangular .hdr maps (default: the ten in examples/envmaps/; two with
+    /// --quick)
+    #[arg(value_name = "MAPS", value_parser = cli::map_file, verbatim_doc_comment)]
+    maps: Vec<PathBuf>,
+    /// Output directory (default target/renderer; docs/renderer.md and
+    /// docs/renderer.png only with --out docs)
+    #[arg(long, value_name = "DIR", verbatim_doc_comment)]
+    out: Option<PathBuf>,
+    /// Also write rows `renderer,<tier>,<estimator>,<n>,<brdf>,<map>,<rel_rmse>`
+    #[arg(long, value_name = "FILE")]
+    csv: Option<PathBuf>,
+    /// CI smoke run: 2 maps, 2 mixtures, 32 queries (seconds)
+    #[arg(long)]
+    quick: bool,
+    /// Queries per map (default 256; 32 with --quick)
+    #[arg(long, value_name = "Q", value_parser = cli::positive)]
+    queries: Option<usize>,
+    /// bmc-sobol on the first Q queries only (default: all)
+    #[arg(long, value_name = "Q")]
+    sobol_queries: Option<usize>,
+    /// Learn (l, σ′) per (BRDF, N) on the training maps' clamp tier (REML, the
+    /// seed's covariance fit, and the error-minimising fit) and write the
+    /// hyperparameter file into --out (with --write: the --hyper-file)
+    #[arg(long, verbatim_doc_comment)]
+    learn: bool,
+    /// With --learn: write the learned rows to --hyper-file (by default
+    /// tables/renderer_hyperparameters.txt)
+    #[arg(long, requires = "learn", conflicts_with = "quick", verbatim_doc_comment)]
+    write: bool,
+    /// Hyperparameter file (default tables/renderer_hyperparameters.txt)
+    #[arg(long, value_name = "FILE")]
+    hyper_file: Option<PathBuf>,
+    /// Which learned rows the f64 estimators use (default err: the smallest
+    /// training RMSE ratio to QMC, as the crate bakes; ml: maximum marginal
+    /// likelihood; cov: the seed's covariance fit). bmc-sf is the crate's
+    /// renderer with its baked hyperparameters whatever this says.
+    #[arg(long = "hyper", value_name = "err|ml|cov", verbatim_doc_comment)]
+    #[arg(value_parser = ["err", "ml", "cov"], default_value = "err")]
+    #[arg(hide_possible_values = true, hide_default_value = true)]
+    hyper_method: String,
+    /// Convergence and consistency checks of the f64 engine
+    #[arg(long)]
+    self_test: bool,
+    /// Worker threads (default: all cores)
+    #[arg(long, value_name = "T")]
+    threads: Option<usize>,
+}
 
-USAGE: cargo eval renderer -- [OPTIONS] [MAP.hdr ...]
-
-Maps default to the ten examples/envmaps/*.hdr (two with --quick).
-
-OPTIONS:
-  --out DIR          output directory (default target/renderer; docs/renderer.md and
-                     docs/renderer.png only with --out docs)
-  --csv FILE         also write rows `renderer,<tier>,<estimator>,<n>,<brdf>,<map>,<rel_rmse>`
-  --quick            CI smoke run: 2 maps, 2 mixtures, 32 queries (seconds)
-  --queries Q        queries per map (default 256)
-  --sobol-queries Q  bmc-sobol on the first Q queries only (default: all)
-  --learn            learn (l, σ′) per (BRDF, N) on the training maps' clamp tier (REML, the
-                     seed's covariance fit, and the error-minimising fit) and write the
-                     hyperparameter file (with --quick: into --out instead of tables/)
-  --hyper-file FILE  hyperparameter file (default tables/renderer_hyperparameters.txt)
-  --hyper err|ml|cov which learned rows the f64 estimators use (default err: the smallest
-                     training RMSE ratio to QMC, as the crate bakes; ml: maximum marginal
-                     likelihood; cov: the seed's covariance fit). bmc-sf is the crate's
-                     renderer with its baked hyperparameters whatever this says.
-  --self-test        convergence and consistency checks of the f64 engine
-  --threads T        worker threads (default: all cores)
-  --help             this text
-";
-
-fn parse_args() -> Result<Option<Options>, Box<dyn Error>> {
+fn parse_args() -> Options {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
-    let mut o = Options {
-        out: root.join("target/renderer"),
-        csv: None,
-        quick: false,
-        learn: false,
-        self_test: false,
-        hyper_file: root.join(HYPER_FILE),
-        hyper_method: "err".into(),
-        threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
-        queries: 0,
-        mixtures: 10,
-        sobol_queries: usize::MAX,
-        paths: Vec::new(),
-        args: args.clone(),
+    let c = Cli::parse();
+    let root = cli::repo_root();
+    let paths = if c.maps.is_empty() {
+        cli::bundled_maps(if c.quick { &QUICK_MAPS[..] } else { &ALL_MAPS[..] })
+    } else {
+        c.maps
     };
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        let mut value = |what: &str| -> Result<String, Box<dyn Error>> {
-            Ok(it.next().ok_or(format!("{a} needs {what}"))?.clone())
-        };
-        match a.as_str() {
-            "--help" | "-h" => {
-                print!("{HELP}");
-                return Ok(None);
-            }
-            "--out" => o.out = PathBuf::from(value("a directory")?),
-            "--csv" => o.csv = Some(PathBuf::from(value("a file")?)),
-            "--quick" => o.quick = true,
-            "--learn" => o.learn = true,
-            "--self-test" => o.self_test = true,
-            "--hyper-file" => o.hyper_file = PathBuf::from(value("a file")?),
-            "--hyper" => o.hyper_method = value("err, ml or cov")?,
-            "--threads" => o.threads = value("a count")?.parse::<usize>()?.max(1),
-            "--queries" => o.queries = value("a count")?.parse()?,
-            "--sobol-queries" => o.sobol_queries = value("a count")?.parse()?,
-            s if s.starts_with("--") => {
-                return Err(format!("unknown option {s} (see --help)").into())
-            }
-            s => o.paths.push(PathBuf::from(s)),
-        }
+    Options {
+        out: c.out.unwrap_or_else(|| root.join("target/renderer")),
+        csv: c.csv,
+        learn: c.learn,
+        write: c.write,
+        self_test: c.self_test,
+        hyper_file: c.hyper_file.unwrap_or_else(|| root.join(HYPER_FILE)),
+        hyper_method: c.hyper_method,
+        threads: cli::threads(c.threads),
+        queries: c.queries.unwrap_or(if c.quick { 32 } else { 256 }),
+        mixtures: if c.quick { 2 } else { 10 },
+        sobol_queries: c.sobol_queries.unwrap_or(usize::MAX),
+        paths,
+        args,
     }
-    if o.queries == 0 {
-        o.queries = if o.quick { 32 } else { 256 };
-    }
-    if o.quick {
-        o.mixtures = 2;
-    }
-    if o.paths.is_empty() {
-        let dir = root.join("examples/envmaps");
-        let names: &[&str] = if o.quick { &QUICK_MAPS } else { &ALL_MAPS };
-        o.paths = names.iter().map(|n| dir.join(format!("{n}.hdr"))).collect();
-    }
-    if !["err", "ml", "cov"].contains(&o.hyper_method.as_str()) {
-        return Err("--hyper takes err, ml or cov".into());
-    }
-    Ok(Some(o))
 }
 
 // ---------------------------------------------------------------------------------------
@@ -364,7 +359,7 @@ fn key_sf(brdf: Brdf) -> String {
 
 fn hyper(h: &HyperMap, key: &str, n: usize) -> Result<Hyper, String> {
     h.get(&(key.to_string(), n)).copied().ok_or_else(|| {
-        format!("no hyperparameters for ({key}, N = {n}): run with --learn (see --help)")
+        format!("no hyperparameters for ({key}, N = {n}): run with --learn --write (see --help)")
     })
 }
 
@@ -1820,7 +1815,7 @@ fn name_of(path: &Path) -> String {
 // ---------------------------------------------------------------------------------------
 
 fn main() -> Result<(), Box<dyn Error>> {
-    let Some(o) = parse_args()? else { return Ok(()) };
+    let o = parse_args();
     let start = Instant::now();
     let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
     let hyper_text = std::fs::read_to_string(&o.hyper_file).ok();
@@ -1863,7 +1858,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         }
         let text = hyper_file_text(&learned, &o, &names, queries.len());
         let path =
-            if o.quick { o.out.join("renderer_hyperparameters.txt") } else { o.hyper_file.clone() };
+            if o.write { o.hyper_file.clone() } else { o.out.join("renderer_hyperparameters.txt") };
         if let Some(dir) = path.parent() {
             std::fs::create_dir_all(dir)?;
         }
@@ -1886,7 +1881,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     }
 
     let hyper_text = hyper_text.ok_or(format!(
-        "cannot read {}: run with --learn first (see --help)",
+        "cannot read {}: run with --learn --write first (see --help)",
         o.hyper_file.display()
     ))?;
     let h = parse_hyper(&hyper_text, &o.hyper_method)?;

@@ -29,6 +29,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::process::ExitCode;
 
+use clap::Parser;
 use reference::envmap::EnvMap;
 use sphere_quadrature::footprint::CosinePower;
 use sphere_quadrature::probe::{cosine_weighted_average, Probe, ProbeTables};
@@ -230,15 +231,19 @@ where
     Ok(())
 }
 
+/// sensor_readings: the photodiode readings of the Cortex-M4 sensor scenario, checked against
+/// (or, with --write, written to) examples/cortex-m4/src/sensor_readings.rs
+#[derive(Parser)]
+#[command(bin_name = "cargo eval sensor_readings --", verbatim_doc_comment)]
+struct Args {
+    /// Regenerate examples/cortex-m4/src/sensor_readings.rs instead of
+    /// checking that it is current
+    #[arg(long, verbatim_doc_comment)]
+    write: bool,
+}
+
 fn main() -> ExitCode {
-    let write = match std::env::args().nth(1).as_deref() {
-        None => false,
-        Some("--write") => true,
-        Some(_) => {
-            eprintln!("usage: sensor_readings [--write]");
-            return ExitCode::FAILURE;
-        }
-    };
+    let write = Args::parse().write;
     let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
     let map = match EnvMap::load(root.join(format!("examples/envmaps/{MAP}.hdr"))) {
         Ok(m) => m,

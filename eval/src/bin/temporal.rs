@@ -27,6 +27,9 @@
 //! Tiers `clamp` and `smooth` as in `eval/src/bin/accuracy.rs`.
 
 #[allow(dead_code)]
+#[path = "../common/cli.rs"]
+mod cli;
+#[allow(dead_code)]
 #[path = "../../../examples/common/compare.rs"]
 mod compare;
 #[path = "../common/parallel.rs"]
@@ -39,6 +42,7 @@ use std::error::Error;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use clap::Parser;
 use reference::envmap::{luminance, EnvMap};
 use reference::rng::Rng;
 use sphere_quadrature::bmc::Size;
@@ -58,78 +62,58 @@ static THRESHOLD: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::n
 const SEED_NORMALS: u64 = 0x7E3A_0001;
 const SEED_ROTATIONS: u64 = 0x7E3A_0002;
 
+/// temporal benchmark (issue #14): a probe updated every frame with fresh rotations
+#[derive(Parser)]
+#[command(bin_name = "cargo eval temporal --")]
 struct Args {
+    /// Equirectangular .hdr maps (default: examples/envmaps/*.hdr); the switch
+    /// sequence goes from each map's predecessor in this list to it
+    #[arg(value_name = "MAPS", value_parser = cli::map_file, verbatim_doc_comment)]
     maps: Vec<PathBuf>,
+    /// Rows temporal,<static|switch>,<tier>,<method>,<n>,<k>,<map>,<rel_rmse>
+    #[arg(long, value_name = "FILE")]
     csv: Option<PathBuf>,
+    /// Also write DIR/temporal.md (`--out docs` updates the docs)
+    #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
+    /// Independent sequences per map
+    #[arg(long, value_name = "S", default_value_t = 4)]
+    #[arg(value_parser = cli::positive)]
     sequences: usize,
+    /// Query normals per map
+    #[arg(long, value_name = "Q", default_value_t = 128)]
+    #[arg(value_parser = cli::positive)]
     normals: usize,
+    /// The temporal probe's innovation threshold, a whole χ² (default 30,
+    /// temporal::DEFAULT_THRESHOLD)
+    #[arg(long, value_name = "T", verbatim_doc_comment)]
+    #[arg(value_parser = clap::value_parser!(u32).range(1..))]
+    threshold: Option<u32>,
+    /// Two maps, N = 16 and 64, one sequence, 32 normals (CI)
+    #[arg(long)]
     quick: bool,
+    /// Worker threads (default: all cores)
+    #[arg(long, value_name = "T")]
+    threads: Option<usize>,
 }
 
-const HELP: &str =
-    "temporal benchmark (issue #14): a probe updated every frame with fresh rotations
-
-USAGE: cargo eval temporal -- [MAPS…] [OPTIONS]
-
-  MAPS             equirectangular .hdr maps (default: examples/envmaps/*.hdr); the switch
-                   sequence goes from each map's predecessor in this list to it
-  --csv FILE       rows temporal,<static|switch>,<tier>,<method>,<n>,<k>,<map>,<rel_rmse>
-  --out DIR        also write DIR/temporal.md (`--out docs` updates the docs)
-  --sequences S    independent sequences per map (default 4)
-  --normals Q      query normals per map (default 128)
-  --threshold T    the temporal probe's innovation threshold, a whole χ² (default 30,
-                   temporal::DEFAULT_THRESHOLD)
-  --quick          two maps, N = 16 and 64, one sequence, 32 normals (CI)
-  --help           this text";
-
-fn parse_args() -> Result<Option<Args>, Box<dyn Error>> {
-    let mut a =
-        Args { maps: Vec::new(), csv: None, out: None, sequences: 4, normals: 128, quick: false };
-    let mut it = std::env::args().skip(1);
-    while let Some(arg) = it.next() {
-        let mut value = || it.next().ok_or_else(|| format!("{arg} needs a value"));
-        match arg.as_str() {
-            "--help" | "-h" => return Ok(None),
-            "--csv" => a.csv = Some(PathBuf::from(value()?)),
-            "--out" => a.out = Some(PathBuf::from(value()?)),
-            "--sequences" => a.sequences = value()?.parse()?,
-            "--normals" => a.normals = value()?.parse()?,
-            "--quick" => a.quick = true,
-            "--threshold" => {
-                let t: u32 = value()?.parse()?;
-                if t == 0 {
-                    return Err("--threshold must be positive".into());
-                }
-                THRESHOLD.store(t, std::sync::atomic::Ordering::Relaxed);
-            }
-            s if s.starts_with("--") => {
-                return Err(format!("unknown option {s}; see --help").into())
-            }
-            path => a.maps.push(PathBuf::from(path)),
-        }
+/// The arguments, defaults filled in.
+fn parse_args() -> Result<Args, Box<dyn Error>> {
+    let mut a = Args::parse();
+    if let Some(t) = a.threshold {
+        THRESHOLD.store(t, std::sync::atomic::Ordering::Relaxed);
     }
     if a.maps.is_empty() {
-        let mut maps: Vec<PathBuf> = std::fs::read_dir(
-            Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("examples/envmaps"),
-        )?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "hdr"))
-        .collect();
-        maps.sort();
+        a.maps = cli::all_bundled_maps()?;
         if a.quick {
-            maps.retain(|p| p.file_stem().is_some_and(|s| s == "apartment" || s == "lobby"));
+            a.maps.retain(|p| p.file_stem().is_some_and(|s| s == "apartment" || s == "lobby"));
         }
-        a.maps = maps;
     }
     if a.quick {
         a.sequences = 1;
         a.normals = a.normals.min(32);
     }
-    if a.sequences == 0 || a.normals == 0 {
-        return Err("--sequences and --normals must be positive".into());
-    }
-    Ok(Some(a))
+    Ok(a)
 }
 
 fn stem(p: &Path) -> String {
@@ -138,8 +122,7 @@ fn stem(p: &Path) -> String {
 
 fn main() {
     match parse_args() {
-        Ok(None) => println!("{HELP}"),
-        Ok(Some(args)) => {
+        Ok(args) => {
             if let Err(e) = run(&args) {
                 eprintln!("temporal: {e}");
                 std::process::exit(1);
@@ -328,7 +311,7 @@ fn curves(
 
 fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     let start = std::time::Instant::now();
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = cli::threads(args.threads);
     let mut rng = Rng::new(SEED_NORMALS);
     let normals64: Vec<[f64; 3]> = (0..args.normals).map(|_| rng.uniform_sphere()).collect();
     let normals: Vec<Vec3> =

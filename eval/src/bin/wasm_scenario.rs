@@ -13,6 +13,7 @@ mod scenario;
 #[path = "../../../examples/wasm/src/api.rs"]
 mod api;
 
+use clap::Parser;
 use sphere_quadrature::bmc::Size;
 use sphere_quadrature::footprint::{Footprint, Gaussian, Kind};
 use sphere_quadrature::probe::{Probe, ProbeSize, ProbeTables};
@@ -67,7 +68,14 @@ fn exponent(i: usize) -> f32 {
     ((i % 8) * 8) as f32 - 4.0
 }
 
+/// wasm_scenario: the host twin of the WebAssembly test, as `key index bits` lines
+/// (no options; `--features micromath` for that backend)
+#[derive(Parser)]
+#[command(bin_name = "cargo eval wasm_scenario", verbatim_doc_comment)]
+struct Args {}
+
 fn main() {
+    Args::parse();
     scenario::run(&mut Stdout);
 
     for i in 0..COUNT {
