@@ -1,13 +1,14 @@
 // Headless browser test of examples/wasm/index.html: serves the repository root on localhost,
 // opens the page in Chromium (Debian `chromium`, through playwright-core), waits for the page's
-// own numeric check, prints its numbers, saves a screenshot to docs/wasm_probe.png and exits
+// own numeric check, prints its numbers, saves a screenshot (target/wasm_probe.png) and exits
 // non-zero when the check fails.
 //
 //   (cd examples/wasm && npm ci && cargo build --release --target wasm32-unknown-unknown)
 //   examples/wasm/package/build.sh      # the JS package's modules (the page's BMC probe)
 //   node examples/wasm/browser_test.mjs
 //
-// Environment: CHROMIUM (default /usr/bin/chromium), SCREENSHOT (default docs/wasm_probe.png),
+// Environment: CHROMIUM (default /usr/bin/chromium), SCREENSHOT (default target/wasm_probe.png;
+// SCREENSHOT=docs/wasm_probe.png updates the committed one),
 // TIMEOUT_MS (default 120000).
 import { createServer } from "node:http";
 import { readFileSync, statSync } from "node:fs";
@@ -16,7 +17,7 @@ import { fileURLToPath } from "node:url";
 import { chromium } from "playwright-core";
 
 const ROOT = resolve(fileURLToPath(new URL("../..", import.meta.url)));
-const SHOT = resolve(ROOT, process.env.SCREENSHOT ?? "docs/wasm_probe.png");
+const SHOT = resolve(ROOT, process.env.SCREENSHOT ?? "target/wasm_probe.png");
 const EXE = process.env.CHROMIUM ?? "/usr/bin/chromium";
 const TIMEOUT = Number(process.env.TIMEOUT_MS ?? 120000);
 const TYPES = {
