@@ -439,25 +439,12 @@ where
     /// clears the data: take the next samples in the new [`Probe::directions`].
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] unless `m` is finite and orthonormal to 10⁻³ (the probe is
-    /// then left unchanged).
+    /// [`Error::InvalidParameter`] unless `m` is a valid rotation: finite, orthonormal within
+    /// [`ROTATION_TOLERANCE`](crate::rotation::ROTATION_TOLERANCE) (10⁻³) and of determinant
+    /// `+1` ([`Mat3::validate_rotation`]); the probe is then left unchanged.
     pub fn set_rotation(&mut self, m: Mat3) -> Result<(), Error> {
-        let r = m.rows;
-        let ok = r.iter().all(|v| v.is_finite())
-            && (0..3).all(|i| {
-                (0..3).all(|j| {
-                    let want = if i == j { 1.0 } else { 0.0 };
-                    let got = r[i].dot(r[j]);
-                    (got - want).abs() <= 1e-3
-                })
-            });
-        if !ok {
-            return Err(Error::InvalidParameter);
-        }
-        *self = Self {
-            directions: SphericalFibonacci::<N>::new().with_rotation(m).points(),
-            ..Self::new()
-        };
+        let set = SphericalFibonacci::<N>::new().with_rotation(m)?;
+        *self = Self { directions: set.points(), ..Self::new() };
         Ok(())
     }
 
