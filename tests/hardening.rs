@@ -235,3 +235,39 @@ fn defect_08_rotations_validated_where_they_enter() {
         assert_eq!(rotated.nearest_index(p), Ok(j));
     }
 }
+
+#[test]
+fn defect_09_table_with_non_finite_outputs_is_rejected() {
+    // σ′ = 10²⁰ baked every output as NaN.
+    let e = gen::probe::parse("# user table\nprobe = 48 1e20 2 8 32\n").unwrap_err();
+    assert!(e.starts_with("line 2: ") && e.contains("sigma"), "{e}");
+    let e = gen::probe::parse("probe = 48 1e-9 2 8 32\n").unwrap_err();
+    assert!(e.starts_with("line 1: ") && e.contains("sigma"), "{e}");
+    let e = gen::probe::parse("probe = 48 0.05 2 8 1e-30\n").unwrap_err();
+    assert!(e.starts_with("line 1: "), "{e}");
+    // The bake checks that every baked value is finite, and names the line.
+    let specs = gen::probe::parse("\n\nprobe = 8 0.05 2\n").unwrap();
+    assert_eq!(specs[0].line, 3);
+    let baked = gen::probe::bake_all(&specs).unwrap();
+    assert!(baked[0][0].check_finite().is_ok());
+    let mut broken = gen::probe::bake_all(&specs).unwrap();
+    broken[0][0].vbar = f64::NAN;
+    let e = broken[0][0].check_finite().unwrap_err();
+    assert!(e.contains("vbar"), "{e}");
+    // The one-line error of the build script: file, line, problem.
+    let msg = gen::error_line("lighting/probe.txt", &e);
+    assert!(msg.starts_with("error: lighting/probe.txt: ") && !msg.contains('\n'), "{msg}");
+}
+
+#[test]
+fn defect_10_unbaked_size_note_lists_the_baked_sizes() {
+    let specs = gen::probe::parse("probe = 24 0.05 2\nprobe = 48 0.05 2 8\n").unwrap();
+    let src = gen::probe::render_size_trait(&specs);
+    assert!(src.contains("the baked sizes are N = 24, 48"), "{src}");
+    assert!(!src.contains("16, 32"), "{src}");
+    // The crate's own table: the default sizes.
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/probe.txt");
+    let specs = gen::probe::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let src = gen::probe::render_size_trait(&specs);
+    assert!(src.contains("the baked sizes are N = 16, 32, 64, 128, 256"), "{src}");
+}
