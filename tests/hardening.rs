@@ -254,6 +254,11 @@ fn defect_09_table_with_non_finite_outputs_is_rejected() {
     broken[0][0].vbar = f64::NAN;
     let e = broken[0][0].check_finite().unwrap_err();
     assert!(e.contains("vbar"), "{e}");
+    // The renderer tables (user-replaceable too) are checked the same way: σ′ = 10²⁰ gave NaN
+    // weights.
+    let specs = gen::bmc::parse("set = 16 0.5 1e20").unwrap();
+    let e = gen::bmc::bake_all(&specs).unwrap_err();
+    assert!(e.contains("not finite"), "{e}");
     // The one-line error of the build script: file, line, problem.
     let msg = gen::error_line("lighting/probe.txt", &e);
     assert!(msg.starts_with("error: lighting/probe.txt: ") && !msg.contains('\n'), "{msg}");
