@@ -270,7 +270,23 @@ pub fn bake(spec: &Spec) -> Result<Baked, String> {
 
 /// Bakes every set.
 pub fn bake_all(specs: &[Spec]) -> Result<Vec<Baked>, String> {
-    specs.iter().map(bake).collect()
+    specs
+        .iter()
+        .map(|s| {
+            let b = bake(s)?;
+            // A user table (SPHERE_QUADRATURE_BMC_TABLE) with absurd l or σ′ must not bake
+            // NaN weights into a program that builds.
+            let finite = b.weights.iter().all(|w| w.is_finite()) && (b.variance as f32).is_finite();
+            if finite {
+                Ok(b)
+            } else {
+                Err(format!(
+                    "N = {}, l = {}, sigma = {}: the baked weights or variance are not finite",
+                    s.n, s.length_scale, s.noise
+                ))
+            }
+        })
+        .collect()
 }
 
 /// The Rust source that `build.rs` writes to `$OUT_DIR/bmc_tables.rs`: one `static` weight

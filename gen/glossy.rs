@@ -509,7 +509,20 @@ pub fn bake(spec: &Spec, optimal: &[OptimalSet]) -> Result<Baked, String> {
 
 /// Bakes every set.
 pub fn bake_all(specs: &[Spec], optimal: &[OptimalSet]) -> Result<Vec<Baked>, String> {
-    specs.iter().map(|s| bake(s, optimal)).collect()
+    specs
+        .iter()
+        .map(|s| {
+            let b = bake(s, optimal)?;
+            // A user table (SPHERE_QUADRATURE_GLOSSY_TABLE) with absurd hyperparameters must
+            // not bake NaN weights into a program that builds.
+            let finite = |x: &f64| (*x as f32).is_finite();
+            if b.weights.iter().all(finite) && b.integral.iter().all(finite) {
+                Ok(b)
+            } else {
+                Err(format!("N = {}, e = {}: the baked weights are not finite", s.n, s.e))
+            }
+        })
+        .collect()
 }
 
 /// The Rust source that `build.rs` writes to `$OUT_DIR/glossy_tables.rs`.

@@ -52,11 +52,24 @@ pub fn parse_extra(text: &str) -> Result<Vec<Spec>, String> {
     let mut specs =
         parse(&format!("probe = 2 1 1\n{text}")).map_err(|e| e.replace("line ", "line (+1) "))?;
     specs.retain(|s| s.footprint != Footprint::Point);
+    for s in &mut specs {
+        s.line -= 1;
+    }
     Ok(specs)
 }
 
 /// The largest N a config may ask for.
 pub const MAX_N: usize = 1024;
+
+/// The smallest noise ratio `σ′` a config may ask for.
+pub const MIN_SIGMA: f32 = 1e-4;
+
+/// The largest noise ratio `σ′` a config may ask for.
+pub const MAX_SIGMA: f32 = 10.0;
+
+/// The smallest kernel sharpness `λ` (or footprint `ν`) a config may ask for (`λ = 2/l²`:
+/// a length scale of 45 rad).
+pub const MIN_LAMBDA: f32 = 1e-3;
 
 /// The most members one family may have.
 pub const MAX_MEMBERS: usize = 8;
@@ -422,6 +435,8 @@ impl Model {
 /// One probe size to bake: `N`, the footprint, `σ′` and the family of sharpnesses.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Spec {
+    /// The 1-based line of the config it comes from (for error messages).
+    pub line: usize,
     /// Number of samples (even).
     pub n: usize,
     /// What each sample measures.
@@ -445,7 +460,8 @@ pub const MAX_CALIBRATION: f32 = 1e6;
 /// a comment.
 ///
 /// `N` even, in 2..=[`MAX_N`]; point lines strictly increasing in `N`; no `(N, footprint)`
-/// twice; `σ′` finite and positive; 1..=[`MAX_MEMBERS`] sharpnesses, finite, in (0, 10⁴],
+/// twice; `σ′` in [[`MIN_SIGMA`], [`MAX_SIGMA`]]; 1..=[`MAX_MEMBERS`] sharpnesses in
+/// [[`MIN_LAMBDA`], 10⁴],
 /// strictly increasing, and below `S` for a Gaussian footprint; footprint parameters in
 /// 1..=[`MAX_FOOTPRINT`].
 pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
@@ -523,11 +539,19 @@ pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
             }
         };
         let sigma = number(fields[1], "sigma")?;
+        // σ′ = σ_n/σ_f: outside [10⁻⁴, 10] the factors are singular to f64 or the kernel is
+        // lost in the noise (σ′ = 10²⁰ baked every output as NaN).
+        if !(MIN_SIGMA..=MAX_SIGMA).contains(&sigma) {
+            return Err(at(format!(
+                "sigma = {} must be in [{MIN_SIGMA:e}, {MAX_SIGMA}]",
+                fields[1]
+            )));
+        }
         let mut lambdas = Vec::new();
         for f in &fields[2..] {
             let l = number(f, "lambda")?;
-            if l > 1e4 {
-                return Err(at(format!("lambda = {f} exceeds 10⁴")));
+            if !(MIN_LAMBDA..=1e4).contains(&l) {
+                return Err(at(format!("lambda = {f} must be in [{MIN_LAMBDA:e}, 10⁴]")));
             }
             if lambdas.last().is_some_and(|&p| l <= p) {
                 return Err(at(format!("lambdas must increase strictly (`{f}`)")));
@@ -543,7 +567,7 @@ pub fn parse(text: &str) -> Result<Vec<Spec>, String> {
             return Err(at(format!("at most {MAX_MEMBERS} lambdas per size")));
         }
         let calibration = vec![[1.0; 4]; lambdas.len()];
-        specs.push(Spec { n, footprint, sigma, lambdas, calibration });
+        specs.push(Spec { line: no + 1, n, footprint, sigma, lambdas, calibration });
     }
     if !specs.iter().any(|s| s.footprint == Footprint::Point) {
         return Err("no `probe = …` line".into());
@@ -691,6 +715,39 @@ pub struct Member {
 }
 
 impl Member {
+    /// `Ok` when every value that is baked is a finite f32 (a table with absurd
+    /// hyperparameters could otherwise build a probe whose every output is NaN); otherwise
+    /// which value is not.
+    pub fn check_finite(&self) -> Result<(), String> {
+        let finite = |x: f64| (x as f32).is_finite();
+        let fields: [(&str, &[f64]); 5] = [
+            ("the Cholesky factor of E", &self.chol_even),
+            ("the Cholesky factor of F", &self.chol_odd),
+            ("g = E⁻¹1", &self.g),
+            ("the glossy variance grid", &self.glossy_variance),
+            ("the π·z table", self.z.as_flattened()),
+        ];
+        for (what, values) in fields {
+            if let Some(x) = values.iter().find(|&&x| !finite(x)) {
+                return Err(format!("{what} has a non-finite f32 value ({x:e})"));
+            }
+        }
+        let scalars = [
+            ("s1", self.s1),
+            ("the likelihood constant", self.likelihood_constant()),
+            ("vbar", self.vbar),
+            ("the mean variance", self.mean_variance),
+            ("the max variance", self.max_variance),
+            ("the condition number", self.condition),
+        ];
+        for (what, x) in scalars {
+            if !finite(x) {
+                return Err(format!("{what} is not a finite f32 ({x:e})"));
+            }
+        }
+        Ok(())
+    }
+
     /// The likelihood constant `−½·log det Q − ½·log s₁`.
     pub fn likelihood_constant(&self) -> f64 {
         -0.5 * self.log_det - 0.5 * self.s1.ln()
@@ -941,7 +998,13 @@ pub fn bake_all(specs: &[Spec]) -> Result<Vec<Vec<Member>>, String> {
                 .iter()
                 .map(|&l| {
                     bake_footprint_member(s.n, s.footprint, l, s.sigma)
-                        .map_err(|e| format!("N = {} ({:?}): {e}", s.n, s.footprint))
+                        .and_then(|m| m.check_finite().map(|()| m))
+                        .map_err(|e| {
+                            format!(
+                                "line {}: N = {}, λ = {l} ({:?}): {e}",
+                                s.line, s.n, s.footprint
+                            )
+                        })
                 })
                 .collect()
         })
@@ -975,6 +1038,41 @@ fn z_name(footprint: Footprint, lambda: f32) -> String {
         Footprint::Cosine(p) => format!("PROBE_Z_C{p}_{:08X}", lambda.to_bits()),
         _ => format!("PROBE_Z_{:08X}", lambda.to_bits()),
     }
+}
+
+/// The Rust source that `build.rs` writes to `$OUT_DIR/probe_size.rs`, included by
+/// `src/probe.rs`: the `ProbeSize` trait, whose compile error for an unbaked `N` lists the
+/// sizes this build actually baked (a user table may bake others than the default).
+pub fn render_size_trait(specs: &[Spec]) -> String {
+    let sizes: Vec<String> =
+        specs.iter().filter(|s| s.footprint == Footprint::Point).map(|s| s.n.to_string()).collect();
+    let list = sizes.join(", ");
+    let types: Vec<String> = sizes.iter().map(|n| format!("`Size<{n}>`")).collect();
+    let mut s = String::new();
+    s.push_str(
+        "// @generated by build.rs; do not edit
+",
+    );
+    let _ = writeln!(
+        s,
+        "/// Implemented for exactly the sizes `N` with a baked point-sample probe family \
+         ({}: the `probe = …` lines of this build's table, `{CONFIG_FILE}` or the file named \
+         by `SPHERE_QUADRATURE_PROBE_TABLE`); sealed.",
+        types.join(", ")
+    );
+    let _ = writeln!(s, "#[diagnostic::on_unimplemented(");
+    let _ = writeln!(
+        s,
+        "    message = \"no Bayesian Monte Carlo probe family is baked for `{{Self}}`\","
+    );
+    let _ = writeln!(s, "    label = \"this sample count has no baked probe tables\",");
+    let _ = writeln!(
+        s,
+        "    note = \"the baked sizes are N = {list} (this build's probe table: {CONFIG_FILE} or \
+         SPHERE_QUADRATURE_PROBE_TABLE; even N only; tables/README.md)\""
+    );
+    s.push_str(")]\npub trait ProbeSize: ProbeTables<Point> {}\n");
+    s
 }
 
 /// The Rust source that `build.rs` writes to `$OUT_DIR/probe_tables.rs`.

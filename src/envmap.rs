@@ -151,8 +151,9 @@
 //! Nothing panics on caller data. [`EquirectMap::new`] refuses a zero dimension or one above
 //! [`MAX_DIMENSION`] ([`Error::InvalidSize`]), a pixel slice of the wrong length
 //! ([`Error::LengthMismatch`]) and NaN or infinite pixels ([`Error::InvalidRadiance`]: checked
-//! once there, so no sample ever sees them; negative radiance is allowed). Zero, too short
-//! (squared length below 10⁻³⁰) or non-finite directions give [`Error::InvalidDirection`]; a
+//! once there, so no sample ever sees them; negative radiance is allowed). Zero or non-finite
+//! directions give [`Error::InvalidDirection`] (any other length is fine: crate docs,
+//! "Directions"); a
 //! sharpness or exponent of 0 or above [`MAX_PARAMETER`] gives [`Error::InvalidParameter`];
 //! a pyramid buffer shorter than [`MipPyramid::buffer_len`], or batch slices of different
 //! lengths, give [`Error::LengthMismatch`] (the batch forms check everything before writing).
@@ -616,7 +617,7 @@ impl<'a> EquirectMap<'a> {
     /// contains it, the map's piecewise-constant radiance function.
     ///
     /// # Errors
-    /// [`Error::InvalidDirection`] for a zero, too short or non-finite `dir`.
+    /// [`Error::InvalidDirection`] for a zero or non-finite `dir`.
     pub fn radiance(&self, dir: Vec3) -> Result<[f32; 3], Error> {
         if dir.try_normalize().is_none() {
             return Err(Error::InvalidDirection);
@@ -629,7 +630,7 @@ impl<'a> EquirectMap<'a> {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for a sharpness or exponent of 0 or above
-    /// [`MAX_PARAMETER`]; [`Error::InvalidDirection`] for a zero, too short or non-finite
+    /// [`MAX_PARAMETER`]; [`Error::InvalidDirection`] for a zero or non-finite
     /// `dir`.
     pub fn footprint_sample(&self, dir: Vec3, kind: Kind) -> Result<[f32; 3], Error> {
         match Lobe::new(kind)? {

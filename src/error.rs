@@ -9,8 +9,9 @@ use core::fmt;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum Error {
-    /// A direction (normal, reflection or query vector) is zero, too short to normalise, or has
-    /// a NaN or infinite component.
+    /// A direction (normal, reflection or query vector) is zero or has a NaN or infinite
+    /// component. Any other vector is valid, however long or short (crate docs,
+    /// "Directions").
     InvalidDirection,
     /// A Phong exponent is negative, NaN or infinite.
     InvalidExponent,
@@ -21,8 +22,9 @@ pub enum Error {
     /// Fibonacci number for the Fibonacci lattice).
     InvalidSize,
     /// A numeric parameter is outside its documented range (for example a Sobolev
-    /// smoothness `s` outside `(1, 2)`, a negative or NaN tolerance, or a non-finite
-    /// interval length).
+    /// smoothness `s` outside `(1, 2)`, a negative or NaN tolerance, a non-finite
+    /// interval length, a NaN or negative spectrum entry), or a matrix is not a valid rotation
+    /// (`Mat3::validate_rotation`: finite, orthonormal within 10⁻³, determinant `+1`).
     InvalidParameter,
     /// A spherical-Gaussian sharpness is negative, NaN or infinite.
     InvalidSharpness,
@@ -38,12 +40,14 @@ pub enum Error {
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
-            Error::InvalidDirection => "direction is zero, not finite, or too short to normalise",
+            Error::InvalidDirection => "direction is zero or not finite",
             Error::InvalidExponent => "Phong exponent must be finite and non-negative",
             Error::LengthMismatch => "slice lengths do not match or a slice is empty",
             Error::InvalidSize => "point-set size is zero, too large, or not valid for this set",
             Error::InvalidSharpness => "SG sharpness must be finite and non-negative",
-            Error::InvalidParameter => "parameter is outside its documented range",
+            Error::InvalidParameter => {
+                "parameter is outside its documented range (or a matrix is not a valid rotation)"
+            }
             Error::InvalidRadiance => "radiance sample is NaN or infinite",
             Error::TooManyMissing => {
                 "more samples missing than the probe's capacity M, or fewer than two valid"

@@ -74,9 +74,27 @@
 //!   tables to 1.1·10⁻⁵ and 4.8·10⁻⁶ absolute (normalised by the full-sphere integral), 460×
 //!   and 270× better than the best published closed forms (see [`sg`]).
 //!
+//! # Directions
+//! A *valid direction* is any finite nonzero vector: it need not be unit, and may be as long
+//! as `f32::MAX` or as short as a subnormal number in every component. Every function that
+//! takes a direction (normal, mirror or lobe axis, query, sample direction, metric point)
+//! normalises it with [`Vec3::try_normalize`] (or the same rule in f64), which divides by the
+//! largest component magnitude first where the squared length would overflow or underflow.
+//! Exactly the zero vector and vectors with a NaN or infinite component are refused, with
+//! [`Error::InvalidDirection`]; the function docs that say "a zero or non-finite direction"
+//! mean this.
+//!
+//! # Rotations
+//! A *valid rotation* is a [`Mat3`] whose entries are finite, orthonormal within
+//! [`rotation::ROTATION_TOLERANCE`] (10⁻³ on each entry of `MᵀM − I`) and of determinant `+1`
+//! ([`Mat3::validate_rotation`]). Where a rotation enters a point set or a probe
+//! ([`FibonacciPoints::with_rotation`], [`SphericalFibonacci::with_rotation`],
+//! [`probe::Probe::set_rotation`]) anything else is refused with [`Error::InvalidParameter`].
+//! The crate's own rotations ([`RotationSequence`], [`Mat3::from_quaternion`], …) are valid.
+//!
 //! # Bad input
 //! No function panics on data the caller passes. Zero, NaN or infinite directions give
-//! [`Error::InvalidDirection`]; negative, NaN or infinite Phong exponents give
+//! [`Error::InvalidDirection`] (see [Directions](#directions)); negative, NaN or infinite Phong exponents give
 //! [`Error::InvalidExponent`]; negative, NaN or infinite SG sharpness gives
 //! [`Error::InvalidSharpness`]; `N = 0` is a compile-time error for the const-generic sets and
 //! [`Error::InvalidSize`] for run-time sizes; NaN radiance propagates to a NaN estimate.

@@ -77,13 +77,15 @@ use crate::error::Error;
 use crate::math;
 use crate::vec3::Vec3;
 
-/// The direction of `v` as an f64 unit vector, or `None` when `v` is not finite or too short
-/// (squared length below 10⁻³⁰) to normalise.
+/// The direction of `v` as an f64 unit vector, or `None` when `v` is zero or not finite (the
+/// crate's valid directions, crate docs "Directions": in f64 the squared length of any
+/// finite f32 vector, from subnormal to `f32::MAX` components, neither overflows nor
+/// underflows).
 #[inline]
 fn unit64(v: Vec3) -> Option<[f64; 3]> {
     let (x, y, z) = (v.x as f64, v.y as f64, v.z as f64);
     let l2 = x * x + y * y + z * z;
-    if !(l2.is_finite() && l2 >= 1e-30) {
+    if !(l2.is_finite() && l2 > 0.0) {
         return None;
     }
     let r = 1.0 / math::sqrt64(l2);
@@ -223,8 +225,11 @@ pub fn energy_f32(points: &[Vec3]) -> Result<f32, Error> {
         // below 1 as above), which shifts E_N² at large N; instead add a small second-order
         // correction `v·(−δ/2 + 3δ²/8)`, `δ = |v|² − 1`, to a vector that is already nearly
         // unit, so only the correction is rounded.
+        // A vector far from unit is normalised robustly first (Vec3::try_normalize scales by
+        // the largest component where |v|² would overflow or underflow in f32); `validate`
+        // accepted it, so it is finite and nonzero.
         let l2 = v.length_squared();
-        let u = if math::abs(l2 - 1.0) > 1e-3 { v * (1.0 / math::sqrt(l2)) } else { v };
+        let u = if math::abs(l2 - 1.0) > 1e-3 { v.try_normalize().unwrap_or(v) } else { v };
         let d = u.length_squared() - 1.0;
         u - u * (d * (0.5 - 0.375 * d))
     };

@@ -12,6 +12,12 @@ use core::ops::Mul;
 use crate::math;
 use crate::vec3::Vec3;
 
+/// How far from orthonormal a rotation may be: each entry of `MᵀM − I` within 10⁻³
+/// ([`Mat3::validate_rotation`]). Generous against f32 rounding (10⁻⁷ per product), tight
+/// enough that a point set rotated by such a matrix stays within 10⁻³ of the unit sphere and
+/// its nearest-point search stays exact (`tests/hardening.rs`).
+pub const ROTATION_TOLERANCE: f32 = 1e-3;
+
 /// A 3×3 matrix stored as rows; used for rotations.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -55,14 +61,23 @@ impl Mat3 {
         Self::from_rows(Vec3::new(c, -s, 0.0), Vec3::new(s, c, 0.0), Vec3::Z)
     }
 
-    /// Rotation from a unit quaternion `(x, y, z, w)`; the quaternion is normalised first.
-    /// A zero or non-finite quaternion gives the identity.
+    /// Rotation from a quaternion `(x, y, z, w)` of any finite nonzero length; it is
+    /// normalised first (divided by its largest component magnitude where its squared length
+    /// would overflow or underflow, so `[0, 10²⁰, 0, 0]` and `[0, 10⁻¹⁶, 0, 0]` are both the
+    /// half turn about y). A zero quaternion, or one with a NaN or infinite component, gives
+    /// the identity.
     #[must_use]
     pub fn from_quaternion(q: [f32; 4]) -> Self {
-        let n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
-        let usable = n2 > 1e-30 && n2.is_finite();
-        if !usable {
-            return Self::IDENTITY;
+        let mut q = q;
+        let mut n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+        if !(n2 >= 1e-30 && n2.is_finite()) {
+            let m = q.iter().fold(0.0f32, |m, &c| m.max(math::abs(c)));
+            let usable = m > 0.0 && m.is_finite() && q.iter().all(|c| c.is_finite());
+            if !usable {
+                return Self::IDENTITY;
+            }
+            q = q.map(|c| c / m);
+            n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
         }
         let s = 2.0 / n2;
         let [x, y, z, w] = q;
@@ -103,6 +118,39 @@ impl Mat3 {
             r2 * math::sin(b),
             r2 * math::cos(b),
         ])
+    }
+
+    /// `Ok` when the matrix is a valid rotation: every entry finite, `MᵀM = I` entry by entry
+    /// within [`ROTATION_TOLERANCE`], and determinant `+1` (not a reflection).
+    ///
+    /// This is the crate's one definition of a valid rotation: where a rotation enters a
+    /// point set or a probe ([`crate::FibonacciPoints::with_rotation`],
+    /// [`crate::SphericalFibonacci::with_rotation`],
+    /// [`Probe::set_rotation`](crate::probe::Probe::set_rotation)) it is checked with this.
+    /// The matrices of [`Mat3::from_quaternion`], [`Mat3::from_axis_angle`], [`Mat3::uniform`],
+    /// [`RotationSequence::next_rotation`] and products of a few of them are orthonormal to
+    /// f32 rounding (about 10⁻⁷), far inside the tolerance.
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidParameter`] otherwise (a NaN or infinite entry, a scaled, sheared
+    /// or reflecting matrix).
+    pub fn validate_rotation(&self) -> Result<(), crate::Error> {
+        let r = self.rows;
+        let finite = r.iter().all(|v| v.is_finite());
+        let orthonormal = (0..3).all(|i| {
+            (0..3).all(|j| {
+                let want = if i == j { 1.0 } else { 0.0 };
+                let got = r.get(i).zip(r.get(j)).map_or(f32::NAN, |(a, b)| a.dot(*b));
+                math::abs(got - want) <= ROTATION_TOLERANCE
+            })
+        });
+        // Orthonormal rows have determinant ±1; +1 is a rotation.
+        let det = r[0].cross(r[1]).dot(r[2]);
+        if finite && orthonormal && det > 0.0 {
+            Ok(())
+        } else {
+            Err(crate::Error::InvalidParameter)
+        }
     }
 
     /// The transpose, which is the inverse of a rotation.

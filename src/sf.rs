@@ -189,10 +189,16 @@ impl FibonacciPoints {
     }
 
     /// The same set followed by an arbitrary rotation `r` (applied after the pole phase).
-    #[must_use]
-    pub const fn with_rotation(mut self, r: Mat3) -> Self {
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] unless `r` is a valid rotation: finite, orthonormal within
+    /// [`crate::rotation::ROTATION_TOLERANCE`] and of determinant `+1`
+    /// ([`Mat3::validate_rotation`]). A NaN or scaled matrix would otherwise leave the
+    /// nearest-point search ([`Self::nearest_index`]) without an answer.
+    pub fn with_rotation(mut self, r: Mat3) -> Result<Self, Error> {
+        r.validate_rotation()?;
         self.rotation = Some(r);
-        self
+        Ok(self)
     }
 
     /// The arbitrary rotation, if any.
@@ -404,9 +410,12 @@ macro_rules! const_set {
             }
 
             /// The same set followed by an arbitrary rotation (after the pole phase).
-            #[must_use]
-            pub const fn with_rotation(self, r: Mat3) -> Self {
-                Self { set: self.set.with_rotation(r), _n: PhantomData }
+            ///
+            /// # Errors
+            /// [`Error::InvalidParameter`] unless `r` is a valid rotation
+            /// ([`Mat3::validate_rotation`]).
+            pub fn with_rotation(self, r: Mat3) -> Result<Self, Error> {
+                Ok(Self { set: self.set.with_rotation(r)?, _n: PhantomData })
             }
 
             /// Point `j` as a unit vector, or `None` when `j ≥ N`.

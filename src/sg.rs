@@ -110,7 +110,7 @@ impl SphericalGaussian {
     /// An SG; the axis is normalised.
     ///
     /// # Errors
-    /// [`Error::InvalidDirection`] for a zero, too short or non-finite axis;
+    /// [`Error::InvalidDirection`] for a zero or non-finite axis (crate docs, "Directions");
     /// [`Error::InvalidSharpness`] for a negative, NaN or infinite sharpness.
     pub fn new(axis: Vec3, sharpness: f32, amplitude: f32) -> Result<Self, Error> {
         let axis = axis.try_normalize().ok_or(Error::InvalidDirection)?;
@@ -170,17 +170,35 @@ impl SphericalGaussian {
         self.amplitude * math::exp(-0.5 * self.sharpness * d.length_squared())
     }
 
-    /// The SG equal to the pointwise product `G₁·G₂`.
+    /// The SG equal to the pointwise product `G₁·G₂`: axis `u/|u|` and sharpness `|u|` with
+    /// `u = λ₁μ₁ + λ₂μ₂`, amplitude `a₁a₂·exp(−λ₁λ₂|μ₁ − μ₂|²/(|u| + λ₁ + λ₂))`.
+    ///
+    /// Computed with both sharpnesses divided by the larger one, so any finite sharpnesses
+    /// work (10¹⁹ does not overflow `|u|²`, 10⁻⁴⁴ does not underflow it): the axis is unit to
+    /// f32 rounding. Axes are taken as given (unit, as [`Self::new`] makes them). A zero `u`
+    /// (both sharpnesses 0, or equal sharpnesses on opposite axes) keeps `self`'s axis with
+    /// sharpness 0; NaN propagates.
     #[must_use]
     pub fn product(&self, other: &Self) -> Self {
         let (l1, l2) = (self.sharpness, other.sharpness);
-        let u = self.axis * l1 + other.axis * l2;
-        let lm = u.length();
-        let axis = if lm > 0.0 { u * (1.0 / lm) } else { self.axis };
-        let denom = lm + l1 + l2;
+        let m = if l1 >= l2 { l1 } else { l2 };
+        let a = self.amplitude * other.amplitude;
+        if l1 == 0.0 && l2 == 0.0 {
+            return Self { axis: self.axis, sharpness: 0.0, amplitude: a };
+        }
+        // λᵢ/m ≤ 1 (NaN for a NaN or infinite sharpness, which then propagates).
+        let (s1, s2) = (l1 / m, l2 / m);
+        let v = self.axis * s1 + other.axis * s2;
+        let len = v.length();
+        let (axis, sharpness) = match v.try_normalize() {
+            Some(axis) => (axis, m * len),
+            None if v.is_finite() => (self.axis, 0.0),
+            None => (self.axis, f32::NAN),
+        };
+        // λ₁λ₂|d|²/(|u| + λ₁ + λ₂) = s₁·(λ₂/(|v| + s₁ + s₂))·|d|², every factor bounded.
         let d = self.axis - other.axis;
-        let log_a = if denom > 0.0 { -l1 * l2 * d.length_squared() / denom } else { 0.0 };
-        Self { axis, sharpness: lm, amplitude: self.amplitude * other.amplitude * math::exp(log_a) }
+        let log_a = -s1 * (l2 / (len + s1 + s2)) * d.length_squared();
+        Self { axis, sharpness, amplitude: a * math::exp(log_a) }
     }
 
     /// `∫_S² G = 2πa(1 − e^(−2λ))/λ` (exact; `4πa` at `λ = 0`).
@@ -253,15 +271,20 @@ fn check_cosine(t: f32) -> Result<f32, Error> {
     }
 }
 
+/// `F(λ) = 2π(1 − e^(−2λ))/λ`; below `λ = 10⁻⁴` the series `4π(1 − λ + 2λ²/3)` (next term
+/// `−λ³/3`, below 4·10⁻¹³ relative there): the closed form divides two products that, for a
+/// subnormal λ, keep only a few bits (it gave 13.0 for 4π at λ = 10⁻⁴⁵).
 pub(crate) fn full_integral_unchecked(lambda: f32) -> f32 {
-    if lambda == 0.0 {
-        2.0 * TWO_PI
+    if lambda < 1e-4 {
+        // Also λ = 0: 4π exactly.
+        2.0 * TWO_PI * (1.0 - lambda * (1.0 - lambda * (2.0 / 3.0)))
     } else {
         -TWO_PI * math::expm1(-2.0 * lambda) / lambda
     }
 }
 
-/// `F(λ) = ∫_S² exp(λ(μ·v − 1)) dv = 2π(1 − e^(−2λ))/λ` (`4π` at `λ = 0`), exact.
+/// `F(λ) = ∫_S² exp(λ(μ·v − 1)) dv = 2π(1 − e^(−2λ))/λ` (`4π` at `λ = 0`), exact: below
+/// `λ = 10⁻⁴` from the series `4π(1 − λ + 2λ²/3 − …)`, so tiny and subnormal `λ` give `4π`.
 ///
 /// # Errors
 /// [`Error::InvalidSharpness`] for a negative, NaN or infinite `lambda`.

@@ -210,9 +210,10 @@ struct Unit {
     zz: f32,
 }
 
-/// `n` normalised: `None` for a zero (squared length below 10⁻³⁰), NaN or infinite `n`, as
-/// [`Vec3::try_normalize`], but without a square root ([`math::inv_sqrt`]), and as given
-/// when it is unit to f32 precision ([`UNIT_BITS`]).
+/// `n` normalised: `None` for a zero, NaN or infinite `n`, as [`Vec3::try_normalize`], but
+/// without a square root ([`math::inv_sqrt`]) where the squared length is in
+/// `[10⁻³⁰, f32::MAX]` (outside it, [`Vec3::try_normalize`]'s scaled path), and as given when
+/// it is unit to f32 precision ([`UNIT_BITS`]).
 #[inline]
 fn unit(n: Vec3) -> Option<Unit> {
     let Vec3 { x, y, z } = n;
@@ -222,7 +223,8 @@ fn unit(n: Vec3) -> Option<Unit> {
         return Some(Unit { x, y, z, xx, yy, zz });
     }
     if !(l2 >= 1e-30 && l2.is_finite()) {
-        return None;
+        let Vec3 { x, y, z } = n.try_normalize()?;
+        return Some(Unit { x, y, z, xx: x * x, yy: y * y, zz: z * z });
     }
     let r = math::inv_sqrt(l2);
     let (x, y, z) = (x * r, y * r, z * r);

@@ -73,17 +73,35 @@ impl Vec3 {
         self.x.is_finite() && self.y.is_finite() && self.z.is_finite()
     }
 
-    /// The unit vector in this direction, or `None` when the vector is zero, too short
-    /// (squared length below 1e-30, where normalising would overflow) or not finite.
+    /// The unit vector in this direction, or `None` when the vector is zero or has a NaN or
+    /// infinite component: the crate's one definition of a valid direction (crate docs,
+    /// "Directions").
+    ///
+    /// Any finite nonzero vector normalises, however long or short (`10³⁸` or subnormal
+    /// components): where the squared length would overflow or lose precision (outside
+    /// `[10⁻³⁰, f32::MAX]`) the vector is first divided by its largest component magnitude.
+    /// Elsewhere the result is `v·(1/|v|)`, as before.
     #[inline]
     #[must_use]
     pub fn try_normalize(self) -> Option<Self> {
         let l2 = self.length_squared();
-        let usable = l2 >= 1e-30 && l2.is_finite();
-        if !usable {
+        if l2 >= 1e-30 && l2.is_finite() {
+            return Some(self * (1.0 / math::sqrt(l2)));
+        }
+        self.normalize_scaled()
+    }
+
+    /// The slow path of [`Self::try_normalize`]: divided by the largest component magnitude
+    /// first, so the squared length is in `[1, 3]`.
+    #[cold]
+    #[inline(never)]
+    fn normalize_scaled(self) -> Option<Self> {
+        let m = math::abs(self.x).max(math::abs(self.y)).max(math::abs(self.z));
+        if !(m > 0.0 && m.is_finite() && self.is_finite()) {
             return None;
         }
-        Some(self * (1.0 / math::sqrt(l2)))
+        let s = Self::new(self.x / m, self.y / m, self.z / m);
+        Some(s * (1.0 / math::sqrt(s.length_squared())))
     }
 
     /// The components as an array.

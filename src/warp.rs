@@ -35,7 +35,7 @@ impl Frame {
     /// The frame around `n`, which is normalised first.
     ///
     /// # Errors
-    /// [`Error::InvalidDirection`] when `n` is zero, too short or not finite.
+    /// [`Error::InvalidDirection`] when `n` is zero or not finite (crate docs, "Directions").
     pub fn from_normal(n: Vec3) -> Result<Self, Error> {
         let n = n.try_normalize().ok_or(Error::InvalidDirection)?;
         Ok(Self::from_unit(n))

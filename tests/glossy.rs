@@ -252,19 +252,23 @@ fn constants_and_bad_input() {
     assert!(below.is_finite());
     let grazing = r.estimate(Vec3::Z, Vec3::new(1.0, 0.0, 1e-7), &[1.0f32; 64]).unwrap();
     assert!((below - grazing).abs() < 1e-5 * grazing, "{below} vs {grazing}");
-    // Lengths far from 1 (outside the fast path, |v|² ∉ [2⁻¹⁶, 2¹⁶)) give the same estimate;
-    // below `Vec3::try_normalize`'s 10⁻³⁰ or infinite, an error.
+    // Lengths far from 1 (outside the fast path, |v|² ∉ [2⁻¹⁶, 2¹⁶)) give the same estimate,
+    // for any finite nonzero length (crate docs, "Directions"); zero or non-finite, an error.
     let y: [f32; 64] = core::array::from_fn(|j| 1.0 + 0.5 * (j as f32 * 0.37).sin());
     let unit = r.estimate(n, mirror, &y).unwrap();
-    for (sn, sr) in [(1e-10, 1.0), (1.0, 1e10), (1e-12, 1e12), (1e18, 1e-14), (3.0, 0.2)] {
+    for (sn, sr) in [
+        (1e-10, 1.0),
+        (1.0, 1e10),
+        (1e-12, 1e12),
+        (1e18, 1e-14),
+        (3.0, 0.2),
+        (1e-16, 3e19),
+        (1e-40, 1e38),
+    ] {
         let got = r.estimate(n * sn, mirror * sr, &y).unwrap();
         assert!((got - unit).abs() < 1e-5 * unit, "scales {sn}, {sr}: {got} vs {unit}");
     }
-    for bad in [
-        Vec3::new(1e-16, 0.0, 0.0),
-        Vec3::new(f32::INFINITY, 0.0, 1.0),
-        Vec3::new(3e19, 3e19, 3e19),
-    ] {
+    for bad in [Vec3::ZERO, Vec3::new(f32::INFINITY, 0.0, 1.0), Vec3::new(0.0, f32::NAN, 1.0)] {
         assert_eq!(r.estimate(bad, mirror, &y), Err(Error::InvalidDirection), "{bad:?}");
         assert_eq!(r.estimate(n, bad, &y), Err(Error::InvalidDirection), "{bad:?}");
         let mut w = [0.0f32; 64];

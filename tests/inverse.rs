@@ -320,7 +320,7 @@ fn check_rotated(n: usize, kind: Kind, rotations: usize, per: usize) -> Stats {
             Kind::Lattice { .. } => FibonacciPoints::lattice(n),
         }
         .unwrap();
-        let set = base.with_phase_bits(bits).with_rotation(r);
+        let set = base.with_phase_bits(bits).with_rotation(r).unwrap();
         let exact = match kind {
             Kind::Lattice { .. } => ExactSet::lattice(n),
             k => ExactSet::new(n, k),
@@ -511,8 +511,9 @@ fn every_point_maps_to_itself() {
             FibonacciPoints::sphere(n)
                 .unwrap()
                 .with_phase_bits(seq.next_phase())
-                .with_rotation(seq.next_rotation()),
-            FibonacciPoints::hemisphere(n).unwrap().with_rotation(seq.next_rotation()),
+                .with_rotation(seq.next_rotation())
+                .unwrap(),
+            FibonacciPoints::hemisphere(n).unwrap().with_rotation(seq.next_rotation()).unwrap(),
         ];
         for set in sets {
             for j in (0..n).step_by(step).chain([n - 1]) {
@@ -547,7 +548,7 @@ fn const_generic_sets_delegate() {
         assert_eq!(l.nearest_index(v), l.dynamic().nearest_index(v));
     }
     let r = RotationSequence::new(5).next_rotation();
-    let s = s.with_rotation(r).with_phase_bits(12345);
+    let s = s.with_rotation(r).unwrap().with_phase_bits(12345);
     for j in [0, 1, 2047, 4095] {
         assert_eq!(s.nearest_index(s.point(j).unwrap()), Ok(j));
     }

@@ -190,7 +190,7 @@ fn arbitrary_rotation_applies_matrix() {
             Vec3::new(m[1][0] as f32, m[1][1] as f32, m[1][2] as f32),
             Vec3::new(m[2][0] as f32, m[2][1] as f32, m[2][2] as f32),
         );
-        let set = SphericalFibonacci::<300>::new().with_rotation(mat);
+        let set = SphericalFibonacci::<300>::new().with_rotation(mat).unwrap();
         for j in 0..300 {
             let expected = reference::vec::mat_mul_vec(m, reference::sf::sphere_point(j, 300));
             let e = angle_between(f64v(set.point(j as usize).unwrap()), expected);

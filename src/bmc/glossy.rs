@@ -330,8 +330,8 @@ fn interval(normal: Vec3, mirror: Vec3) -> Result<(usize, [f32; 2]), Error> {
     Ok((k, [p0 * c - p1 * s, p2 * s - p3 * c]))
 }
 
-/// The slow path of [`interval`]: `Vec3::try_normalize`'s checks (`1e-30 ≤ l² < ∞`), then both
-/// vectors normalised, and `|n|²|r|²` of the results.
+/// The slow path of [`interval`]: both vectors normalised by [`Vec3::try_normalize`] (any finite
+/// nonzero vector), and `|n|²|r|²` of the results.
 #[cold]
 #[inline(never)]
 fn normalised(

@@ -16,7 +16,8 @@ use crate::vec3::Vec3;
 /// Legendre recurrence `(l+1) P_{l+1} = (2l+1) t P_l − l P_{l−1}`, so no spherical harmonics
 /// are evaluated. `C_0 = 1/(4π)` always; uniform random points have `E[C_l] = 1/(4πN)`;
 /// a spherical `t`-design has `C_l = 0` for `1 ≤ l ≤ t`. Agrees with the explicit projection
-/// onto spherical harmonics to 10⁻¹⁵ absolute (`tests/metrics.rs`). O(N²·L) in f64.
+/// onto spherical harmonics to 10⁻¹⁵ absolute (`tests/metrics.rs`); a value that rounding
+/// takes below zero is returned as 0 (`C_l ≥ 0` always). O(N²·L) in f64.
 ///
 /// # Errors
 /// [`Error::LengthMismatch`] when `points` or `out` is empty; [`Error::InvalidDirection`] for a
@@ -47,20 +48,30 @@ pub fn spectrum(points: &[Vec3], out: &mut [f64]) -> Result<(), Error> {
     // The diagonal: N terms P_l(1) = 1.
     let n = points.len() as f64;
     let scale = 1.0 / (4.0 * PI * n * n);
+    // C_l is a sum of squares: clamp the rounding of a near-zero value (an exact design's
+    // C_l ≈ ±10⁻¹⁸) to 0, so the spectrum is always a valid `wce_from_spectrum` input.
     for c in out.iter_mut() {
-        *c = (*c + n) * scale;
+        *c = ((*c + n) * scale).max(0.0);
     }
     Ok(())
 }
 
 /// Index of `Y_{l,m}` in the arrays of [`real_sh`] and [`sh_coefficients`]: `l(l+1) + m`, or
-/// `None` when `|m| > l`.
+/// `None` when `|m| > l` or the index does not fit in `usize` (`l ≥ 2³²` on a 64-bit
+/// target, `l ≥ 2¹⁶` on a 32-bit one).
 #[must_use]
 pub const fn sh_index(l: usize, m: isize) -> Option<usize> {
     if m.unsigned_abs() > l {
         return None;
     }
-    Some((l * (l + 1)).wrapping_add_signed(m))
+    // l(l + 1) − l ≥ 0, so only the product and a positive m can overflow.
+    let Some(l1) = l.checked_add(1) else {
+        return None;
+    };
+    let Some(block) = l.checked_mul(l1) else {
+        return None;
+    };
+    block.checked_add_signed(m)
 }
 
 /// Calls `emit(index, Y_{l,m}(u))` for every `l ≤ l_max`, `|m| ≤ l`, for a unit f64 vector.
@@ -256,10 +267,18 @@ impl Weights {
 /// `L` grows. For `L` well above the set's "sampling frequency" (≈ 2√N) the omitted tail is
 /// close to `(1/N) Σ_{l>L} (2l+1) a_l/(4π)`, which falls like `L^(2−2s)`.
 ///
+/// A spectrum is a sum of squares: every `C_l` is finite and non-negative ([`spectrum`]
+/// returns such values), and anything else is refused rather than summed into a meaningless
+/// (possibly perfect, 0) score.
+///
 /// # Errors
-/// [`Error::InvalidParameter`] unless `1 < s < 2`.
+/// [`Error::InvalidParameter`] unless `1 < s < 2`, or when an entry is NaN, infinite or
+/// negative.
 pub fn wce_from_spectrum(spectrum: &[f64], s: f64, weights: SobolevWeights) -> Result<f64, Error> {
     let mut w = Weights::new(s, weights)?;
+    if !spectrum.iter().all(|&c| c.is_finite() && c >= 0.0) {
+        return Err(Error::InvalidParameter);
+    }
     let mut sum = 0.0;
     for (l, &c) in spectrum.iter().enumerate().skip(1) {
         sum += w.next() * (2 * l + 1) as f64 * c;

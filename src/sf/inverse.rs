@@ -231,18 +231,10 @@ fn phase_of_xy(x: f32, y: f32) -> u64 {
     }
 }
 
-/// `v / |v|` for any finite non-zero `v`: vectors whose squared length under- or
-/// overflows are first divided by their largest component.
+/// `v / |v|` for any finite non-zero `v` ([`Vec3::try_normalize`]).
+#[inline]
 fn unit(v: Vec3) -> Option<Vec3> {
-    if let Some(u) = v.try_normalize() {
-        return Some(u);
-    }
-    let m = math::abs(v.x).max(math::abs(v.y)).max(math::abs(v.z));
-    let usable = m > 0.0 && m.is_finite() && v.is_finite();
-    if !usable {
-        return None;
-    }
-    Vec3::new(v.x / m, v.y / m, v.z / m).try_normalize()
+    v.try_normalize()
 }
 
 impl FibonacciPoints {
@@ -281,7 +273,7 @@ impl FibonacciPoints {
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] when `dir` is zero or has a NaN or infinite component
-    /// (any other vector is normalised, however short or long).
+    /// (any other vector is normalised, however short or long: crate docs, "Directions").
     pub fn nearest_index(&self, dir: Vec3) -> Result<usize, Error> {
         self.locate(dir).map(|best| best.j)
     }

@@ -283,7 +283,7 @@ impl BmcQuery {
 
 /// The two BMC probe columns for one rotation `rot` of the sample set, through the RGB
 /// `sphere_quadrature::probe::Probe<N, [f32; 3]>`: `dirs` are the set's directions under
-/// `rot` (`SphericalFibonacci::<N>::new().with_rotation(rot).points()`, which is what
+/// `rot` (`SphericalFibonacci::<N>::new().with_rotation(rot)?.points()`, which is what
 /// `Probe::set_rotation` uses) and `samples` the RGB radiance there. Fills `out[k]` for
 /// `normals[k]` and returns the index of the member chosen by maximum likelihood.
 fn bmc_probe<const N: usize>(
@@ -439,7 +439,7 @@ where
     let w = 4.0 * PI / N as f64;
     for _ in 0..p.rotations {
         let rot = rotations.next_rotation();
-        let dirs = set.with_rotation(rot).points();
+        let dirs = set.with_rotation(rot).expect("a sequence rotation is valid").points();
         // The probe takes RGB; the peers see the same samples' luminance (they are linear, so
         // that is the luminance of their RGB estimates).
         let rgb = dirs.map(|d| scene.rgb(vec64(d)).map(|c| c as f32));

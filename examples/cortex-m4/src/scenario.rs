@@ -82,8 +82,10 @@ pub fn run(out: &mut impl Sink) {
     }
     let mut seq = RotationSequence::new(5);
     let rot = seq.next_rotation();
-    for (j, p) in SphericalFibonacci::<32>::new().with_rotation(rot).iter().enumerate() {
-        vector(out, "sf32rot", j, p);
+    if let Ok(set) = SphericalFibonacci::<32>::new().with_rotation(rot) {
+        for (j, p) in set.iter().enumerate() {
+            vector(out, "sf32rot", j, p);
+        }
     }
 
     // QMC estimates of the procedural sky.

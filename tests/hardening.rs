@@ -1,0 +1,278 @@
+//! Regression tests for the defects of the adversarial pass (issue #16, item 4): one
+//! `defect_NN_…` test per defect, each failing before its fix (see the commit messages).
+
+#[allow(dead_code)] // build.rs uses the rest
+#[path = "../gen/mod.rs"]
+mod gen;
+
+use sphere_quadrature::envmap::EquirectMap;
+use sphere_quadrature::metrics::{self, SobolevWeights};
+use sphere_quadrature::probe::Probe;
+use sphere_quadrature::sg::{self, SphericalGaussian};
+use sphere_quadrature::sh::ShL2;
+use sphere_quadrature::{qmc, Error, FibonacciPoints, Frame, Mat3, Vec3};
+
+const FOUR_PI: f32 = 4.0 * core::f32::consts::PI;
+
+fn rel(got: f32, want: f32) -> f32 {
+    (got - want).abs() / want.abs().max(f32::MIN_POSITIVE)
+}
+
+fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
+    (a - b).length() <= tol
+}
+
+#[test]
+fn defect_01_sh_index_overflow() {
+    // l(l + 1) overflows usize: no index, and no panic in a debug build.
+    assert_eq!(metrics::sh_index(1 << 32, 0), None);
+    assert_eq!(metrics::sh_index(usize::MAX, 0), None);
+    assert_eq!(metrics::sh_index(usize::MAX, -1), None);
+    // Representable indices are unchanged.
+    assert_eq!(metrics::sh_index(0, 0), Some(0));
+    assert_eq!(metrics::sh_index(3, -3), Some(9));
+    assert_eq!(metrics::sh_index(3, 3), Some(15));
+    assert_eq!(metrics::sh_index(2, 3), None);
+    // The largest l whose block fits.
+    let l = (1usize << (usize::BITS / 2)) - 2;
+    assert_eq!(metrics::sh_index(l, 0), Some(l * (l + 1)));
+}
+
+#[test]
+fn defect_02_wce_from_spectrum_rejects_nan_and_negative() {
+    let bad = [[0.1, f64::NAN, 0.2], [0.1, -0.5, -0.2], [0.1, 0.2, f64::INFINITY]];
+    for spectrum in bad {
+        for w in [SobolevWeights::Exact, SobolevWeights::Asymptotic] {
+            assert_eq!(
+                metrics::wce_from_spectrum(&spectrum, 1.5, w),
+                Err(Error::InvalidParameter),
+                "{spectrum:?}"
+            );
+        }
+    }
+    // A good spectrum still works, and the spectral path of a real set is accepted.
+    assert!(metrics::wce_from_spectrum(&[0.1, 0.0, 0.2], 1.5, SobolevWeights::Exact).is_ok());
+    let set = FibonacciPoints::sphere(64).unwrap();
+    let points: Vec<Vec3> = set.iter().collect();
+    let mut spec = [0.0f64; 40];
+    let w = metrics::wce_spectral(&points, 1.5, SobolevWeights::Exact, &mut spec).unwrap();
+    assert!(w > 0.0 && w.is_finite());
+    assert!(spec.iter().all(|&c| c >= 0.0));
+}
+
+#[test]
+fn defect_03_energy_f32_long_vectors() {
+    for pts in [
+        [Vec3::X * 1e20, -Vec3::X],
+        [Vec3::X * 1e-20, -Vec3::X],
+        [Vec3::new(1e38, 3e38, 0.0), Vec3::new(0.0, -1e-40, 0.0)],
+    ] {
+        let e = metrics::energy(&pts).unwrap();
+        let e32 = metrics::energy_f32(&pts).unwrap();
+        assert!((e32 as f64 - e).abs() <= 1e-6 * e, "{pts:?}: {e32} against {e}");
+    }
+}
+
+#[test]
+fn defect_04_sg_product_extreme_sharpness() {
+    let a = SphericalGaussian::new(Vec3::Z, 2e19, 1.0).unwrap();
+    let b = SphericalGaussian::new(Vec3::X, 1.0, 1.0).unwrap();
+    let p = a.product(&b);
+    assert!(p.sharpness.is_finite() && rel(p.sharpness, 2e19) < 1e-6, "{p:?}");
+    assert!(close(p.axis, Vec3::Z, 1e-6), "{p:?}");
+    // exp(−λ₁λ₂|μ₁ − μ₂|²/(|λ₁μ₁ + λ₂μ₂| + λ₁ + λ₂)) ≈ e^(−1).
+    assert!(rel(p.amplitude, (-1.0f32).exp()) < 1e-5, "{p:?}");
+
+    let a = SphericalGaussian::new(Vec3::Z, 1e-22, 1.0).unwrap();
+    let b = SphericalGaussian::new(Vec3::X, 1e-44, 1.0).unwrap();
+    let p = a.product(&b);
+    assert!((p.axis.length() - 1.0).abs() < 1e-6, "{p:?}");
+    assert!(close(p.axis, Vec3::Z, 1e-6), "{p:?}");
+    assert!(rel(p.sharpness, 1e-22) < 1e-6, "{p:?}");
+    assert!(rel(p.amplitude, 1.0) < 1e-6, "{p:?}");
+
+    // Ordinary lobes: the closed form.
+    let a = SphericalGaussian::new(Vec3::new(1.0, 2.0, 3.0), 5.0, 2.0).unwrap();
+    let b = SphericalGaussian::new(Vec3::new(-1.0, 0.5, 1.0), 3.0, 0.5).unwrap();
+    let p = a.product(&b);
+    let u = a.axis * 5.0 + b.axis * 3.0;
+    assert!(rel(p.sharpness, u.length()) < 1e-6);
+    assert!(close(p.axis, u * (1.0 / u.length()), 1e-6));
+    let d2 = (a.axis - b.axis).length_squared();
+    let want = 1.0 * (-15.0 * d2 / (u.length() + 8.0)).exp();
+    assert!(rel(p.amplitude, want) < 1e-5, "{} against {want}", p.amplitude);
+}
+
+#[test]
+fn defect_05_full_integral_tiny_sharpness() {
+    for lambda in [1e-45f32, 1e-40, 1e-30, 1e-10, 1e-6] {
+        let f = sg::full_integral(lambda).unwrap();
+        let want = (4.0 * core::f64::consts::PI * (1.0 - lambda as f64)) as f32;
+        assert!(rel(f, want) < 1e-6, "λ = {lambda:e}: {f}");
+    }
+    // Continuity at the switch between the series and the closed form.
+    for lambda in [1e-4f32, 1.1e-4, 0.9e-4, 1e-3, 0.5, 2.0] {
+        let f = sg::full_integral(lambda).unwrap();
+        let l = lambda as f64;
+        let want = (2.0 * core::f64::consts::PI * -(-2.0 * l).exp_m1() / l) as f32;
+        assert!(rel(f, want) < 1e-6, "λ = {lambda:e}: {f} against {want}");
+    }
+    // The probe's glossy path: a constant field with a lobe of sharpness 10⁻⁴⁵ is the lobe's
+    // integral (4π) times the radiance.
+    let mut probe = Probe::<64>::new();
+    probe.update(&[2.0; 64]).unwrap();
+    let lobe = SphericalGaussian::new(Vec3::Z, 1e-45, 1.0).unwrap();
+    let g = probe.glossy(&lobe).unwrap().value;
+    assert!(rel(g, 2.0 * FOUR_PI) < 1e-5, "{g}");
+}
+
+#[test]
+fn defect_06_quaternion_of_any_finite_scale() {
+    // π about y: diag(−1, 1, −1).
+    let want = Mat3::from_rows(-Vec3::X, Vec3::Y, -Vec3::Z);
+    for s in [1.0f32, 1e20, 1e-16, 3e38, 1e-44] {
+        let m = Mat3::from_quaternion([0.0, s, 0.0, 0.0]);
+        for (r, w) in m.rows.iter().zip(want.rows) {
+            assert!(close(*r, w, 1e-6), "scale {s:e}: {m:?}");
+        }
+    }
+    // Mixed scales: a huge and a tiny component.
+    let m = Mat3::from_quaternion([3e37, 0.0, 0.0, 4e37]);
+    let r = Mat3::from_quaternion([0.6, 0.0, 0.0, 0.8]);
+    for (a, b) in m.rows.iter().zip(r.rows) {
+        assert!(close(*a, b, 1e-6), "{m:?} against {r:?}");
+    }
+    // Zero and non-finite quaternions still give the identity.
+    for q in [[0.0; 4], [f32::NAN, 0.0, 0.0, 1.0], [f32::INFINITY, 0.0, 0.0, 1.0]] {
+        assert_eq!(Mat3::from_quaternion(q), Mat3::IDENTITY);
+    }
+}
+
+#[test]
+fn defect_07_any_finite_nonzero_direction_is_valid() {
+    let u = Vec3::new(0.36, -0.48, 0.8);
+    let scales = [1e30f32, 3e19, 1e-20, 1e-30, 1e-38];
+    let map_pixels: Vec<[f32; 3]> = (0..32 * 16).map(|i| [i as f32, 1.0, 2.0]).collect();
+    let map = EquirectMap::new(32, 16, &map_pixels).unwrap();
+    let set = FibonacciPoints::sphere(1000).unwrap();
+    let mut probe = Probe::<64>::new();
+    let samples: [f32; 64] = probe.directions().map(|d| 1.0 + d.z + 0.5 * d.x);
+    probe.update(&samples).unwrap();
+    let sky = |d: Vec3| 1.0 + d.z + 0.5 * d.x;
+    for s in scales {
+        let v = u * s;
+        let what = format!("{v:?}");
+        let n = v.try_normalize().unwrap_or_else(|| panic!("try_normalize {what}"));
+        assert!(close(n, u, 1e-5), "{what}: {n:?}");
+        assert!(close(Frame::from_normal(v).unwrap().to_world(Vec3::Z), u, 1e-5), "{what}");
+        assert!(close(SphericalGaussian::new(v, 1.0, 1.0).unwrap().axis, u, 1e-5), "{what}");
+        let e = metrics::energy(&[v, Vec3::X]).unwrap();
+        assert!((e - metrics::energy(&[u, Vec3::X]).unwrap()).abs() < 1e-6, "{what}");
+        let q = qmc::irradiance::<64, f32, _>(v, 0, sky).unwrap();
+        assert!(rel(q, qmc::irradiance::<64, f32, _>(u, 0, sky).unwrap()) < 1e-5, "{what}");
+        let p = probe.irradiance(v).unwrap().value;
+        assert!(rel(p, probe.irradiance(u).unwrap().value) < 1e-5, "{what}");
+        let b = ShL2::<f32>::basis(v).unwrap();
+        for (x, y) in b.iter().zip(ShL2::<f32>::basis(u).unwrap()) {
+            assert!((x - y).abs() < 1e-5, "{what}");
+        }
+        assert_eq!(map.radiance(v), map.radiance(u), "{what}");
+        assert_eq!(set.nearest_index(v), set.nearest_index(u), "{what}");
+    }
+    // Subnormal components (a few significant bits): the direction of the vector as given.
+    for v in [Vec3::new(3e-43, -5e-43, 8e-43), Vec3::new(0.0, 0.0, -1e-45)] {
+        let n = v.try_normalize().unwrap();
+        let (x, y, z) = (v.x as f64, v.y as f64, v.z as f64);
+        let l = (x * x + y * y + z * z).sqrt();
+        let want = Vec3::new((x / l) as f32, (y / l) as f32, (z / l) as f32);
+        assert!(close(n, want, 1e-6), "{v:?}: {n:?}");
+        assert!(set.nearest_index(v).is_ok() && probe.irradiance(v).is_ok());
+    }
+    // Zero and non-finite vectors are still invalid, everywhere.
+    for v in [Vec3::ZERO, Vec3::new(f32::NAN, 0.0, 1.0), Vec3::new(f32::INFINITY, 0.0, 1.0)] {
+        assert_eq!(v.try_normalize(), None);
+        assert_eq!(Frame::from_normal(v).err(), Some(Error::InvalidDirection));
+        assert_eq!(probe.irradiance(v).err(), Some(Error::InvalidDirection));
+        assert_eq!(ShL2::<f32>::basis(v).err(), Some(Error::InvalidDirection));
+        assert_eq!(metrics::energy(&[v]).err(), Some(Error::InvalidDirection));
+        assert_eq!(set.nearest_index(v).err(), Some(Error::InvalidDirection));
+        assert_eq!(map.radiance(v).err(), Some(Error::InvalidDirection));
+    }
+}
+
+#[test]
+fn defect_08_rotations_validated_where_they_enter() {
+    let set = FibonacciPoints::sphere(1000).unwrap();
+    let nan = Mat3::from_rows(Vec3::new(f32::NAN, 0.0, 0.0), Vec3::Y, Vec3::Z);
+    let scaled = Mat3::from_rows(Vec3::X * 2.0, Vec3::Y * 2.0, Vec3::Z * 2.0);
+    let mirror = Mat3::from_rows(Vec3::X, Vec3::Y, -Vec3::Z);
+    let sheared = Mat3::from_rows(Vec3::X, Vec3::new(0.1, 1.0, 0.0), Vec3::Z);
+    for m in [nan, scaled, mirror, sheared] {
+        assert_eq!(set.with_rotation(m).err(), Some(Error::InvalidParameter), "{m:?}");
+        assert_eq!(m.validate_rotation(), Err(Error::InvalidParameter), "{m:?}");
+        let mut probe = Probe::<16>::new();
+        probe.update(&[1.0; 16]).unwrap();
+        let before = format!("{probe:?}");
+        assert_eq!(probe.set_rotation(m), Err(Error::InvalidParameter), "{m:?}");
+        assert_eq!(format!("{probe:?}"), before);
+    }
+    // Rotations from the crate, and ones within the documented tolerance, are accepted.
+    let mut seq = sphere_quadrature::RotationSequence::new(7);
+    for _ in 0..100 {
+        let r = seq.next_rotation();
+        assert_eq!(r.validate_rotation(), Ok(()));
+        assert!(set.with_rotation(r).is_ok());
+    }
+    let t = sphere_quadrature::rotation::ROTATION_TOLERANCE;
+    let near = Mat3::from_rows(Vec3::X * (1.0 + 0.4 * t), Vec3::Y, Vec3::Z);
+    assert_eq!(near.validate_rotation(), Ok(()));
+    let off = Mat3::from_rows(Vec3::X * (1.0 + 2.0 * t), Vec3::Y, Vec3::Z);
+    assert_eq!(off.validate_rotation(), Err(Error::InvalidParameter));
+    // A set rotated within the tolerance still finds the nearest of its own points.
+    let rotated = set.with_rotation(near).unwrap();
+    for j in (0..1000).step_by(37) {
+        let p = rotated.point(j).unwrap();
+        assert_eq!(rotated.nearest_index(p), Ok(j));
+    }
+}
+
+#[test]
+fn defect_09_table_with_non_finite_outputs_is_rejected() {
+    // σ′ = 10²⁰ baked every output as NaN.
+    let e = gen::probe::parse("# user table\nprobe = 48 1e20 2 8 32\n").unwrap_err();
+    assert!(e.starts_with("line 2: ") && e.contains("sigma"), "{e}");
+    let e = gen::probe::parse("probe = 48 1e-9 2 8 32\n").unwrap_err();
+    assert!(e.starts_with("line 1: ") && e.contains("sigma"), "{e}");
+    let e = gen::probe::parse("probe = 48 0.05 2 8 1e-30\n").unwrap_err();
+    assert!(e.starts_with("line 1: "), "{e}");
+    // The bake checks that every baked value is finite, and names the line.
+    let specs = gen::probe::parse("\n\nprobe = 8 0.05 2\n").unwrap();
+    assert_eq!(specs[0].line, 3);
+    let baked = gen::probe::bake_all(&specs).unwrap();
+    assert!(baked[0][0].check_finite().is_ok());
+    let mut broken = gen::probe::bake_all(&specs).unwrap();
+    broken[0][0].vbar = f64::NAN;
+    let e = broken[0][0].check_finite().unwrap_err();
+    assert!(e.contains("vbar"), "{e}");
+    // The renderer tables (user-replaceable too) are checked the same way: σ′ = 10²⁰ gave NaN
+    // weights.
+    let specs = gen::bmc::parse("set = 16 0.5 1e20").unwrap();
+    let e = gen::bmc::bake_all(&specs).unwrap_err();
+    assert!(e.contains("not finite"), "{e}");
+    // The one-line error of the build script: file, line, problem.
+    let msg = gen::error_line("lighting/probe.txt", &e);
+    assert!(msg.starts_with("error: lighting/probe.txt: ") && !msg.contains('\n'), "{msg}");
+}
+
+#[test]
+fn defect_10_unbaked_size_note_lists_the_baked_sizes() {
+    let specs = gen::probe::parse("probe = 24 0.05 2\nprobe = 48 0.05 2 8\n").unwrap();
+    let src = gen::probe::render_size_trait(&specs);
+    assert!(src.contains("the baked sizes are N = 24, 48"), "{src}");
+    assert!(!src.contains("16, 32"), "{src}");
+    // The crate's own table: the default sizes.
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/probe.txt");
+    let specs = gen::probe::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let src = gen::probe::render_size_trait(&specs);
+    assert!(src.contains("the baked sizes are N = 16, 32, 64, 128, 256"), "{src}");
+}
