@@ -9,7 +9,7 @@
 
 use std::f64::consts::PI;
 
-use fuzz_support::{known_defect, max_abs, non_finite, Bytes};
+use fuzz_support::{known_defect, max_abs, new_defect, non_finite, Bytes};
 use libfuzzer_sys::fuzz_target;
 use sphere_quadrature::metrics::{self, SobolevWeights};
 use sphere_quadrature::{Error, Vec3};
@@ -35,8 +35,10 @@ fn check<R: std::fmt::Debug>(what: &str, r: &Result<R, Error>, checks: &[(Option
             }
             Some(false) => {}
             None => {
+                // Either way for this argument; then a later check may decide.
                 if let Err(e) = r {
-                    assert_eq!(*e, err, "{what}: unexpected error");
+                    let later = checks.iter().any(|&(b, e2)| b != Some(false) && e2 == *e);
+                    assert!(*e == err || later, "{what}: unexpected {e:?}");
                 }
                 return r.is_ok();
             }
@@ -244,7 +246,9 @@ fuzz_target!(|data: &[u8]| {
             let tol = b.f64();
             let n_max = usize::from(b.u8());
             let r = metrics::circle_strength(&xs, tol, n_max);
-            if xs.is_empty() {
+            if xs.is_empty() && (tol.is_nan() || tol < 0.0) {
+                assert!(matches!(r, Err(Error::LengthMismatch | Error::InvalidParameter)), "{r:?}");
+            } else if xs.is_empty() {
                 assert_eq!(r, Err(Error::LengthMismatch));
             } else if tol.is_nan() || tol < 0.0 {
                 assert_eq!(r, Err(Error::InvalidParameter));
@@ -254,7 +258,10 @@ fuzz_target!(|data: &[u8]| {
             let a = b.f64();
             let mut out = vec![0.0; len];
             let r = metrics::uniform_circle_nodes(a, &mut out);
-            if len == 0 {
+            // Both errors documented, in no stated order.
+            if len == 0 && !a.is_finite() {
+                assert!(matches!(r, Err(Error::LengthMismatch | Error::InvalidParameter)), "{r:?}");
+            } else if len == 0 {
                 assert_eq!(r, Err(Error::LengthMismatch));
             } else if !a.is_finite() {
                 assert_eq!(r, Err(Error::InvalidParameter));
@@ -267,6 +274,9 @@ fuzz_target!(|data: &[u8]| {
                 assert_eq!(r, Err(Error::InvalidSize));
             } else if !a.is_finite() {
                 assert_eq!(r, Err(Error::InvalidParameter));
+            } else if new_defect(11) && !(n as f64 * a / (2.0 * k as f64)).abs().lt(&2f64.powi(50)) {
+                // New defect 11 (found by this target): the range reduction of θ = n·a/(2K)
+                // fails for huge θ: NaN once n·a overflows, for a finite a.
             } else {
                 let c = r.unwrap();
                 assert!(c.is_finite() && c.abs() <= 1.0 + 1e-9, "uniform_circle_coefficient({n}, {k}, {a}) = {c}");

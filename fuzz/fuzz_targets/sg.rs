@@ -8,7 +8,7 @@
 
 use std::f64::consts::PI;
 
-use fuzz_support::{classify, known_defect, Bytes, DirClass};
+use fuzz_support::{classify, known_defect, new_defect, Bytes, DirClass};
 use libfuzzer_sys::fuzz_target;
 use sphere_quadrature::sg::{self, SphericalGaussian};
 use sphere_quadrature::{Error, Mat3, Vec3};
@@ -67,6 +67,10 @@ fn read_sg(b: &mut Bytes) -> Option<SphericalGaussian> {
     let bad_param = if choice < 2 { bad_sharpness(x) } else { !(x >= 0.0 && x.is_finite()) };
     let param_err = if choice < 2 { Error::InvalidSharpness } else { Error::InvalidExponent };
     match direction_bad(axis) {
+        // Both errors documented, in no stated order (the Phong fits check the exponent first).
+        Some(true) if bad_param => {
+            assert!(r == Err(Error::InvalidDirection) || r == Err(param_err), "{r:?}");
+        }
         Some(true) => assert_eq!(r, Err(Error::InvalidDirection), "SG of axis {axis:?}"),
         Some(false) if bad_param => assert_eq!(r, Err(param_err), "SG of parameter {x}"),
         Some(false) => assert!(r.is_ok(), "valid SG rejected: {axis:?} {x} {a}: {r:?}"),
@@ -147,19 +151,50 @@ fuzz_target!(|data: &[u8]| {
                 let p = g1.product(&g2);
                 let q = g2.product(&g1);
                 let (l1, l2) = (f64::from(g1.sharpness), f64::from(g2.sharpness));
-                // Known defect 4: extreme sharpness (λ₁λ₂ or λ₁ + λ₂ beyond f32) gives NaN.
-                let extreme = l1 * l2 > f64::from(f32::MAX) || l1 + l2 > f64::from(f32::MAX);
+                // Known defect 4: extreme sharpness gives NaN or a zero axis: λ₁λ₂ or λ₁ + λ₂
+                // beyond f32, or |λ₁μ₁ + λ₂μ₂|² beyond f32 (λ above about 1.8·10¹⁹), or below
+                // the normal range (λ below about 10⁻¹⁹: λₘ loses its relative accuracy).
+                let max = f64::from(f32::MAX);
+                let tiny = |l: f64| l != 0.0 && l < 1e-18;
+                let extreme = l1 * l2 > max
+                    || l1 + l2 > max
+                    || l1.max(l2) > max.sqrt() / 2.0
+                    || tiny(l1)
+                    || tiny(l2);
                 if extreme && known_defect(4) {
                     continue;
                 }
-                check_sg("product", &p);
-                assert_eq!(p.sharpness.to_bits(), q.sharpness.to_bits(), "product not symmetric");
-                assert_eq!(p.amplitude.to_bits(), q.amplitude.to_bits(), "product not symmetric");
+                // New defect 12: |a₁a₂| beyond f32 times an exponential that underflows to 0
+                // gives a NaN amplitude (∞·0) where the product's amplitude is finite or 0.
+                let amp = f64::from(g1.amplitude) * f64::from(g2.amplitude);
+                if new_defect(12) && amp.abs() > f64::from(f32::MAX) {
+                    continue;
+                }
+                // New defect 13: nearly opposite lobes of equal sharpness cancel in
+                // u = λ₁μ₁ + λ₂μ₂; where |u|² is below the normal range the axis u/|u| is not
+                // unit (0.99995 seen).
+                if new_defect(13) && f64::from(p.sharpness) < 1.1e-19 {
+                    assert!(!p.amplitude.is_nan() && !p.sharpness.is_nan());
+                    continue;
+                }
+                check_sg(&format!("product of {g1:?} and {g2:?}"), &p);
+                assert_eq!(p.sharpness.to_bits(), q.sharpness.to_bits(), "product not symmetric: {g1:?} {g2:?} {p:?} {q:?}");
+                // (λₘ + λ₁) + λ₂ and (λₘ + λ₂) + λ₁ round apart: symmetric to rounding.
+                // A rounding of the exponent x moves exp(x) by |x|·ε relative.
+                let (pa, qa) = (f64::from(p.amplitude), f64::from(q.amplitude));
+                let a12 = f64::from(g1.amplitude) * f64::from(g2.amplitude);
+                let x = if pa != 0.0 && a12 != 0.0 { (pa / a12).abs().ln().abs() } else { 0.0 };
+                // exp(x) may be subnormal: one unit of 2⁻¹⁴⁹ times |a₁a₂|.
+                let tol = 5e-7 * (1.0 + x) * pa.abs().max(qa.abs()) + 3e-45 * (1.0 + a12.abs());
+                assert!(pa == qa || (pa - qa).abs() <= tol, "product not symmetric: {p:?} {q:?}");
                 let lm = f64::from(p.sharpness);
                 let tol = 1e-6 * (l1 + l2) + 1e-30;
                 assert!(lm <= l1 + l2 + tol && lm >= (l1 - l2).abs() - tol, "product λ {lm} of {l1}, {l2}");
                 let bound = f64::from(g1.amplitude).abs() * f64::from(g2.amplitude).abs();
-                assert!(f64::from(p.amplitude).abs() <= bound * (1.0 + 1e-6), "product amplitude {p:?}");
+                // |a₁a₂| may overflow f32 (plain data): then ±∞ is right.
+                let amp = f64::from(p.amplitude).abs();
+                let overflow = bound * (1.0 + 1e-6) >= f64::from(f32::MAX);
+                assert!(amp <= bound * (1.0 + 1e-6) + 3e-45 || overflow, "product amplitude {p:?}");
                 let ip = g1.inner_product(&g2);
                 assert!(!ip.is_nan(), "inner product NaN: {g1:?} {g2:?}");
             }
@@ -194,7 +229,8 @@ fuzz_target!(|data: &[u8]| {
                             let v = r.expect("valid normal");
                             assert!(!v.is_nan(), "{what} integral NaN: {g:?} at {n:?}");
                             let bound = f64::from(g.amplitude).abs() * full64(f64::from(g.sharpness));
-                            assert!(f64::from(v).abs() <= bound * (1.0 + 1e-5) + 1e-37, "{what} {v} > |a|·F for {g:?}");
+                            let fits = bound * (1.0 + 1e-5) < f64::from(f32::MAX);
+                            assert!(f64::from(v).abs() <= bound * (1.0 + 1e-5) + 1e-37 || !fits, "{what} {v} > |a|·F for {g:?}");
                         }
                         None => {}
                     }
