@@ -61,7 +61,10 @@ where
     // max(1/qᵢ) for the weight rounding, 2⁻²³ for the f32 weights' own rounding (relative),
     // ½ LSB for the final rounding.
     let bound = (1.0 / f64::from(q_min) + 2f64.powi(-23)) * reference + 0.5 / 65536.0 + 1e-12;
-    assert!((got - reference).abs() <= bound, "N = {N}: fixed {got} vs f64 {reference}, bound {bound}");
+    assert!(
+        (got - reference).abs() <= bound,
+        "N = {N}: fixed {got} vs f64 {reference}, bound {bound}"
+    );
     if reference >= 2f64.powi(-7) {
         assert!((got - reference).abs() <= 1e-3 * reference, "N = {N}: relative error above 10⁻³");
     }

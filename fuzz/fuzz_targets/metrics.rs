@@ -26,7 +26,11 @@ fn set_bad(points: &[Vec3]) -> Option<bool> {
     }
 }
 
-fn check<R: std::fmt::Debug>(what: &str, r: &Result<R, Error>, checks: &[(Option<bool>, Error)]) -> bool {
+fn check<R: std::fmt::Debug>(
+    what: &str,
+    r: &Result<R, Error>,
+    checks: &[(Option<bool>, Error)],
+) -> bool {
     for &(bad, err) in checks {
         match bad {
             Some(true) => {
@@ -78,7 +82,10 @@ fuzz_target!(|data: &[u8]| {
             let cap = metrics::cap_discrepancy(&points);
             if check("energy", &e, &dir_check) {
                 let e = e.unwrap();
-                assert!(e.is_finite() && (0.0..=(4.0f64 / 3.0).sqrt() + 1e-12).contains(&e), "energy {e}");
+                assert!(
+                    e.is_finite() && (0.0..=(4.0f64 / 3.0).sqrt() + 1e-12).contains(&e),
+                    "energy {e}"
+                );
                 assert_eq!(cap, Ok(0.5 * e));
                 let w = metrics::wce(&points, 1.5).unwrap();
                 assert!((w - e).abs() <= 1e-9 * e + 1e-7, "wce(3/2) {w} ≠ energy {e}");
@@ -93,7 +100,10 @@ fuzz_target!(|data: &[u8]| {
                 assert!(f.is_finite() && f >= 0.0, "energy_f32 {f}");
                 // E_N² is a mean of N² terms of size 1 with f32 rounding each: E_N² to about
                 // 10⁻⁶ absolute, so E_N to 10⁻³ relative wherever E_N ≥ 10⁻³.
-                assert!((f * f - e * e).abs() <= 2e-6 + 1e-3 * e * e, "energy_f32 {f} vs energy {e} ({points:?})");
+                assert!(
+                    (f * f - e * e).abs() <= 2e-6 + 1e-3 * e * e,
+                    "energy_f32 {f} vs energy {e} ({points:?})"
+                );
             }
         }
         1 => {
@@ -108,7 +118,8 @@ fuzz_target!(|data: &[u8]| {
         }
         2 => {
             let r = metrics::min_separation(&points);
-            let checks = [(Some(points.len() < 2), Error::InvalidSize), (bad, Error::InvalidDirection)];
+            let checks =
+                [(Some(points.len() < 2), Error::InvalidSize), (bad, Error::InvalidDirection)];
             if check("min_separation", &r, &checks) {
                 let d = r.unwrap();
                 assert!((0.0..=2.0 + 1e-12).contains(&d), "min_separation {d}");
@@ -149,7 +160,10 @@ fuzz_target!(|data: &[u8]| {
                 for l in 0..=l_max {
                     let sum: f64 = (0..2 * l + 1).map(|k| coef[l * l + k].powi(2)).sum();
                     let want = (2 * l + 1) as f64 * out[l];
-                    assert!((sum - want).abs() <= 1e-10, "Σₘ c_lm² = {sum}, (2l+1)C_l = {want} at l = {l}");
+                    assert!(
+                        (sum - want).abs() <= 1e-10,
+                        "Σₘ c_lm² = {sum}, (2l+1)C_l = {want} at l = {l}"
+                    );
                 }
                 let tol = b.f64();
                 let r = metrics::design_strength(&points, tol, &mut out);
@@ -159,7 +173,8 @@ fuzz_target!(|data: &[u8]| {
                     assert!(r.unwrap() < len);
                 }
                 let s = s_param(&mut b);
-                let kind = if b.bool() { SobolevWeights::Exact } else { SobolevWeights::Asymptotic };
+                let kind =
+                    if b.bool() { SobolevWeights::Exact } else { SobolevWeights::Asymptotic };
                 let r = metrics::wce_spectral(&points, s, kind, &mut out);
                 if s_bad(s) {
                     assert_eq!(r, Err(Error::InvalidParameter));
@@ -172,7 +187,8 @@ fuzz_target!(|data: &[u8]| {
         4 => {
             let dir = b.vec3();
             let l_max = usize::from(b.u8() % 48);
-            let len = if b.bool() { (l_max + 1) * (l_max + 1) } else { usize::from(b.u16() % 2500) };
+            let len =
+                if b.bool() { (l_max + 1) * (l_max + 1) } else { usize::from(b.u16() % 2500) };
             let mut out = vec![f64::NAN; len];
             let r = metrics::real_sh(dir, l_max, &mut out);
             let checks = [
@@ -183,7 +199,10 @@ fuzz_target!(|data: &[u8]| {
                 for l in 0..=l_max {
                     let sum: f64 = (0..2 * l + 1).map(|k| out[l * l + k].powi(2)).sum();
                     let want = (2 * l + 1) as f64 / (4.0 * PI);
-                    assert!((sum - want).abs() <= 1e-10 * want, "Σₘ Y_lm² = {sum}, want {want} (l = {l}, {dir:?})");
+                    assert!(
+                        (sum - want).abs() <= 1e-10 * want,
+                        "Σₘ Y_lm² = {sum}, want {want} (l = {l}, {dir:?})"
+                    );
                 }
             }
         }
@@ -274,12 +293,16 @@ fuzz_target!(|data: &[u8]| {
                 assert_eq!(r, Err(Error::InvalidSize));
             } else if !a.is_finite() {
                 assert_eq!(r, Err(Error::InvalidParameter));
-            } else if new_defect(11) && !(n as f64 * a / (2.0 * k as f64)).abs().lt(&2f64.powi(50)) {
+            } else if new_defect(11) && !(n as f64 * a / (2.0 * k as f64)).abs().lt(&2f64.powi(50))
+            {
                 // New defect 11 (found by this target): the range reduction of θ = n·a/(2K)
                 // fails for huge θ: NaN once n·a overflows, for a finite a.
             } else {
                 let c = r.unwrap();
-                assert!(c.is_finite() && c.abs() <= 1.0 + 1e-9, "uniform_circle_coefficient({n}, {k}, {a}) = {c}");
+                assert!(
+                    c.is_finite() && c.abs() <= 1.0 + 1e-9,
+                    "uniform_circle_coefficient({n}, {k}, {a}) = {c}"
+                );
             }
         }
     }

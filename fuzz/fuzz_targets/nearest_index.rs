@@ -99,10 +99,11 @@ fuzz_target!(|data: &[u8]| {
             rotated = true;
         }
     }
-    let proper = set.rotation().is_none_or(|m| {
-        m.rows.iter().all(|r| !non_finite(*r) && (r.length() - 1.0).abs() < 1e-3)
-    });
-    let points: Vec<[f64; 3]> = if n <= BRUTE_MAX { set.iter().map(to64).collect() } else { Vec::new() };
+    let proper = set
+        .rotation()
+        .is_none_or(|m| m.rows.iter().all(|r| !non_finite(*r) && (r.length() - 1.0).abs() < 1e-3));
+    let points: Vec<[f64; 3]> =
+        if n <= BRUTE_MAX { set.iter().map(to64).collect() } else { Vec::new() };
     for _ in 0..8 {
         if b.is_empty() {
             break;
@@ -122,7 +123,10 @@ fuzz_target!(|data: &[u8]| {
         let d = dist2(to64(set.point(j).unwrap()), q).sqrt();
         if n <= BRUTE_MAX {
             let best = points.iter().map(|&p| dist2(p, q)).fold(f64::INFINITY, f64::min).sqrt();
-            assert!(d <= best + 1e-6, "n = {n} kind {kind}: nearest_index({dir:?}) = {j} at {d}, best {best}");
+            assert!(
+                d <= best + 1e-6,
+                "n = {n} kind {kind}: nearest_index({dir:?}) = {j} at {d}, best {best}"
+            );
         } else if set.domain() == Domain::Sphere || (!rotated && q[2] >= 0.0) {
             // The covering radius of SF sets is about 2.7/√N (metrics::covering_radius docs).
             let bound = 4.0 / (n as f64).sqrt();

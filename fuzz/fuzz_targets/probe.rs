@@ -161,7 +161,9 @@ where
                             assert!((l - 1.0).abs() <= 3e-3, "direction {d:?} after {m:?}");
                         }
                     }
-                    Err(_) => assert_eq!(before, format!("{probe:?}"), "rotation error changed the probe"),
+                    Err(_) => {
+                        assert_eq!(before, format!("{probe:?}"), "rotation error changed the probe")
+                    }
                 }
             }
             op @ 1..=3 => {
@@ -204,7 +206,11 @@ where
                 let missing = valid.iter().filter(|&&v| !v).count();
                 let finite = samples.iter().zip(&valid).all(|(&y, &ok)| !ok || all_finite(y));
                 let expected = if missing == 0 {
-                    if finite { Ok(()) } else { Err(Error::InvalidRadiance) }
+                    if finite {
+                        Ok(())
+                    } else {
+                        Err(Error::InvalidRadiance)
+                    }
                 } else if missing > M || N - missing < 2 {
                     Err(Error::TooManyMissing)
                 } else if !finite {
@@ -215,7 +221,9 @@ where
                 match (expected, r) {
                     // "never seen with the baked families": a singular missing block.
                     (Ok(()), Err(Error::TooManyMissing)) => {
-                        panic!("TooManyMissing for {missing} ≤ M = {M} missing: {samples:?} {valid:?}")
+                        panic!(
+                            "TooManyMissing for {missing} ≤ M = {M} missing: {samples:?} {valid:?}"
+                        )
                     }
                     _ => assert_eq!(r, expected, "update_masked({samples:?}, {valid:?})"),
                 }
@@ -230,7 +238,11 @@ where
                         assert!(!valid[usize::from(i)], "index {i} reported missing but valid");
                     }
                 } else {
-                    assert_eq!(before, format!("{probe:?}"), "failed masked update changed the probe");
+                    assert_eq!(
+                        before,
+                        format!("{probe:?}"),
+                        "failed masked update changed the probe"
+                    );
                 }
             }
             5 => {
@@ -243,7 +255,11 @@ where
                     assert!(e.unit_variance >= 0.0 && e.unit_variance.is_finite());
                 }
                 let r = probe.posterior_variance(n);
-                check_errors("posterior_variance", &r, &[(direction_error(n), Error::InvalidDirection)]);
+                check_errors(
+                    "posterior_variance",
+                    &r,
+                    &[(direction_error(n), Error::InvalidDirection)],
+                );
                 if let Ok(v) = r {
                     check_variance("posterior_variance", v, state, true);
                 }
@@ -253,8 +269,9 @@ where
                 let sharpness = b.f32();
                 let amplitude = b.f32();
                 let lobe = SphericalGaussian { axis, sharpness, amplitude };
-                let bad_sharpness =
-                    !(sharpness >= 0.0 && sharpness.is_finite() && sharpness <= MAX_GLOSSY_SHARPNESS);
+                let bad_sharpness = !(sharpness >= 0.0
+                    && sharpness.is_finite()
+                    && sharpness <= MAX_GLOSSY_SHARPNESS);
                 let checks = [
                     (direction_error(axis), Error::InvalidDirection),
                     (Some(bad_sharpness), Error::InvalidSharpness),
@@ -322,7 +339,10 @@ where
                 if let Ok(e) = probe.irradiance(Vec3::Z) {
                     let c = probe.combine(&e, w);
                     if all_finite(w) {
-                        assert!(!c.variance.is_nan() && c.variance >= 0.0, "combine variance {c:?}");
+                        assert!(
+                            !c.variance.is_nan() && c.variance >= 0.0,
+                            "combine variance {c:?}"
+                        );
                         assert_eq!(c.unit_variance.to_bits(), e.unit_variance.to_bits());
                     }
                 }

@@ -115,10 +115,16 @@ fn check_fractions(l: f32, t: f32) {
     let (Ok(h), Ok(c), Ok(hi), Ok(ci)) = (h, c, hi, ci) else { return };
     assert!((0.0..=1.0).contains(&h), "H/F({l}, {t}) = {h}");
     assert!((0.0..=1.0).contains(&c), "C/F({l}, {t}) = {c}");
-    assert!(hi.is_finite() && hi >= 0.0 && ci.is_finite() && ci >= 0.0, "H, C ({l}, {t}): {hi} {ci}");
+    assert!(
+        hi.is_finite() && hi >= 0.0 && ci.is_finite() && ci >= 0.0,
+        "H, C ({l}, {t}): {hi} {ci}"
+    );
     let h_neg = sg::hemispherical_fraction(l, -t).unwrap();
     let c_neg = sg::clamped_cosine_fraction(l, -t).unwrap();
-    assert!((f64::from(h) + f64::from(h_neg) - 1.0).abs() <= 1e-6, "H(t) + H(−t) ≠ F at ({l}, {t})");
+    assert!(
+        (f64::from(h) + f64::from(h_neg) - 1.0).abs() <= 1e-6,
+        "H(t) + H(−t) ≠ F at ({l}, {t})"
+    );
     let tc = f64::from(t.clamp(-1.0, 1.0));
     let diff = f64::from(c) - f64::from(c_neg) - tc * langevin(f64::from(l));
     assert!(diff.abs() <= 2e-6, "C(t) − C(−t) ≠ t·F·L at ({l}, {t}): off by {diff:e}");
@@ -178,7 +184,11 @@ fuzz_target!(|data: &[u8]| {
                     continue;
                 }
                 check_sg(&format!("product of {g1:?} and {g2:?}"), &p);
-                assert_eq!(p.sharpness.to_bits(), q.sharpness.to_bits(), "product not symmetric: {g1:?} {g2:?} {p:?} {q:?}");
+                assert_eq!(
+                    p.sharpness.to_bits(),
+                    q.sharpness.to_bits(),
+                    "product not symmetric: {g1:?} {g2:?} {p:?} {q:?}"
+                );
                 // (λₘ + λ₁) + λ₂ and (λₘ + λ₂) + λ₁ round apart: symmetric to rounding.
                 // A rounding of the exponent x moves exp(x) by |x|·ε relative.
                 let (pa, qa) = (f64::from(p.amplitude), f64::from(q.amplitude));
@@ -189,7 +199,10 @@ fuzz_target!(|data: &[u8]| {
                 assert!(pa == qa || (pa - qa).abs() <= tol, "product not symmetric: {p:?} {q:?}");
                 let lm = f64::from(p.sharpness);
                 let tol = 1e-6 * (l1 + l2) + 1e-30;
-                assert!(lm <= l1 + l2 + tol && lm >= (l1 - l2).abs() - tol, "product λ {lm} of {l1}, {l2}");
+                assert!(
+                    lm <= l1 + l2 + tol && lm >= (l1 - l2).abs() - tol,
+                    "product λ {lm} of {l1}, {l2}"
+                );
                 let bound = f64::from(g1.amplitude).abs() * f64::from(g2.amplitude).abs();
                 // |a₁a₂| may overflow f32 (plain data): then ±∞ is right.
                 let amp = f64::from(p.amplitude).abs();
@@ -205,7 +218,10 @@ fuzz_target!(|data: &[u8]| {
                 if want.abs() <= f64::from(f32::MAX) * 0.99 {
                     let skip = known_defect(5) && g.sharpness < f32::MIN_POSITIVE;
                     let err = (f64::from(i) - want).abs();
-                    assert!(skip || err <= 1e-6 * want.abs() + 1e-44, "integral {i} of {g:?}, want {want}");
+                    assert!(
+                        skip || err <= 1e-6 * want.abs() + 1e-44,
+                        "integral {i} of {g:?}, want {want}"
+                    );
                 }
                 let v = b.vec3();
                 if classify(v) == DirClass::Valid {
@@ -224,13 +240,19 @@ fuzz_target!(|data: &[u8]| {
                 let rc = g.clamped_cosine_integral(n);
                 for (what, r) in [("hemispherical", rh), ("clamped", rc)] {
                     match direction_bad(n) {
-                        Some(true) => assert_eq!(r, Err(Error::InvalidDirection), "{what} at {n:?}"),
+                        Some(true) => {
+                            assert_eq!(r, Err(Error::InvalidDirection), "{what} at {n:?}")
+                        }
                         Some(false) => {
                             let v = r.expect("valid normal");
                             assert!(!v.is_nan(), "{what} integral NaN: {g:?} at {n:?}");
-                            let bound = f64::from(g.amplitude).abs() * full64(f64::from(g.sharpness));
+                            let bound =
+                                f64::from(g.amplitude).abs() * full64(f64::from(g.sharpness));
                             let fits = bound * (1.0 + 1e-5) < f64::from(f32::MAX);
-                            assert!(f64::from(v).abs() <= bound * (1.0 + 1e-5) + 1e-37 || !fits, "{what} {v} > |a|·F for {g:?}");
+                            assert!(
+                                f64::from(v).abs() <= bound * (1.0 + 1e-5) + 1e-37 || !fits,
+                                "{what} {v} > |a|·F for {g:?}"
+                            );
                         }
                         None => {}
                     }

@@ -95,7 +95,13 @@ fn check_probe_specs(specs: &[gen::probe::Spec], extra: bool) {
                 .chain(m.z.iter().flatten())
                 .chain(&scalars);
             for &x in all {
-                assert!(x.is_finite(), "N = {} {:?} λ = {l} σ′ = {}: baked {x}", s.n, s.footprint, s.sigma);
+                assert!(
+                    x.is_finite(),
+                    "N = {} {:?} λ = {l} σ′ = {}: baked {x}",
+                    s.n,
+                    s.footprint,
+                    s.sigma
+                );
             }
         }
     }
