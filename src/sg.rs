@@ -191,7 +191,14 @@ impl SphericalGaussian {
         let v = self.axis * s1 + other.axis * s2;
         let len = v.length();
         let (axis, sharpness) = match v.try_normalize() {
-            Some(axis) => (axis, m * len),
+            Some(axis) => {
+                // |v| = 1 + O(ε) when one lobe dominates: rounding must not take a sharpness
+                // near f32::MAX to +∞. A true sharpness above f32::MAX (two sharp, nearly
+                // aligned lobes) is +∞.
+                let l = m * len;
+                let rounding = l.is_infinite() && m.is_finite() && len <= 1.0 + 4.0 * f32::EPSILON;
+                (axis, if rounding { f32::MAX } else { l })
+            }
             None if v.is_finite() => (self.axis, 0.0),
             None => (self.axis, f32::NAN),
         };

@@ -276,3 +276,23 @@ fn defect_10_unbaked_size_note_lists_the_baked_sizes() {
     let src = gen::probe::render_size_trait(&specs);
     assert!(src.contains("the baked sizes are N = 16, 32, 64, 128, 256"), "{src}");
 }
+
+/// Found by the `sg` fuzz target after defect 4's fix: SG(λ = f32::MAX) × SG(λ = 0) has the
+/// first lobe's sharpness, f32::MAX, but the rounding of |μ₁| = 1 + O(ε) took it to +∞.
+#[test]
+fn defect_14_product_with_the_largest_sharpness_stays_finite() {
+    // Many axes: for some, the f32 unit axis has length 1 + ε.
+    let g2 = SphericalGaussian::new(Vec3::X, 0.0, 1.0).unwrap();
+    for k in 0..1000 {
+        let t = k as f32 * 0.01;
+        let axis = Vec3::new(t.cos() * (0.3 * t).sin(), t.sin() * (0.3 * t).sin(), (0.3 * t).cos());
+        let g1 = SphericalGaussian::new(axis, f32::MAX, 1.0).unwrap();
+        for p in [g1.product(&g2), g2.product(&g1)] {
+            assert!(p.sharpness.is_finite() && p.sharpness >= f32::MAX * (1.0 - 1e-6), "{p:?}");
+            assert!((p.axis.length() - 1.0).abs() < 1e-6, "{p:?}");
+        }
+    }
+    // Two aligned lobes of sharpness 3·10³⁸: the true sharpness, 6·10³⁸, is beyond f32: +∞.
+    let g3 = SphericalGaussian::new(Vec3::Z, 3e38, 1.0).unwrap();
+    assert_eq!(g3.product(&g3).sharpness, f32::INFINITY);
+}
