@@ -17,6 +17,18 @@
 //! `ln` 0.12 absolute, `acos` 2.9·10⁻² absolute and `powf` 5.9·10⁻³ relative, so `sqrt`,
 //! `acos`, `ln`, `powf`, `expm1`, `ln_1p`, `floor`, `abs`, `copysign` and every f64 function
 //! use `libm` under both backends. With neither feature on, `libm` is used.
+//!
+//! # Example
+//! ```
+//! use sphere_quadrature::math;
+//!
+//! // The same functions under either backend (`libm` or `micromath`).
+//! let (s, c) = math::sin_cos_turns(1 << 61); // an eighth of a turn
+//! assert!((s - core::f32::consts::FRAC_1_SQRT_2).abs() < 1e-6);
+//! assert!((s * s + c * c - 1.0).abs() < 1e-6);
+//! assert!((math::inv_sqrt(4.0) - 0.5).abs() < 1e-7);
+//! assert!((math::sqrt(2.0) * math::sqrt(2.0) - 2.0).abs() < 1e-6);
+//! ```
 
 #[cfg(feature = "micromath")]
 mod backend {
@@ -77,6 +89,16 @@ pub fn sqrt(x: f32) -> f32 {
 /// 1.2 ulp of `1/√x` over the whole domain (`tests/math.rs`). `(x/2·y)·y` keeps every
 /// intermediate in the normal range. Outside the domain the result is meaningless; callers
 /// check `x` first.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::math::inv_sqrt;
+///
+/// for x in [1e-30f32, 0.5, 2.0, 9.0, 1e30] {
+///     let y = inv_sqrt(x);
+///     assert!((y * y * x - 1.0).abs() < 1e-6);
+/// }
+/// ```
 #[inline]
 #[must_use]
 pub fn inv_sqrt(x: f32) -> f32 {
@@ -261,6 +283,17 @@ pub fn round64(x: f64) -> f64 {
 /// costs a few dozen instructions on an FPU-only-f32 core where `libm`'s `sinf`/`cosf` (which
 /// evaluate in f64) cost thousands. The same code runs under both backends: measured
 /// against f64 over 10⁶ phases, both outputs are within 1.2·10⁻⁷ absolute.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::math::sin_cos_turns;
+///
+/// assert_eq!(sin_cos_turns(0), (0.0, 1.0));
+/// let (s, c) = sin_cos_turns(1 << 62); // a quarter turn
+/// assert!((s - 1.0).abs() < 1e-7 && c.abs() < 1e-7);
+/// let (s, c) = sin_cos_turns(0x1234_5678_9ABC_DEF0);
+/// assert!((s * s + c * c - 1.0).abs() < 1e-6);
+/// ```
 #[inline]
 #[must_use]
 pub fn sin_cos_turns(phase: u64) -> (f32, f32) {
