@@ -75,6 +75,16 @@ impl Mat3 {
     }
 
     /// Rotation by `angle` radians about the z (pole) axis.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{Mat3, Vec3};
+    ///
+    /// let m = Mat3::about_z(0.3);
+    /// assert_eq!(m * Vec3::Z, Vec3::Z); // the pole is fixed
+    /// // cos 0.3 to the accuracy of either math backend (micromath: 1.1·10⁻³).
+    /// assert!(((m * Vec3::X).dot(Vec3::X) - 0.3f32.cos()).abs() < 2e-3);
+    /// ```
     #[must_use]
     pub fn about_z(angle: f32) -> Self {
         let (s, c) = (math::sin(angle), math::cos(angle));

@@ -175,6 +175,17 @@ impl Lobe {
 
     /// Morphs a uniform hemisphere height into the lobe: given `a = 1 − u` returns
     /// `(cos θ′, sin θ′)` with `cos θ′ = u^(1/(e+1))`.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::Lobe;
+    ///
+    /// // a = 1 − u: u = 1/4 on the cosine lobe gives cos θ′ = √u = 1/2.
+    /// let (c, s) = Lobe::Cosine.morph(0.75);
+    /// assert!((c - 0.5).abs() < 1e-6 && (s - 0.75f32.sqrt()).abs() < 1e-6);
+    /// // Sharper lobes pull the same height closer to the axis.
+    /// assert!(Lobe::Phong(100.0).morph(0.75).0 > Lobe::Phong(10.0).morph(0.75).0);
+    /// ```
     #[inline]
     #[must_use]
     pub fn morph(&self, a: f32) -> (f32, f32) {
