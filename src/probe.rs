@@ -789,6 +789,23 @@ where
     /// - `m4:probe_irradiance N=256`: 11 641 instructions
     /// - `m4:gaussian8_probe_irradiance N=64`: 2 953 instructions (`Gaussian<8>` footprint)
     /// - `m4:photodiode_probe_irradiance N=16`: 830 instructions (`CosinePower<1>`)
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{probe::Probe, Vec3};
+    ///
+    /// let mut probe = Probe::<32>::new();
+    /// // Before the first update every query is zero with zero variance.
+    /// assert_eq!(probe.irradiance(Vec3::Z)?.value, 0.0);
+    /// // Radiance 1 + x: irradiance π ± 2π/3 at ±x, a normal need not be unit.
+    /// probe.update(&probe.directions().map(|d| 1.0 + d.x))?;
+    /// let (plus, minus) = (probe.irradiance(Vec3::new(2.0, 0.0, 0.0))?, probe.irradiance(-Vec3::X)?);
+    /// let pi = core::f32::consts::PI;
+    /// assert!((plus.value - (pi + 2.0 * pi / 3.0)).abs() < 0.05);
+    /// assert!((minus.value - (pi - 2.0 * pi / 3.0)).abs() < 0.05);
+    /// assert!(plus.variance >= 0.0);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let f = self.member_in_use()?;
@@ -923,6 +940,19 @@ where
     /// - `m4:probe_glossy N=256`: 38 176 instructions (SG lobe of Phong e = 20)
     /// - `m4:gaussian8_probe_glossy N=64`: 9 384 instructions (`Gaussian<8>`)
     /// - `m4:photodiode_probe_glossy N=16`: 11 585 instructions (photodiodes)
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{probe::Probe, sg::SphericalGaussian, Vec3};
+    ///
+    /// let mut probe = Probe::<64>::new();
+    /// probe.update(&[2.0; 64])?;
+    /// // ∫ L·G over the sphere: for a constant L, L times the lobe's integral.
+    /// let lobe = SphericalGaussian::phong_moments(Vec3::Z, 20.0)?; // unit integral
+    /// let e = probe.glossy(&lobe)?;
+    /// assert!((e.value - 2.0).abs() < 1e-3 && e.variance >= 0.0);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn glossy(&self, lobe: &SphericalGaussian) -> Result<Estimate<T>, Error> {
         let (r, mu, amp) = check_lobe(lobe)?;
         let f = self.member_in_use()?;
@@ -1060,6 +1090,19 @@ where
     /// - `m4:probe_phong N=32`: 13 533 instructions (e = 20)
     /// - `m4:probe_phong N=64`: 21 320 instructions (e = 20)
     /// - `m4:probe_phong N=256`: 66 523 instructions (e = 20)
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{probe::Probe, Error, Vec3};
+    ///
+    /// let mut probe = Probe::<64>::new();
+    /// probe.update(&[0.5; 64])?;
+    /// // The normalised Phong lobe integrates to 1: a constant radiance comes back.
+    /// let e = probe.phong(Vec3::new(0.0, 0.6, 0.8), 20.0)?;
+    /// assert!((e.value - 0.5).abs() < 1e-3);
+    /// assert_eq!(probe.phong(Vec3::Z, f32::NAN), Err(Error::InvalidExponent));
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn phong(&self, axis: Vec3, exponent: f32) -> Result<Estimate<T>, Error> {
         let r = axis.try_normalize().ok_or(Error::InvalidDirection)?;
         if !(0.0..=MAX_GLOSSY_SHARPNESS).contains(&exponent) {

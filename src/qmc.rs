@@ -84,6 +84,17 @@ impl LobeSampler {
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite axis, [`Error::InvalidExponent`]
     /// for a bad Phong exponent, [`Error::InvalidSize`] for `n = 0` or `n > 2²⁴`.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{qmc::LobeSampler, Error, Lobe, Vec3};
+    ///
+    /// let s = LobeSampler::new(Vec3::new(0.0, 0.0, 3.0), Lobe::Phong(10.0), 16, 0)?;
+    /// assert_eq!(s.len(), 16);
+    /// assert_eq!(LobeSampler::new(Vec3::ZERO, Lobe::Cosine, 16, 0), Err(Error::InvalidDirection));
+    /// assert_eq!(LobeSampler::new(Vec3::Z, Lobe::Cosine, 0, 0), Err(Error::InvalidSize));
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn new(axis: Vec3, lobe: Lobe, n: usize, phase_bits: u64) -> Result<Self, Error> {
         let frame = Frame::from_normal(axis)?;
         let lobe = lobe.validate()?;

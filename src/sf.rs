@@ -224,6 +224,19 @@ impl FibonacciPoints {
     }
 
     /// The same set rotated about the pole by `bits / 2⁶⁴` of a turn (exact).
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::sf::FibonacciPoints;
+    ///
+    /// // Half a turn about the pole: same heights, x and y negated.
+    /// let set = FibonacciPoints::sphere(20)?;
+    /// let turned = set.with_phase_bits(1 << 63);
+    /// let (p, q) = (set.point(5).unwrap(), turned.point(5).unwrap());
+    /// assert_eq!(p.z, q.z);
+    /// assert!((p.x + q.x).abs() < 1e-6 && (p.y + q.y).abs() < 1e-6);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     #[must_use]
     pub const fn with_phase_bits(mut self, bits: u64) -> Self {
         self.phase = bits;

@@ -214,6 +214,22 @@ where
     /// # Errors
     /// [`Error::InvalidRadiance`] for a non-finite sample: the state and the directions are
     /// unchanged.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{temporal::TemporalProbe, Error};
+    ///
+    /// let mut probe = TemporalProbe::<16>::new(1);
+    /// // A NaN sample is refused and nothing changes.
+    /// let mut samples = [1.0f32; 16];
+    /// samples[3] = f32::NAN;
+    /// assert_eq!(probe.update(&samples), Err(Error::InvalidRadiance));
+    /// assert_eq!(probe.updates(), 0);
+    /// samples[3] = 1.0;
+    /// probe.update(&samples)?;
+    /// assert_eq!(probe.updates(), 1);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn update(&mut self, samples: &[T; N]) -> Result<Change, Error> {
         self.probe.update(samples)?;
         let c = self.probe.radiance_sh();
