@@ -307,6 +307,19 @@ where
     }
 
     /// `Σ|w|/Σw`: 1 when no weight is negative; larger values amplify sample noise.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::bmc::Renderer;
+    ///
+    /// // Σ|w| ≥ Σw = 1, with equality when no weight is negative.
+    /// let negative = Renderer::<64>::weights().iter().any(|&w| w < 0.0);
+    /// let ratio = Renderer::<64>::abs_weight_ratio();
+    /// assert!(ratio >= 1.0 - 1e-6);
+    /// if !negative {
+    ///     assert!((ratio - 1.0).abs() < 1e-5);
+    /// }
+    /// ```
     #[must_use]
     pub const fn abs_weight_ratio() -> f32 {
         Self::SET.abs_weight_ratio

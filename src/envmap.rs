@@ -666,6 +666,25 @@ impl<'a> EquirectMap<'a> {
     /// # Errors
     /// [`Error::LengthMismatch`] when `out.len() != dirs.len()`, then the errors of
     /// [`footprint_sample`](Self::footprint_sample).
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::envmap::EquirectMap;
+    /// use sphere_quadrature::footprint::Kind;
+    /// use sphere_quadrature::{probe::Probe, Error};
+    ///
+    /// // Fill a probe's samples from a map; a constant map gives that constant.
+    /// let pixels = [[1.5f32; 3]; 16 * 8];
+    /// let map = EquirectMap::new(16, 8, &pixels)?;
+    /// let probe = Probe::<16, [f32; 3]>::new();
+    /// let mut samples = [[0.0f32; 3]; 16];
+    /// map.footprint_samples(probe.directions(), Kind::Gaussian { sharpness: 2 }, &mut samples)?;
+    /// assert!(samples.iter().flatten().all(|&c| (c - 1.5).abs() < 1e-5));
+    /// // One output per direction.
+    /// let err = map.footprint_samples(probe.directions(), Kind::Point, &mut samples[..15]);
+    /// assert_eq!(err, Err(Error::LengthMismatch));
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn footprint_samples(
         &self,
         dirs: &[Vec3],

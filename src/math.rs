@@ -134,6 +134,14 @@ pub fn atan2(y: f32, x: f32) -> f32 {
 /// Four-quadrant arctangent from `libm` under every backend (its `atan2f` is f32
 /// arithmetic, accurate to about 1 ulp): for code whose correctness, not only its accuracy,
 /// depends on the angle, such as the inverse spherical Fibonacci mapping.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::math::atan2_accurate;
+///
+/// assert!((atan2_accurate(1.0, 1.0) - core::f32::consts::FRAC_PI_4).abs() < 1e-6);
+/// assert!((atan2_accurate(1.0, -1.0) - 3.0 * core::f32::consts::FRAC_PI_4).abs() < 1e-6);
+/// ```
 #[inline]
 #[must_use]
 pub fn atan2_accurate(y: f32, x: f32) -> f32 {
@@ -142,6 +150,16 @@ pub fn atan2_accurate(y: f32, x: f32) -> f32 {
 
 /// Arccosine in `[0, π]`; the argument is clamped to `[−1, 1]` first (NaN stays NaN), so
 /// rounding just outside the domain does not produce NaN.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::math::acos;
+///
+/// assert_eq!(acos(1.0), 0.0);
+/// // Rounding just past 1 is clamped instead of giving NaN.
+/// assert_eq!(acos(1.000_000_1), 0.0);
+/// assert!((acos(-1.0) - core::f32::consts::PI).abs() < 1e-6);
+/// ```
 #[inline]
 #[must_use]
 pub fn acos(x: f32) -> f32 {
@@ -156,6 +174,16 @@ pub fn exp(x: f32) -> f32 {
 }
 
 /// eˣ − 1, accurate near 0 (always `libm`).
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::math::{exp, expm1};
+///
+/// // Near 0, eˣ − 1 keeps the digits that exp(x) − 1 loses.
+/// let x = 1e-6f32;
+/// assert!((expm1(x) - x).abs() < 1e-12);
+/// assert!((expm1(1.0) - (exp(1.0) - 1.0)).abs() < 1e-2);
+/// ```
 #[inline]
 #[must_use]
 pub fn expm1(x: f32) -> f32 {
@@ -170,6 +198,15 @@ pub fn ln(x: f32) -> f32 {
 }
 
 /// ln(1 + x), accurate near 0 (always `libm`).
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::math::ln_1p;
+///
+/// let x = 1e-7f32;
+/// assert!((ln_1p(x) - x).abs() < 1e-13);
+/// assert!((ln_1p(core::f32::consts::E - 1.0) - 1.0).abs() < 1e-6);
+/// ```
 #[inline]
 #[must_use]
 pub fn ln_1p(x: f32) -> f32 {
@@ -254,6 +291,15 @@ pub fn cos64(x: f64) -> f64 {
 }
 
 /// f64 gamma function Γ(x) (always `libm`).
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::math::gamma64;
+///
+/// // Γ(n) = (n − 1)!, Γ(1/2) = √π.
+/// assert!((gamma64(5.0) - 24.0).abs() < 1e-10);
+/// assert!((gamma64(0.5) - core::f64::consts::PI.sqrt()).abs() < 1e-12);
+/// ```
 #[inline]
 #[must_use]
 pub fn gamma64(x: f64) -> f64 {

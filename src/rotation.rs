@@ -164,6 +164,16 @@ impl Mat3 {
     }
 
     /// The transpose, which is the inverse of a rotation.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{Mat3, Vec3};
+    ///
+    /// // The inverse of a rotation is its transpose.
+    /// let m = Mat3::from_axis_angle(Vec3::new(0.0, 1.0, 0.0), 0.8);
+    /// let v = Vec3::new(0.2, 0.3, -0.9);
+    /// assert!((m.transpose() * (m * v) - v).length() < 1e-6);
+    /// ```
     #[must_use]
     pub fn transpose(&self) -> Self {
         let [a, b, c] = self.rows;
@@ -246,6 +256,17 @@ impl RotationSequence {
 
     /// A uniformly random rotation about the pole, as an exact phase offset in turns × 2⁶⁴
     /// (pass to `with_phase_bits` of a point set).
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{RotationSequence, SphericalFibonacci};
+    ///
+    /// // A random turn about the pole keeps every height.
+    /// let mut seq = RotationSequence::new(9);
+    /// let set = SphericalFibonacci::<16>::new();
+    /// let turned = set.with_phase_bits(seq.next_phase());
+    /// assert!(set.iter().zip(turned.iter()).all(|(a, b)| a.z == b.z));
+    /// ```
     pub fn next_phase(&mut self) -> u64 {
         self.next_u64()
     }

@@ -300,6 +300,17 @@ pub fn full_integral(lambda: f32) -> Result<f32, Error> {
 /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
 /// `examples/cortex-m4`, whose output CI checks these lines against):
 /// - `m4:sg_hemispherical_fraction N=1`: 384 instructions (one table lookup)
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::sg::hemispherical_fraction;
+///
+/// // A lobe on the horizon is cut in half; H(t) + H(−t) = F.
+/// assert!((hemispherical_fraction(5.0, 0.0)? - 0.5).abs() < 1e-6);
+/// let (up, down) = (hemispherical_fraction(5.0, 0.4)?, hemispherical_fraction(5.0, -0.4)?);
+/// assert!((up + down - 1.0).abs() < 1e-5 && up > 0.5);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 pub fn hemispherical_fraction(lambda: f32, t: f32) -> Result<f32, Error> {
     check_sharpness(lambda)?;
     let t = check_cosine(t)?;
@@ -316,6 +327,18 @@ pub fn hemispherical_fraction(lambda: f32, t: f32) -> Result<f32, Error> {
 /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
 /// `examples/cortex-m4`, whose output CI checks these lines against):
 /// - `m4:sg_clamped_cosine_fraction N=1`: 413 instructions (one table lookup)
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::sg::clamped_cosine_fraction;
+///
+/// // A constant (λ = 0) gives ∫ max(0, n·v) / 4π = π/4π = 1/4 for every normal.
+/// assert!((clamped_cosine_fraction(0.0, 0.3)? - 0.25).abs() < 1e-6);
+/// // More of the lobe faces the normal as the axis turns towards it.
+/// assert!(clamped_cosine_fraction(8.0, 0.9)? > clamped_cosine_fraction(8.0, 0.1)?);
+/// assert!(clamped_cosine_fraction(-1.0, 0.5).is_err());
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 pub fn clamped_cosine_fraction(lambda: f32, t: f32) -> Result<f32, Error> {
     check_sharpness(lambda)?;
     let t = check_cosine(t)?;

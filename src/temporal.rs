@@ -193,6 +193,16 @@ where
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] unless `threshold` is finite and positive.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{temporal::TemporalProbe, Error};
+    ///
+    /// let probe = TemporalProbe::<16>::new(0).with_threshold(50.0)?;
+    /// assert_eq!(probe.updates(), 0);
+    /// assert_eq!(TemporalProbe::<16>::new(0).with_threshold(0.0).err(), Some(Error::InvalidParameter));
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn with_threshold(mut self, threshold: f32) -> Result<Self, Error> {
         if !(threshold.is_finite() && threshold > 0.0) {
             return Err(Error::InvalidParameter);

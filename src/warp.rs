@@ -157,6 +157,15 @@ impl Lobe {
     }
 
     /// `∫ cosᵉ θ dω` over the hemisphere: `2π/(e+1)` (π for the cosine).
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::Lobe;
+    ///
+    /// // 2π for the uniform lobe (the hemisphere's solid angle), π for the cosine.
+    /// assert!((Lobe::Uniform.integral() - 2.0 * core::f32::consts::PI).abs() < 1e-6);
+    /// assert!((Lobe::Phong(3.0).integral() - core::f32::consts::PI / 2.0).abs() < 1e-6);
+    /// ```
     #[must_use]
     pub fn integral(&self) -> f32 {
         core::f32::consts::TAU / (self.exponent() + 1.0)
@@ -166,6 +175,14 @@ impl Lobe {
     ///
     /// # Errors
     /// [`Error::InvalidExponent`] for a negative, NaN or infinite Phong exponent.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{Error, Lobe};
+    ///
+    /// assert_eq!(Lobe::Phong(f32::INFINITY).validate(), Err(Error::InvalidExponent));
+    /// assert_eq!(Lobe::Cosine.validate(), Ok(Lobe::Cosine));
+    /// ```
     pub fn validate(&self) -> Result<Self, Error> {
         match *self {
             Lobe::Phong(e) => Lobe::phong(e),
