@@ -295,6 +295,15 @@ where
     }
 
     /// Posterior variance of the irradiance estimate for σ_f = 1 (multiply by σ_f²).
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::bmc::Renderer;
+    ///
+    /// // More samples, less posterior variance; never negative.
+    /// assert!(Renderer::<256>::variance() < Renderer::<16>::variance());
+    /// assert!(Renderer::<256>::variance() >= 0.0);
+    /// ```
     #[must_use]
     pub const fn variance() -> f32 {
         Self::SET.variance

@@ -635,6 +635,19 @@ impl<'a> EquirectMap<'a> {
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero, too short or non-finite `dir`.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{envmap::EquirectMap, Error, Vec3};
+    ///
+    /// // 4×2: the top row red, the bottom row blue.
+    /// let pixels = [[1.0, 0.0, 0.0]; 4].into_iter().chain([[0.0, 0.0, 1.0]; 4]).collect::<Vec<_>>();
+    /// let map = EquirectMap::new(4, 2, &pixels)?;
+    /// assert_eq!(map.radiance(Vec3::new(0.3, 0.2, 0.9))?, [1.0, 0.0, 0.0]);
+    /// assert_eq!(map.radiance(Vec3::new(0.3, 0.2, -0.9))?, [0.0, 0.0, 1.0]);
+    /// assert_eq!(map.radiance(Vec3::ZERO), Err(Error::InvalidDirection));
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn radiance(&self, dir: Vec3) -> Result<[f32; 3], Error> {
         if dir.try_normalize().is_none() {
             return Err(Error::InvalidDirection);

@@ -547,6 +547,22 @@ where
     /// # Errors
     /// [`Error::InvalidParameter`] unless `m` is finite and orthonormal to 10⁻³ (the probe is
     /// then left unchanged).
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{probe::Probe, Error, Mat3, RotationSequence, Vec3};
+    ///
+    /// let mut probe = Probe::<16>::new();
+    /// let m = RotationSequence::new(4).next_rotation();
+    /// probe.set_rotation(m)?;
+    /// // The directions are the unrotated set's, rotated by m.
+    /// let plain = Probe::<16>::new();
+    /// assert!((probe.directions()[0] - m * plain.directions()[0]).length() < 1e-5);
+    /// // A matrix that is not a rotation is refused and nothing changes.
+    /// let scaled = Mat3::from_rows(Vec3::X * 2.0, Vec3::Y, Vec3::Z);
+    /// assert_eq!(probe.set_rotation(scaled), Err(Error::InvalidParameter));
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn set_rotation(&mut self, m: Mat3) -> Result<(), Error> {
         let r = m.rows;
         let ok = r.iter().all(|v| v.is_finite())
@@ -886,6 +902,19 @@ where
     /// - `m4:probe_masked_posterior_variance_M16_m16 N=64`: 547 330 instructions (16 missing)
     ///
     /// `M8`, `M16` in the names: the probe's capacity `M` for missing samples.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{probe::Probe, Vec3};
+    ///
+    /// let mut probe = Probe::<32>::new();
+    /// probe.update(&probe.directions().map(|d| 1.0 + d.x * d.z))?;
+    /// // The exact variance at one normal, and the O(1) direction-averaged one of `irradiance`.
+    /// let exact = probe.posterior_variance(Vec3::Z)?;
+    /// let averaged = probe.irradiance(Vec3::Z)?.variance;
+    /// assert!(exact >= 0.0 && averaged >= 0.0);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn posterior_variance(&self, normal: Vec3) -> Result<T, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let f = self.member_in_use()?;
@@ -1297,6 +1326,17 @@ where
 
     /// `π·β`: the irradiance of the fitted constant mean (`β` is the GLS mean radiance);
     /// `±∞` where it exceeds `f32::MAX`.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::probe::Probe;
+    ///
+    /// let mut probe = Probe::<16>::new();
+    /// probe.update(&[3.0; 16])?;
+    /// // A constant's fitted mean is the constant: π·3.
+    /// assert!((probe.mean_irradiance() - 3.0 * core::f32::consts::PI).abs() < 1e-4);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     #[must_use]
     pub fn mean_irradiance(&self) -> T {
         self.beta.scale(PI)

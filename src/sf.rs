@@ -152,6 +152,14 @@ pub struct FibonacciPoints {
 
 /// Largest Fibonacci number below `n` when `n` is itself a Fibonacci number (`n ≥ 2`), else
 /// `None`. `F₁ = F₂ = 1` is treated as `1` with predecessor `1`.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::sf::fibonacci_predecessor;
+///
+/// assert_eq!(fibonacci_predecessor(89), Some(55));
+/// assert_eq!(fibonacci_predecessor(90), None);
+/// ```
 #[must_use]
 pub const fn fibonacci_predecessor(n: usize) -> Option<usize> {
     let (mut a, mut b) = (1usize, 1usize);
@@ -352,6 +360,19 @@ impl FibonacciPoints {
 
     /// Writes the first `out.len()` points into `out` and returns how many were written
     /// (`min(out.len(), len())`).
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{sf::FibonacciPoints, Vec3};
+    ///
+    /// // Writes min(len, out.len()) points and returns how many.
+    /// let set = FibonacciPoints::sphere(5)?;
+    /// let mut out = [Vec3::ZERO; 8];
+    /// assert_eq!(set.fill(&mut out), 5);
+    /// assert_eq!(out[4], set.point(4).unwrap());
+    /// assert_eq!(out[5], Vec3::ZERO);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn fill(&self, out: &mut [Vec3]) -> usize {
         let mut k = 0;
         for (slot, p) in out.iter_mut().zip(self.iter()) {

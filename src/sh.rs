@@ -263,6 +263,18 @@ impl<T: Radiance> ShL2<T> {
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero, NaN or infinite `n`.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{sh::ShL2, Vec3};
+    ///
+    /// let y = ShL2::<f32>::basis(Vec3::new(0.3, -0.5, 0.8))?;
+    /// // Y₀₀ = 1/(2√π) everywhere; the squares sum to 9/(4π) (the addition theorem).
+    /// assert!((y[0] - 0.5 / core::f32::consts::PI.sqrt()).abs() < 1e-6);
+    /// let sum: f32 = y.iter().map(|v| v * v).sum();
+    /// assert!((sum - 9.0 / (4.0 * core::f32::consts::PI)).abs() < 1e-5);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn basis(n: Vec3) -> Result<[f32; 9], Error> {
         let u = unit(n).ok_or(Error::InvalidDirection)?;
         Ok(basis_of_unit(&u))
@@ -344,6 +356,19 @@ impl<T: Radiance> ShL2<T> {
     /// kernel whose Funk–Hecke gains are `gains` (`[π, 2π/3, π/4]` turns radiance into
     /// irradiance; the normalised Phong lobe of exponent `e` has `[1, (e + 1)/(e + 2),
     /// e/(e + 3)]`).
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{sh::ShL2, Vec3};
+    ///
+    /// // The gains [π, 2π/3, π/4] turn radiance into irradiance.
+    /// let pi = core::f32::consts::PI;
+    /// let sh = ShL2::new([1.0f32, 0.2, -0.3, 0.1, 0.05, 0.0, -0.1, 0.2, 0.3]);
+    /// let e = sh.convolved([pi, 2.0 * pi / 3.0, pi / 4.0]);
+    /// let n = Vec3::new(0.0, 0.6, 0.8);
+    /// assert!((e.radiance(n)? - sh.irradiance(n)?).abs() < 1e-5);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     #[must_use]
     pub fn convolved(&self, gains: [f32; 3]) -> Self {
         let [g0, g1, g2] = gains;
