@@ -1060,6 +1060,32 @@ pub fn render_size_trait(specs: &[Spec]) -> String {
          by `SPHERE_QUADRATURE_PROBE_TABLE`); sealed.",
         types.join(", ")
     );
+    // An example for the docs (the crate ships N = 64; a user table may not: `ignore` then).
+    let fence = if specs.iter().any(|sp| sp.n == 16) && specs.iter().any(|sp| sp.n == 64) {
+        "```"
+    } else {
+        "```ignore"
+    };
+    for line in [
+        "///",
+        "/// # Examples",
+        &format!("/// {fence}"),
+        "/// use sphere_quadrature::bmc::Size;",
+        "/// use sphere_quadrature::probe::{Probe, ProbeSize, BAKED_SIZES};",
+        "///",
+        "/// // Generic code over the baked sizes: the bound admits exactly them.",
+        "/// fn table_bytes<const N: usize>() -> usize",
+        "/// where",
+        "///     Size<N>: ProbeSize,",
+        "/// {",
+        "///     Probe::<N>::table_bytes()",
+        "/// }",
+        "/// assert!(table_bytes::<16>() < table_bytes::<64>());",
+        "/// assert!(BAKED_SIZES.contains(&64));",
+        "/// ```",
+    ] {
+        let _ = writeln!(s, "{line}");
+    }
     let _ = writeln!(s, "#[diagnostic::on_unimplemented(");
     let _ = writeln!(
         s,

@@ -111,11 +111,41 @@ use crate::vec3::Vec3;
 use crate::warp::Lobe;
 
 /// A sample count as a type, for the [`BakedSize`] bound.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::bmc::{BakedSize, Renderer, Size};
+///
+/// // `Size<N>` carries N into trait bounds; the bound admits the baked sizes only.
+/// fn weight_sum<const N: usize>() -> f32
+/// where
+///     Size<N>: BakedSize,
+/// {
+///     Renderer::<N>::weights().iter().sum()
+/// }
+/// assert!((weight_sum::<16>() - 1.0).abs() < 1e-5);
+/// assert!((weight_sum::<256>() - 1.0).abs() < 1e-5);
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct Size<const N: usize>;
 
 /// Implemented for exactly the sizes `N` whose weights are baked (`Size<16>`, `Size<32>`,
 /// `Size<64>`, `Size<128>`, `Size<256>`); sealed.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::bmc::{BakedSize, Renderer, Size, BAKED_SIZES};
+///
+/// fn variance<const N: usize>() -> f32
+/// where
+///     Size<N>: BakedSize,
+/// {
+///     Renderer::<N>::variance()
+/// }
+/// // More samples, less posterior variance.
+/// assert!(variance::<64>() < variance::<16>());
+/// assert!(BAKED_SIZES.contains(&64));
+/// ```
 #[diagnostic::on_unimplemented(
     message = "no Bayesian Monte Carlo weights are baked for `{Self}`",
     label = "this sample count has no baked weights",
@@ -159,6 +189,23 @@ pub const TABLE_BYTES: usize = {
 /// BMC irradiance from `N` hemisphere spherical Fibonacci samples with baked weights.
 ///
 /// Zero-sized: build it with [`Renderer::new`] (a `const fn`).
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::{bmc::Renderer, Vec3};
+///
+/// let r = Renderer::<64>::new();
+/// let n = Vec3::new(0.0, 0.6, 0.8);
+/// let mut dirs = [Vec3::ZERO; 64];
+/// r.directions(n, 0, &mut dirs)?;
+/// assert!(dirs.iter().all(|d| d.dot(n) > 0.0)); // all above the surface
+/// // The radiance along each direction, then E = π·Σ wᵢYᵢ: a constant 1 gives π.
+/// let samples = dirs.map(|_| 1.0f32);
+/// assert!((r.estimate(&samples) - core::f32::consts::PI).abs() < 1e-4);
+/// // Callback form, same directions and weights.
+/// assert_eq!(r.irradiance(n, 0, |_| 1.0f32)?, r.estimate(&samples));
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Renderer<const N: usize>
@@ -212,6 +259,15 @@ where
     }
 
     /// Irradiance `E = π·Σ wᵢ Yᵢ` from the radiance in each direction, in order.
+    ///
+    /// # Cost
+    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
+    /// `examples/cortex-m4`, whose output CI checks these lines against):
+    /// - `m4:renderer_w_dot_y N=16`: 37 instructions (one channel)
+    /// - `m4:renderer_w_dot_y N=64`: 176 instructions (one channel)
+    /// - `m4:renderer_w_dot_y N=256`: 856 instructions (one channel)
+    ///
+    /// Flash: `4·N` bytes of weights per size used ([`TABLE_BYTES`] for all of them).
     #[must_use]
     pub fn estimate<T: Radiance>(&self, samples: &[T; N]) -> T {
         samples
@@ -239,6 +295,15 @@ where
     }
 
     /// Posterior variance of the irradiance estimate for σ_f = 1 (multiply by σ_f²).
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::bmc::Renderer;
+    ///
+    /// // More samples, less posterior variance; never negative.
+    /// assert!(Renderer::<256>::variance() < Renderer::<16>::variance());
+    /// assert!(Renderer::<256>::variance() >= 0.0);
+    /// ```
     #[must_use]
     pub const fn variance() -> f32 {
         Self::SET.variance
@@ -251,6 +316,19 @@ where
     }
 
     /// `Σ|w|/Σw`: 1 when no weight is negative; larger values amplify sample noise.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::bmc::Renderer;
+    ///
+    /// // Σ|w| ≥ Σw = 1, with equality when no weight is negative.
+    /// let negative = Renderer::<64>::weights().iter().any(|&w| w < 0.0);
+    /// let ratio = Renderer::<64>::abs_weight_ratio();
+    /// assert!(ratio >= 1.0 - 1e-6);
+    /// if !negative {
+    ///     assert!((ratio - 1.0).abs() < 1e-5);
+    /// }
+    /// ```
     #[must_use]
     pub const fn abs_weight_ratio() -> f32 {
         Self::SET.abs_weight_ratio

@@ -532,6 +532,24 @@ fn column_ranges(phi: f64, delta: f64, dphi: f64, n: usize) -> [(usize, usize); 
 
 /// An equirectangular RGB radiance map borrowed from the caller: `width` columns of azimuth,
 /// `height` rows of polar angle, row-major, row 0 at the top (+z).
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::envmap::EquirectMap;
+/// use sphere_quadrature::footprint::Kind;
+/// use sphere_quadrature::{Error, Vec3};
+///
+/// // An 8×4 map: the top half 3, the bottom half 1.
+/// let pixels: Vec<[f32; 3]> = (0..32).map(|i| if i < 16 { [3.0; 3] } else { [1.0; 3] }).collect();
+/// let map = EquirectMap::new(8, 4, &pixels)?;
+/// assert_eq!(map.radiance(Vec3::Z)?, [3.0; 3]);
+/// assert_eq!(map.radiance(-Vec3::Z)?, [1.0; 3]);
+/// // A filtered sample lies between the darkest and the brightest pixel.
+/// let y = map.footprint_sample(Vec3::X, Kind::Gaussian { sharpness: 4 })?;
+/// assert!(y[0] > 1.0 && y[0] < 3.0);
+/// assert_eq!(EquirectMap::new(8, 4, &pixels[..31]).err(), Some(Error::LengthMismatch));
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct EquirectMap<'a> {
@@ -618,6 +636,19 @@ impl<'a> EquirectMap<'a> {
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite `dir`.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{envmap::EquirectMap, Error, Vec3};
+    ///
+    /// // 4×2: the top row red, the bottom row blue.
+    /// let pixels = [[1.0, 0.0, 0.0]; 4].into_iter().chain([[0.0, 0.0, 1.0]; 4]).collect::<Vec<_>>();
+    /// let map = EquirectMap::new(4, 2, &pixels)?;
+    /// assert_eq!(map.radiance(Vec3::new(0.3, 0.2, 0.9))?, [1.0, 0.0, 0.0]);
+    /// assert_eq!(map.radiance(Vec3::new(0.3, 0.2, -0.9))?, [0.0, 0.0, 1.0]);
+    /// assert_eq!(map.radiance(Vec3::ZERO), Err(Error::InvalidDirection));
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn radiance(&self, dir: Vec3) -> Result<[f32; 3], Error> {
         if dir.try_normalize().is_none() {
             return Err(Error::InvalidDirection);
@@ -649,6 +680,25 @@ impl<'a> EquirectMap<'a> {
     /// # Errors
     /// [`Error::LengthMismatch`] when `out.len() != dirs.len()`, then the errors of
     /// [`footprint_sample`](Self::footprint_sample).
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::envmap::EquirectMap;
+    /// use sphere_quadrature::footprint::Kind;
+    /// use sphere_quadrature::{probe::Probe, Error};
+    ///
+    /// // Fill a probe's samples from a map; a constant map gives that constant.
+    /// let pixels = [[1.5f32; 3]; 16 * 8];
+    /// let map = EquirectMap::new(16, 8, &pixels)?;
+    /// let probe = Probe::<16, [f32; 3]>::new();
+    /// let mut samples = [[0.0f32; 3]; 16];
+    /// map.footprint_samples(probe.directions(), Kind::Gaussian { sharpness: 2 }, &mut samples)?;
+    /// assert!(samples.iter().flatten().all(|&c| (c - 1.5).abs() < 1e-5));
+    /// // One output per direction.
+    /// let err = map.footprint_samples(probe.directions(), Kind::Point, &mut samples[..15]);
+    /// assert_eq!(err, Err(Error::LengthMismatch));
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn footprint_samples(
         &self,
         dirs: &[Vec3],
@@ -1225,6 +1275,23 @@ fn t_spread(d: &[f64; 3], m: [f64; 3]) -> (f64, f64) {
 /// caller-provided buffer: levels of solid-angle weighted 2×2 box averages, each texel with
 /// the radiance-weighted mean direction vector of each channel (see the module docs,
 /// "Fast form").
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::envmap::{EquirectMap, MipPyramid};
+/// use sphere_quadrature::footprint::Kind;
+/// use sphere_quadrature::Vec3;
+///
+/// // A constant map stays constant under every filter, exact or fast.
+/// let pixels = [[0.5f32; 3]; 32 * 16];
+/// let map = EquirectMap::new(32, 16, &pixels)?;
+/// let mut buffer = vec![[0.0f32; 3]; MipPyramid::buffer_len(32, 16)];
+/// let pyramid = MipPyramid::new(&map, &mut buffer)?;
+/// assert!(pyramid.levels() > 1);
+/// let y = pyramid.footprint_sample(Vec3::new(1.0, 1.0, 0.0), Kind::Gaussian { sharpness: 2 })?;
+/// assert!(y.iter().all(|&c| (c - 0.5).abs() < 1e-5));
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct MipPyramid<'a> {
     map: EquirectMap<'a>,

@@ -5,6 +5,15 @@ use core::fmt;
 /// Why a computation refused its input.
 ///
 /// Every public function that can be handed bad data returns this instead of panicking.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::{warp::Frame, Error, Vec3};
+///
+/// // A zero normal has no direction: the call returns an error instead of panicking.
+/// assert_eq!(Frame::from_normal(Vec3::ZERO), Err(Error::InvalidDirection));
+/// assert!(Frame::from_normal(Vec3::Z).is_ok());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]

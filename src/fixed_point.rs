@@ -170,6 +170,22 @@ pub fn weighted_sum_signed<const N: usize>(
 /// is every shipped size. It is a trait of its own, not part of `bmc::BakedSize`, because a
 /// table of your own (`SPHERE_QUADRATURE_BMC_TABLE`) may give a size a negative weight: that
 /// size keeps its float renderer and gets no fixed-point form, instead of failing the build.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::bmc::{BakedSize, Size};
+/// use sphere_quadrature::fixed_point::{BmcFixed, FixedSize};
+///
+/// // The Q1.31 weights of every baked size sum to exactly 2³¹.
+/// fn weight_sum<const N: usize>() -> u64
+/// where
+///     Size<N>: BakedSize + FixedSize,
+/// {
+///     BmcFixed::<N>::weights_q31().iter().map(|&w| u64::from(w)).sum()
+/// }
+/// assert_eq!(weight_sum::<16>(), 1 << 31);
+/// assert_eq!(weight_sum::<64>(), 1 << 31);
+/// ```
 #[diagnostic::on_unimplemented(
     message = "no fixed-point Bayesian Monte Carlo weights are baked for `{Self}`",
     label = "this sample count has no baked weights",
@@ -191,6 +207,20 @@ include!(concat!(env!("OUT_DIR"), "/bmc_fixed_tables.rs"));
 
 /// The fixed-point form of [`crate::bmc::Renderer`]: the same directions and weights, with
 /// the weights baked as Q1.31 integers. Zero-sized.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::fixed_point::{u16f16_from_f32, BmcFixed};
+///
+/// let r = BmcFixed::<64>::new();
+/// // The weights form a convex combination summing to exactly 1: a constant comes back exact.
+/// let c = u16f16_from_f32(2.25);
+/// assert_eq!(r.mean_radiance(&[c; 64]), c);
+/// // No weight is negative: the mean lies between the smallest and the largest sample.
+/// let samples = core::array::from_fn(|i| u16f16_from_f32(1.0 + (i % 4) as f32));
+/// let mean = r.mean_radiance(&samples).to_num::<f32>();
+/// assert!((1.0..=4.0).contains(&mean));
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct BmcFixed<const N: usize>

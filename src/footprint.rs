@@ -36,6 +36,18 @@ use crate::error::Error;
 use core::f64::consts::PI;
 
 /// What one sample measures, as a run-time value (see the module docs).
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::footprint::Kind;
+///
+/// // The gains g_l of the Funk–Hecke theorem: g₀ = 1 (constants are kept), then they fall.
+/// let k = Kind::Gaussian { sharpness: 8 };
+/// assert!((k.gain(0)? - 1.0).abs() < 1e-12);
+/// assert!(k.gain(1)? < 1.0 && k.gain(2)? < k.gain(1)?);
+/// assert_eq!(Kind::Point.gain(5)?, 1.0);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Kind {
@@ -141,24 +153,76 @@ fn cosine_power_gain(p: u32, l: usize) -> f64 {
 }
 
 /// A footprint as a type, for [`crate::probe::Probe`]'s third parameter; sealed.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::footprint::{CosinePower, Footprint, Kind, Point};
+///
+/// // The type names the footprint at compile time; KIND gives it at run time.
+/// fn describe<F: Footprint>() -> Kind {
+///     F::KIND
+/// }
+/// assert_eq!(describe::<Point>(), Kind::Point);
+/// assert_eq!(describe::<CosinePower<1>>(), Kind::CosinePower { exponent: 1 });
+/// ```
 pub trait Footprint: sealed::Sealed + Copy + Default + core::fmt::Debug + 'static {
     /// The footprint as a run-time value.
     const KIND: Kind;
 }
 
 /// Point samples (the default): each sample is the radiance in its direction.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::footprint::Point;
+/// use sphere_quadrature::{probe::Probe, Vec3};
+///
+/// // `Probe<N>` is `Probe<N, f32, Point>`: each sample is the radiance in its direction.
+/// let mut probe: Probe<16, f32, Point> = Probe::<16>::new();
+/// probe.update(&[1.0; 16])?;
+/// assert!((probe.irradiance(Vec3::Z)?.value - core::f32::consts::PI).abs() < 1e-4);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Point;
 
 /// Samples that integrate the normalised spherical Gaussian of sharpness `S` about their
 /// directions (see the module docs).
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::footprint::{Footprint, Gaussian};
+/// use sphere_quadrature::{probe::Probe, Vec3};
+///
+/// // A probe of 64 prefiltered samples (a mip level, a cone): the SG of sharpness 8 = N/8.
+/// let mut probe = Probe::<64, f32, Gaussian<8>>::new();
+/// // A constant is unchanged by any normalised filter.
+/// probe.update(&[2.0; 64])?;
+/// let e = probe.irradiance(Vec3::X)?;
+/// assert!((e.value - 2.0 * core::f32::consts::PI).abs() < 1e-3);
+/// assert!(Gaussian::<8>::KIND.gain(1)? < 1.0);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Gaussian<const S: u32>;
 
 /// Samples that integrate the normalised cosine-power response `max(0, t)ᴾ` about their
 /// directions: a light sensor (`P = 1`: a bare photodiode).
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::footprint::CosinePower;
+/// use sphere_quadrature::{probe::Probe, Vec3};
+///
+/// // Sixteen photodiodes; each reads E(xᵢ)/π, the irradiance at its own direction over π.
+/// let mut probe = Probe::<16, f32, CosinePower<1>>::new();
+/// // Under a constant sky of 1 every photodiode reads 1, and the irradiance is π.
+/// probe.update(&[1.0; 16])?;
+/// assert!((probe.irradiance(Vec3::Z)?.value - core::f32::consts::PI).abs() < 1e-3);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CosinePower<const P: u32>;

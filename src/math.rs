@@ -17,6 +17,18 @@
 //! `ln` 0.12 absolute, `acos` 2.9·10⁻² absolute and `powf` 5.9·10⁻³ relative, so `sqrt`,
 //! `acos`, `ln`, `powf`, `expm1`, `ln_1p`, `floor`, `abs`, `copysign` and every f64 function
 //! use `libm` under both backends. With neither feature on, `libm` is used.
+//!
+//! # Example
+//! ```
+//! use sphere_quadrature::math;
+//!
+//! // The same functions under either backend (`libm` or `micromath`).
+//! let (s, c) = math::sin_cos_turns(1 << 61); // an eighth of a turn
+//! assert!((s - core::f32::consts::FRAC_1_SQRT_2).abs() < 1e-6);
+//! assert!((s * s + c * c - 1.0).abs() < 1e-6);
+//! assert!((math::inv_sqrt(4.0) - 0.5).abs() < 1e-7);
+//! assert!((math::sqrt(2.0) * math::sqrt(2.0) - 2.0).abs() < 1e-6);
+//! ```
 
 #[cfg(feature = "micromath")]
 mod backend {
@@ -77,6 +89,16 @@ pub fn sqrt(x: f32) -> f32 {
 /// 1.2 ulp of `1/√x` over the whole domain (`tests/math.rs`). `(x/2·y)·y` keeps every
 /// intermediate in the normal range. Outside the domain the result is meaningless; callers
 /// check `x` first.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::math::inv_sqrt;
+///
+/// for x in [1e-30f32, 0.5, 2.0, 9.0, 1e30] {
+///     let y = inv_sqrt(x);
+///     assert!((y * y * x - 1.0).abs() < 1e-6);
+/// }
+/// ```
 #[inline]
 #[must_use]
 pub fn inv_sqrt(x: f32) -> f32 {
@@ -112,6 +134,14 @@ pub fn atan2(y: f32, x: f32) -> f32 {
 /// Four-quadrant arctangent from `libm` under every backend (its `atan2f` is f32
 /// arithmetic, accurate to about 1 ulp): for code whose correctness, not only its accuracy,
 /// depends on the angle, such as the inverse spherical Fibonacci mapping.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::math::atan2_accurate;
+///
+/// assert!((atan2_accurate(1.0, 1.0) - core::f32::consts::FRAC_PI_4).abs() < 1e-6);
+/// assert!((atan2_accurate(1.0, -1.0) - 3.0 * core::f32::consts::FRAC_PI_4).abs() < 1e-6);
+/// ```
 #[inline]
 #[must_use]
 pub fn atan2_accurate(y: f32, x: f32) -> f32 {
@@ -120,6 +150,16 @@ pub fn atan2_accurate(y: f32, x: f32) -> f32 {
 
 /// Arccosine in `[0, π]`; the argument is clamped to `[−1, 1]` first (NaN stays NaN), so
 /// rounding just outside the domain does not produce NaN.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::math::acos;
+///
+/// assert_eq!(acos(1.0), 0.0);
+/// // Rounding just past 1 is clamped instead of giving NaN.
+/// assert_eq!(acos(1.000_000_1), 0.0);
+/// assert!((acos(-1.0) - core::f32::consts::PI).abs() < 1e-6);
+/// ```
 #[inline]
 #[must_use]
 pub fn acos(x: f32) -> f32 {
@@ -134,6 +174,16 @@ pub fn exp(x: f32) -> f32 {
 }
 
 /// eˣ − 1, accurate near 0 (always `libm`).
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::math::{exp, expm1};
+///
+/// // Near 0, eˣ − 1 keeps the digits that exp(x) − 1 loses.
+/// let x = 1e-6f32;
+/// assert!((expm1(x) - x).abs() < 1e-12);
+/// assert!((expm1(1.0) - (exp(1.0) - 1.0)).abs() < 1e-2);
+/// ```
 #[inline]
 #[must_use]
 pub fn expm1(x: f32) -> f32 {
@@ -148,6 +198,15 @@ pub fn ln(x: f32) -> f32 {
 }
 
 /// ln(1 + x), accurate near 0 (always `libm`).
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::math::ln_1p;
+///
+/// let x = 1e-7f32;
+/// assert!((ln_1p(x) - x).abs() < 1e-13);
+/// assert!((ln_1p(core::f32::consts::E - 1.0) - 1.0).abs() < 1e-6);
+/// ```
 #[inline]
 #[must_use]
 pub fn ln_1p(x: f32) -> f32 {
@@ -232,6 +291,15 @@ pub fn cos64(x: f64) -> f64 {
 }
 
 /// f64 gamma function Γ(x) (always `libm`).
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::math::gamma64;
+///
+/// // Γ(n) = (n − 1)!, Γ(1/2) = √π.
+/// assert!((gamma64(5.0) - 24.0).abs() < 1e-10);
+/// assert!((gamma64(0.5) - core::f64::consts::PI.sqrt()).abs() < 1e-12);
+/// ```
 #[inline]
 #[must_use]
 pub fn gamma64(x: f64) -> f64 {
@@ -261,6 +329,17 @@ pub fn round64(x: f64) -> f64 {
 /// costs a few dozen instructions on an FPU-only-f32 core where `libm`'s `sinf`/`cosf` (which
 /// evaluate in f64) cost thousands. The same code runs under both backends: measured
 /// against f64 over 10⁶ phases, both outputs are within 1.2·10⁻⁷ absolute.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::math::sin_cos_turns;
+///
+/// assert_eq!(sin_cos_turns(0), (0.0, 1.0));
+/// let (s, c) = sin_cos_turns(1 << 62); // a quarter turn
+/// assert!((s - 1.0).abs() < 1e-7 && c.abs() < 1e-7);
+/// let (s, c) = sin_cos_turns(0x1234_5678_9ABC_DEF0);
+/// assert!((s * s + c * c - 1.0).abs() < 1e-6);
+/// ```
 #[inline]
 #[must_use]
 pub fn sin_cos_turns(phase: u64) -> (f32, f32) {

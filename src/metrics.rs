@@ -61,6 +61,22 @@
 //! An empty slice gives [`Error::LengthMismatch`]; a zero, NaN or infinite direction gives
 //! [`Error::InvalidDirection`]; `s ∉ (1, 2)`, a NaN or negative tolerance give
 //! [`Error::InvalidParameter`]. Nothing panics.
+//!
+//! # Example
+//! ```
+//! use sphere_quadrature::{metrics, SphericalFibonacci};
+//!
+//! let points = SphericalFibonacci::<64>::new().points();
+//! // C₀ = 1/(4π) for every set; C_l is far below random points' 1/(4πN) at low l.
+//! let mut c = [0.0f64; 4];
+//! metrics::spectrum(&points, &mut c)?;
+//! assert!((c[0] - 1.0 / (4.0 * core::f64::consts::PI)).abs() < 1e-12);
+//! assert!(c[1] < 1.0 / (4.0 * core::f64::consts::PI * 64.0));
+//! // No two points closer than the closest pair.
+//! let d = metrics::min_separation(&points)?;
+//! assert!(d > 0.0 && d < 2.0);
+//! # Ok::<(), sphere_quadrature::Error>(())
+//! ```
 
 mod circle;
 mod harmonics;

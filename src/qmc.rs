@@ -27,6 +27,20 @@
 //! that sum, so an estimate is `±∞` only when it exceeds `f32::MAX` itself (a constant
 //! `10³⁷` gives `π·10³⁷` irradiance). Whenever the plain sum fits, the estimate is the plain
 //! sum times the weight, bit for bit.
+//!
+//! # Example
+//! ```
+//! use sphere_quadrature::{qmc, Vec3};
+//!
+//! // Irradiance of the sky L(ω) = 1 + z about +z: π + 2π/3.
+//! let e = qmc::irradiance::<64, f32, _>(Vec3::Z, 0, |d| 1.0 + d.z)?;
+//! let exact = core::f32::consts::PI * (1.0 + 2.0 / 3.0);
+//! assert!((e - exact).abs() < 1e-3 * exact);
+//! // Normalised Phong radiance of a constant is the constant.
+//! let g = qmc::phong::<64, f32, _>(Vec3::X, 20.0, 0, |_| 0.7)?;
+//! assert!((g - 0.7).abs() < 1e-5);
+//! # Ok::<(), sphere_quadrature::Error>(())
+//! ```
 
 use crate::error::Error;
 use crate::math;
@@ -37,6 +51,24 @@ use crate::warp::{Frame, Lobe};
 
 /// A hemisphere SF set morphed onto a lobe about an axis: the sample directions of one QMC
 /// estimate, and its weight.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::{qmc::LobeSampler, Lobe, Vec3};
+///
+/// // 32 cosine-distributed directions about a normal: all in its hemisphere.
+/// let n = Vec3::new(0.0, 0.6, 0.8);
+/// let s = LobeSampler::new(n, Lobe::Cosine, 32, 0)?;
+/// assert!(s.iter().all(|d| d.dot(n) > 0.0 && (d.length() - 1.0).abs() < 1e-5));
+/// // Callback or slice form: a constant radiance of 1 has irradiance π.
+/// let e = s.integrate(|_| 1.0f32);
+/// assert!((e - core::f32::consts::PI).abs() < 1e-5);
+/// let mut dirs = [Vec3::ZERO; 32];
+/// s.fill(&mut dirs)?;
+/// let samples = dirs.map(|_| 1.0f32);
+/// assert_eq!(s.estimate(&samples)?, e);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct LobeSampler {
@@ -52,6 +84,17 @@ impl LobeSampler {
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite axis, [`Error::InvalidExponent`]
     /// for a bad Phong exponent, [`Error::InvalidSize`] for `n = 0` or `n > 2²⁴`.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{qmc::LobeSampler, Error, Lobe, Vec3};
+    ///
+    /// let s = LobeSampler::new(Vec3::new(0.0, 0.0, 3.0), Lobe::Phong(10.0), 16, 0)?;
+    /// assert_eq!(s.len(), 16);
+    /// assert_eq!(LobeSampler::new(Vec3::ZERO, Lobe::Cosine, 16, 0), Err(Error::InvalidDirection));
+    /// assert_eq!(LobeSampler::new(Vec3::Z, Lobe::Cosine, 0, 0), Err(Error::InvalidSize));
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn new(axis: Vec3, lobe: Lobe, n: usize, phase_bits: u64) -> Result<Self, Error> {
         let frame = Frame::from_normal(axis)?;
         let lobe = lobe.validate()?;
@@ -128,6 +171,13 @@ impl LobeSampler {
     ///
     /// # Errors
     /// [`Error::LengthMismatch`] when `samples.len() != len()`.
+    ///
+    /// # Cost
+    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
+    /// `examples/cortex-m4`, whose output CI checks these lines against):
+    /// - `m4:qmc_estimate_from_samples N=16`: 47 instructions (cosine lobe)
+    /// - `m4:qmc_estimate_from_samples N=64`: 145 instructions (cosine lobe)
+    /// - `m4:qmc_estimate_from_samples N=256`: 564 instructions (cosine lobe)
     pub fn estimate<T: Radiance>(&self, samples: &[T]) -> Result<T, Error> {
         if samples.len() != self.set.len() {
             return Err(Error::LengthMismatch);
@@ -190,6 +240,13 @@ fn is_finite<T: Radiance>(x: T) -> bool {
 /// # use sphere_quadrature::{qmc, Vec3};
 /// let _ = qmc::irradiance::<0, f32, _>(Vec3::Z, 0, |_| 1.0);
 /// ```
+///
+/// # Cost
+/// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
+/// `examples/cortex-m4`, whose output CI checks these lines against):
+/// - `m4:qmc_irradiance N=16`: 4 804 instructions (trivial radiance callback)
+/// - `m4:qmc_irradiance N=64`: 18 976 instructions (trivial radiance callback)
+/// - `m4:qmc_irradiance N=256`: 75 470 instructions (trivial radiance callback)
 pub fn irradiance<const N: usize, T: Radiance, F: FnMut(Vec3) -> T>(
     normal: Vec3,
     phase_bits: u64,
@@ -205,6 +262,17 @@ pub fn irradiance<const N: usize, T: Radiance, F: FnMut(Vec3) -> T>(
 /// # Errors
 /// [`Error::InvalidDirection`] for a zero or non-finite `reflection`,
 /// [`Error::InvalidExponent`] for a negative, NaN or infinite exponent.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::{qmc, Error, Vec3};
+///
+/// // The normalised lobe integrates to 1: a constant radiance comes back unchanged.
+/// let g = qmc::phong::<32, [f32; 3], _>(Vec3::new(1.0, 1.0, 0.0), 50.0, 0, |_| [0.2, 0.4, 0.8])?;
+/// assert!(g.iter().zip([0.2, 0.4, 0.8]).all(|(a, b)| (a - b).abs() < 1e-5));
+/// assert_eq!(qmc::phong::<32, f32, _>(Vec3::Z, -1.0, 0, |_| 1.0), Err(Error::InvalidExponent));
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 pub fn phong<const N: usize, T: Radiance, F: FnMut(Vec3) -> T>(
     reflection: Vec3,
     exponent: f32,

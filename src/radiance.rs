@@ -1,10 +1,37 @@
 //! Sample values the estimators can sum: scalar radiance (`f32`) or RGB (`[f32; 3]`).
+//!
+//! # Example
+//! ```
+//! use sphere_quadrature::{qmc, Vec3};
+//!
+//! // Every estimator is generic over the sample type: the same call integrates f32 and RGB.
+//! let one: f32 = qmc::irradiance::<64, f32, _>(Vec3::Z, 0, |_| 1.0)?;
+//! let rgb: [f32; 3] = qmc::irradiance::<64, [f32; 3], _>(Vec3::Z, 0, |_| [1.0; 3])?;
+//! // A constant unit radiance has irradiance π.
+//! assert!((one - core::f32::consts::PI).abs() < 1e-4);
+//! assert!(rgb.iter().all(|&c| (c - one).abs() < 1e-6));
+//! # Ok::<(), sphere_quadrature::Error>(())
+//! ```
 
 /// A radiance value: anything that can be summed and scaled.
 ///
 /// Implemented for `f32` (one channel) and `[f32; N]` (`N` channels, e.g. RGB). NaN and
 /// infinities propagate by IEEE rules: one NaN sample makes the estimate NaN (per channel),
 /// which is how bad data shows up instead of being silently dropped.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::Radiance;
+///
+/// // The same weighted-sum code serves one channel and RGB.
+/// fn weighted_sum<T: Radiance>(samples: &[T], weights: &[f32]) -> T {
+///     samples.iter().zip(weights).fold(T::ZERO, |acc, (&y, &w)| acc.mul_add(y, w))
+/// }
+/// assert_eq!(weighted_sum(&[1.0f32, 3.0], &[0.5, 0.5]), 2.0);
+/// let rgb = weighted_sum(&[[1.0f32, 2.0, 4.0], [3.0, 2.0, 0.0]], &[0.5, 0.5]);
+/// assert_eq!(rgb, [2.0, 2.0, 2.0]);
+/// assert_eq!(<[f32; 3]>::CHANNELS, 3);
+/// ```
 pub trait Radiance: Copy {
     /// The zero value.
     const ZERO: Self;

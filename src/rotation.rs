@@ -6,6 +6,19 @@
 //! the estimator unbiased in expectation. With an isotropic covariance kernel, Bayesian
 //! quadrature weights do not change under a rotation of the whole set, so a probe may
 //! re-rotate its rays every update.
+//!
+//! # Example
+//! ```
+//! use sphere_quadrature::{RotationSequence, SphericalFibonacci};
+//!
+//! // Re-randomise a point set at every update: rotated points stay on the sphere, and the
+//! // rotations are reproducible from the seed.
+//! let mut seq = RotationSequence::new(42);
+//! let r = seq.next_rotation();
+//! let points = SphericalFibonacci::<64>::new().points().map(|p| r * p);
+//! assert!(points.iter().all(|p| (p.length() - 1.0).abs() < 1e-5));
+//! assert_eq!(RotationSequence::new(42).next_rotation(), r);
+//! ```
 
 use core::ops::Mul;
 
@@ -19,6 +32,19 @@ use crate::vec3::Vec3;
 pub const ROTATION_TOLERANCE: f32 = 1e-3;
 
 /// A 3×3 matrix stored as rows; used for rotations.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::{Mat3, Vec3};
+///
+/// // A quarter turn about z takes x to y; rotations keep lengths, and the transpose undoes them.
+/// let m = Mat3::about_z(core::f32::consts::FRAC_PI_2);
+/// assert!((m * Vec3::X - Vec3::Y).length() < 1e-6);
+/// let r = Mat3::from_axis_angle(Vec3::new(1.0, 2.0, 3.0), 0.7);
+/// let v = Vec3::new(0.3, -0.4, 0.5);
+/// assert!(((r * v).length() - v.length()).abs() < 1e-6);
+/// assert!((r.transpose() * (r * v) - v).length() < 1e-6);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Mat3 {
@@ -55,6 +81,16 @@ impl Mat3 {
     }
 
     /// Rotation by `angle` radians about the z (pole) axis.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{Mat3, Vec3};
+    ///
+    /// let m = Mat3::about_z(0.3);
+    /// assert_eq!(m * Vec3::Z, Vec3::Z); // the pole is fixed
+    /// // cos 0.3 to the accuracy of either math backend (micromath: 1.1·10⁻³).
+    /// assert!(((m * Vec3::X).dot(Vec3::X) - 0.3f32.cos()).abs() < 2e-3);
+    /// ```
     #[must_use]
     pub fn about_z(angle: f32) -> Self {
         let (s, c) = (math::sin(angle), math::cos(angle));
@@ -93,6 +129,16 @@ impl Mat3 {
 
     /// Rotation by `angle` radians about `axis` (normalised first); the identity when the
     /// axis is zero or not finite.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{Mat3, Vec3};
+    ///
+    /// // The axis is fixed by the rotation about it.
+    /// let axis = Vec3::new(0.0, 0.6, 0.8);
+    /// let m = Mat3::from_axis_angle(axis, 1.2);
+    /// assert!((m * axis - axis).length() < 1e-6);
+    /// ```
     #[must_use]
     pub fn from_axis_angle(axis: Vec3, angle: f32) -> Self {
         match axis.try_normalize() {
@@ -106,6 +152,18 @@ impl Mat3 {
 
     /// A rotation distributed uniformly on SO(3) when `u` is uniform on `[0, 1)³`
     /// (Shoemake's subgroup algorithm: a uniform unit quaternion from three uniforms).
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{Mat3, Vec3};
+    ///
+    /// let m = Mat3::uniform([0.1, 0.5, 0.9]);
+    /// // Orthonormal: the rows are unit vectors, pairwise orthogonal.
+    /// for i in 0..3 {
+    ///     assert!((m.rows[i].length() - 1.0).abs() < 1e-5);
+    ///     assert!(m.rows[i].dot(m.rows[(i + 1) % 3]).abs() < 1e-5);
+    /// }
+    /// ```
     #[must_use]
     pub fn uniform(u: [f32; 3]) -> Self {
         let tau = core::f32::consts::TAU;
@@ -154,6 +212,16 @@ impl Mat3 {
     }
 
     /// The transpose, which is the inverse of a rotation.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{Mat3, Vec3};
+    ///
+    /// // The inverse of a rotation is its transpose.
+    /// let m = Mat3::from_axis_angle(Vec3::new(0.0, 1.0, 0.0), 0.8);
+    /// let v = Vec3::new(0.2, 0.3, -0.9);
+    /// assert!((m.transpose() * (m * v) - v).length() < 1e-6);
+    /// ```
     #[must_use]
     pub fn transpose(&self) -> Self {
         let [a, b, c] = self.rows;
@@ -192,6 +260,21 @@ impl Mul for Mat3 {
 /// The generator is SplitMix64 (Steele, Lea and Flood 2014): 8 bytes of state, one 64-bit
 /// multiply-xorshift per draw, no allocation, identical output on every target. It is not
 /// cryptographic. The same seed always yields the same sequence.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::{RotationSequence, Vec3};
+///
+/// // The same seed gives the same rotations, on every target.
+/// let mut a = RotationSequence::new(7);
+/// let mut b = RotationSequence::new(7);
+/// let (ra, rb) = (a.next_rotation(), b.next_rotation());
+/// assert_eq!(ra, rb);
+/// // A rotation maps the pole to another unit vector.
+/// assert!(((ra * Vec3::Z).length() - 1.0).abs() < 1e-5);
+/// let u = a.next_f32();
+/// assert!((0.0..1.0).contains(&u));
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RotationSequence {
@@ -221,6 +304,17 @@ impl RotationSequence {
 
     /// A uniformly random rotation about the pole, as an exact phase offset in turns × 2⁶⁴
     /// (pass to `with_phase_bits` of a point set).
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{RotationSequence, SphericalFibonacci};
+    ///
+    /// // A random turn about the pole keeps every height.
+    /// let mut seq = RotationSequence::new(9);
+    /// let set = SphericalFibonacci::<16>::new();
+    /// let turned = set.with_phase_bits(seq.next_phase());
+    /// assert!(set.iter().zip(turned.iter()).all(|(a, b)| a.z == b.z));
+    /// ```
     pub fn next_phase(&mut self) -> u64 {
         self.next_u64()
     }

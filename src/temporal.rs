@@ -78,6 +78,19 @@ pub const DEFAULT_THRESHOLD: f32 = 30.0;
 pub const PRIOR_UPDATES: f32 = 2.0;
 
 /// What [`TemporalProbe::update`] did with the new samples.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::temporal::{Change, TemporalProbe};
+///
+/// let mut probe = TemporalProbe::<64>::new(3);
+/// let frame = |p: &TemporalProbe<64>, level: f32| p.directions().map(|d| level + 0.25 * d.z);
+/// assert_eq!(probe.update(&frame(&probe, 1.0))?, Change::First);
+/// assert_eq!(probe.update(&frame(&probe, 1.0))?, Change::Blended);
+/// // The lighting changes by far more than the noise: the state restarts.
+/// assert_eq!(probe.update(&frame(&probe, 20.0))?, Change::Reset);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Change {
@@ -90,6 +103,22 @@ pub enum Change {
 }
 
 /// An estimate of the accumulated state: value and variance per channel.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::{temporal::TemporalProbe, Vec3};
+///
+/// let mut probe = TemporalProbe::<64>::new(5);
+/// for _ in 0..4 {
+///     let samples = probe.directions().map(|_| 2.0);
+///     probe.update(&samples)?;
+/// }
+/// let a = probe.irradiance(Vec3::new(0.0, 1.0, 0.0))?;
+/// // A constant field of 2 has irradiance 2π everywhere.
+/// assert!((a.value / (2.0 * core::f32::consts::PI) - 1.0).abs() < 1e-3);
+/// assert!(a.variance >= 0.0);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Accumulated<T> {
@@ -101,6 +130,23 @@ pub struct Accumulated<T> {
 
 /// A [`Probe`] updated every frame under a fresh rotation, accumulating its SH L2 posterior
 /// over time (see the module docs).
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::{temporal::TemporalProbe, Vec3};
+///
+/// // Every frame: take the samples along the current directions, then update.
+/// let mut probe = TemporalProbe::<64, [f32; 3]>::new(11);
+/// for _ in 0..8 {
+///     let samples = probe.directions().map(|d| [1.0 + 0.5 * d.z; 3]);
+///     probe.update(&samples)?;
+/// }
+/// assert_eq!(probe.updates(), 8);
+/// let e = probe.irradiance(Vec3::Z)?;
+/// // π·(1 + 0.5·2/3), per channel.
+/// assert!(e.value.iter().all(|&v| (v - 4.18879).abs() < 0.02));
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct TemporalProbe<const N: usize, T: Radiance = f32, F: Footprint = Point>
 where
@@ -147,6 +193,16 @@ where
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] unless `threshold` is finite and positive.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{temporal::TemporalProbe, Error};
+    ///
+    /// let probe = TemporalProbe::<16>::new(0).with_threshold(50.0)?;
+    /// assert_eq!(probe.updates(), 0);
+    /// assert_eq!(TemporalProbe::<16>::new(0).with_threshold(0.0).err(), Some(Error::InvalidParameter));
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn with_threshold(mut self, threshold: f32) -> Result<Self, Error> {
         if !(threshold.is_finite() && threshold > 0.0) {
             return Err(Error::InvalidParameter);
@@ -168,6 +224,22 @@ where
     /// # Errors
     /// [`Error::InvalidRadiance`] for a non-finite sample: the state and the directions are
     /// unchanged.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{temporal::TemporalProbe, Error};
+    ///
+    /// let mut probe = TemporalProbe::<16>::new(1);
+    /// // A NaN sample is refused and nothing changes.
+    /// let mut samples = [1.0f32; 16];
+    /// samples[3] = f32::NAN;
+    /// assert_eq!(probe.update(&samples), Err(Error::InvalidRadiance));
+    /// assert_eq!(probe.updates(), 0);
+    /// samples[3] = 1.0;
+    /// probe.update(&samples)?;
+    /// assert_eq!(probe.updates(), 1);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn update(&mut self, samples: &[T; N]) -> Result<Change, Error> {
         self.probe.update(samples)?;
         let c = self.probe.radiance_sh();

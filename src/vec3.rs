@@ -6,6 +6,20 @@ use crate::math;
 
 /// A 3-vector of `f32`. Directions in this crate are unit vectors with `z` as the pole
 /// (zenith) axis of the point sets.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::Vec3;
+///
+/// let v = Vec3::new(3.0, 0.0, 4.0);
+/// assert_eq!(v.length(), 5.0);
+/// let n = v.try_normalize().expect("a non-zero, finite vector");
+/// assert!((n.length() - 1.0).abs() < 1e-6);
+/// // The cross product of two axes is the third; the dot product of orthogonal vectors is 0.
+/// assert_eq!(Vec3::X.cross(Vec3::Y), Vec3::Z);
+/// assert_eq!(Vec3::X.dot(Vec3::Z), 0.0);
+/// assert_eq!(Vec3::ZERO.try_normalize(), None);
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Vec3 {
@@ -81,6 +95,16 @@ impl Vec3 {
     /// components): where the squared length would overflow or lose precision (outside
     /// `[10⁻³⁰, f32::MAX]`) the vector is first divided by its largest component magnitude.
     /// Elsewhere the result is `v·(1/|v|)`, as before.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::Vec3;
+    ///
+    /// let n = Vec3::new(1.0, 2.0, 2.0).try_normalize().unwrap();
+    /// assert!((n.length() - 1.0).abs() < 1e-6);
+    /// assert_eq!(Vec3::ZERO.try_normalize(), None);
+    /// assert_eq!(Vec3::new(f32::NAN, 0.0, 1.0).try_normalize(), None);
+    /// ```
     #[inline]
     #[must_use]
     pub fn try_normalize(self) -> Option<Self> {

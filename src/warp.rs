@@ -14,12 +14,41 @@
 //!
 //! `1 − cos θ′` is formed as `−expm1(ln(1 − a)/(e+1))` from `a = 1 − u`, so large exponents
 //! keep their accuracy near the axis where `1 − cos θ′` is far below the f32 ulp of 1.
+//!
+//! # Example
+//! ```
+//! use sphere_quadrature::{warp::Frame, Lobe, Vec3};
+//!
+//! // A uniform hemisphere height, morphed onto the cosine lobe and placed around a normal.
+//! let frame = Frame::from_normal(Vec3::new(0.0, 1.0, 1.0))?;
+//! let (cos_t, sin_t) = Lobe::Cosine.morph(0.25); // a = 1 − u
+//! let phi = 1.0f32;
+//! let local = Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
+//! let world = frame.to_world(local);
+//! assert!((world.length() - 1.0).abs() < 1e-5);
+//! assert!((world.dot(frame.n) - cos_t).abs() < 1e-5); // the height is measured along the normal
+//! # Ok::<(), sphere_quadrature::Error>(())
+//! ```
 
 use crate::error::Error;
 use crate::math;
 use crate::vec3::Vec3;
 
 /// An orthonormal frame `(t, b, n)` with `n` the axis (normal or reflection direction).
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::{warp::Frame, Vec3};
+///
+/// let f = Frame::from_normal(Vec3::new(1.0, 2.0, 2.0))?;
+/// // Orthonormal, with the axis as local z.
+/// assert!(f.t.dot(f.b).abs() < 1e-6 && f.t.dot(f.n).abs() < 1e-6);
+/// assert!((f.t.length() - 1.0).abs() < 1e-6);
+/// assert!((f.to_world(Vec3::Z) - f.n).length() < 1e-6);
+/// let v = Vec3::new(0.3, -0.2, 0.9);
+/// assert!((f.to_local(f.to_world(v)) - v).length() < 1e-6);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Frame {
@@ -36,6 +65,15 @@ impl Frame {
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] when `n` is zero or not finite (crate docs, "Directions").
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{warp::Frame, Error, Vec3};
+    ///
+    /// assert!((Frame::from_normal(Vec3::new(0.0, 0.0, 5.0))?.n - Vec3::Z).length() < 1e-6);
+    /// assert_eq!(Frame::from_normal(Vec3::ZERO), Err(Error::InvalidDirection));
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
     pub fn from_normal(n: Vec3) -> Result<Self, Error> {
         let n = n.try_normalize().ok_or(Error::InvalidDirection)?;
         Ok(Self::from_unit(n))
@@ -70,6 +108,20 @@ impl Frame {
 }
 
 /// A lobe over the hemisphere of an axis: the known part `p` of an illumination integral.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::{Error, Lobe};
+///
+/// // ∫ cosᵉ θ dω over the hemisphere is 2π/(e + 1): π for the cosine lobe.
+/// assert!((Lobe::Cosine.integral() - core::f32::consts::PI).abs() < 1e-6);
+/// assert_eq!(Lobe::phong(1.0)?.integral(), Lobe::Cosine.integral());
+/// assert_eq!(Lobe::phong(-1.0), Err(Error::InvalidExponent));
+/// // Morphing keeps (cos θ′, sin θ′) on the unit circle.
+/// let (c, s) = Lobe::Phong(20.0).morph(0.5);
+/// assert!((c * c + s * s - 1.0).abs() < 1e-5);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Lobe {
@@ -105,6 +157,15 @@ impl Lobe {
     }
 
     /// `∫ cosᵉ θ dω` over the hemisphere: `2π/(e+1)` (π for the cosine).
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::Lobe;
+    ///
+    /// // 2π for the uniform lobe (the hemisphere's solid angle), π for the cosine.
+    /// assert!((Lobe::Uniform.integral() - 2.0 * core::f32::consts::PI).abs() < 1e-6);
+    /// assert!((Lobe::Phong(3.0).integral() - core::f32::consts::PI / 2.0).abs() < 1e-6);
+    /// ```
     #[must_use]
     pub fn integral(&self) -> f32 {
         core::f32::consts::TAU / (self.exponent() + 1.0)
@@ -114,6 +175,14 @@ impl Lobe {
     ///
     /// # Errors
     /// [`Error::InvalidExponent`] for a negative, NaN or infinite Phong exponent.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::{Error, Lobe};
+    ///
+    /// assert_eq!(Lobe::Phong(f32::INFINITY).validate(), Err(Error::InvalidExponent));
+    /// assert_eq!(Lobe::Cosine.validate(), Ok(Lobe::Cosine));
+    /// ```
     pub fn validate(&self) -> Result<Self, Error> {
         match *self {
             Lobe::Phong(e) => Lobe::phong(e),
@@ -123,6 +192,17 @@ impl Lobe {
 
     /// Morphs a uniform hemisphere height into the lobe: given `a = 1 − u` returns
     /// `(cos θ′, sin θ′)` with `cos θ′ = u^(1/(e+1))`.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::Lobe;
+    ///
+    /// // a = 1 − u: u = 1/4 on the cosine lobe gives cos θ′ = √u = 1/2.
+    /// let (c, s) = Lobe::Cosine.morph(0.75);
+    /// assert!((c - 0.5).abs() < 1e-6 && (s - 0.75f32.sqrt()).abs() < 1e-6);
+    /// // Sharper lobes pull the same height closer to the axis.
+    /// assert!(Lobe::Phong(100.0).morph(0.75).0 > Lobe::Phong(10.0).morph(0.75).0);
+    /// ```
     #[inline]
     #[must_use]
     pub fn morph(&self, a: f32) -> (f32, f32) {

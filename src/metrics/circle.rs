@@ -21,6 +21,19 @@ use crate::math;
 ///
 /// # Errors
 /// [`Error::LengthMismatch`] when `xs` is empty.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::metrics::{circle_coefficient, uniform_circle_nodes};
+///
+/// // K = 8 uniform samples of the full circle cancel every frequency 0 < |n| < 8.
+/// let mut xs = [0.0f64; 8];
+/// uniform_circle_nodes(core::f64::consts::TAU, &mut xs)?;
+/// let (re, im) = circle_coefficient(&xs, 3)?;
+/// assert!(re.abs() < 1e-12 && im.abs() < 1e-12);
+/// assert!((circle_coefficient(&xs, 0)?.0 - 1.0).abs() < 1e-12);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 pub fn circle_coefficient(xs: &[f64], n: i64) -> Result<(f64, f64), Error> {
     if xs.is_empty() {
         return Err(Error::LengthMismatch);
@@ -41,6 +54,17 @@ pub fn circle_coefficient(xs: &[f64], n: i64) -> Result<(f64, f64), Error> {
 /// # Errors
 /// [`Error::LengthMismatch`] when `out` is empty; [`Error::InvalidParameter`] for a
 /// non-finite `a`.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::metrics::uniform_circle_nodes;
+///
+/// // Midpoints of 4 equal cells of [−1, 1]: symmetric about 0, spaced by a/K.
+/// let mut xs = [0.0f64; 4];
+/// uniform_circle_nodes(2.0, &mut xs)?;
+/// assert!((xs[0] + xs[3]).abs() < 1e-15 && (xs[1] - xs[0] - 0.5).abs() < 1e-15);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 pub fn uniform_circle_nodes(a: f64, out: &mut [f64]) -> Result<(), Error> {
     if out.is_empty() {
         return Err(Error::LengthMismatch);
@@ -66,6 +90,21 @@ pub fn uniform_circle_nodes(a: f64, out: &mut [f64]) -> Result<(), Error> {
 ///
 /// # Errors
 /// [`Error::InvalidSize`] when `k = 0`; [`Error::InvalidParameter`] for a non-finite `a`.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::metrics::{circle_coefficient, uniform_circle_coefficient, uniform_circle_nodes};
+///
+/// // The closed form agrees with the sum over the pattern's nodes.
+/// let (k, a) = (6, 1.3);
+/// let mut xs = [0.0f64; 6];
+/// uniform_circle_nodes(a, &mut xs)?;
+/// for n in [1, 5, 6, 7] {
+///     let closed = uniform_circle_coefficient(n, k, a)?;
+///     assert!((closed - circle_coefficient(&xs, n)?.0).abs() < 1e-12);
+/// }
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 pub fn uniform_circle_coefficient(n: i64, k: usize, a: f64) -> Result<f64, Error> {
     if k == 0 {
         return Err(Error::InvalidSize);
@@ -94,6 +133,17 @@ pub fn uniform_circle_coefficient(n: i64, k: usize, a: f64) -> Result<f64, Error
 /// # Errors
 /// [`Error::LengthMismatch`] when `xs` is empty; [`Error::InvalidParameter`] for a negative or
 /// NaN `tol`.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::metrics::{circle_strength, uniform_circle_nodes};
+///
+/// // The uniform pattern of K points on the full circle has strength K − 1.
+/// let mut xs = [0.0f64; 10];
+/// uniform_circle_nodes(core::f64::consts::TAU, &mut xs)?;
+/// assert_eq!(circle_strength(&xs, 1e-9, 50)?, 9);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
 pub fn circle_strength(xs: &[f64], tol: f64, n_max: usize) -> Result<usize, Error> {
     if tol.is_nan() || tol < 0.0 {
         return Err(Error::InvalidParameter);

@@ -191,6 +191,19 @@ pub fn sh_coefficients(points: &[Vec3], l_max: usize, out: &mut [f64]) -> Result
 /// Which frequency weights `a_l` the spectral worst-case error uses,
 /// `wce² = Σ_{l≥1} a_l Σₘ |c_{l,m}|²` (seed, "Worst case error over Hˢ(S²)"), with `c_{l,m}`
 /// over dΩ-orthonormal harmonics as everywhere in [`crate::metrics`].
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::metrics::{sobolev_weight, SobolevWeights};
+///
+/// // The two weightings agree as l → ∞ and differ at low degrees.
+/// let ratio = |l| {
+///     sobolev_weight(l, 1.5, SobolevWeights::Asymptotic).unwrap()
+///         / sobolev_weight(l, 1.5, SobolevWeights::Exact).unwrap()
+/// };
+/// assert!(ratio(1) < 0.5);
+/// assert!((ratio(100_000) - 1.0).abs() < 1e-3);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum SobolevWeights {
