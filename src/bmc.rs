@@ -264,7 +264,7 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
     /// - `m4:renderer_w_dot_y N=16`: 37 instructions (one channel)
-    /// - `m4:renderer_w_dot_y N=64`: 176 instructions (one channel)
+    /// - `m4:renderer_w_dot_y N=64`: 174 instructions (one channel)
     /// - `m4:renderer_w_dot_y N=256`: 856 instructions (one channel)
     ///
     /// Flash: `4·N` bytes of weights per size used ([`TABLE_BYTES`] for all of them).

@@ -611,9 +611,9 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
     /// - `m4:probe_update N=16`: 2 716 instructions (four-member selection)
-    /// - `m4:probe_update N=32`: 33 968 instructions (four-member selection)
+    /// - `m4:probe_update N=32`: 33 964 instructions (four-member selection)
     /// - `m4:probe_update N=64`: 88 800 instructions (four-member selection)
-    /// - `m4:probe_update N=256`: 790 400 instructions (four-member selection)
+    /// - `m4:probe_update N=256`: 790 440 instructions (four-member selection)
     ///
     /// Flash: the size's baked tables, [`Probe::table_bytes`].
     pub fn update(&mut self, samples: &[T; N]) -> Result<(), Error> {
@@ -629,7 +629,7 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_update_one_member N=16`: 1 274 instructions (one member)
+    /// - `m4:probe_update_one_member N=16`: 1 272 instructions (one member)
     /// - `m4:probe_update_one_member N=32`: 11 876 instructions (one member)
     /// - `m4:probe_update_one_member N=64`: 31 080 instructions (one member)
     /// - `m4:probe_update_one_member N=256`: 274 880 instructions (one member)
@@ -765,12 +765,12 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_irradiance N=16`: 834 instructions
-    /// - `m4:probe_irradiance N=32`: 1 551 instructions
-    /// - `m4:probe_irradiance N=64`: 2 918 instructions
-    /// - `m4:probe_irradiance N=256`: 11 641 instructions
-    /// - `m4:gaussian8_probe_irradiance N=64`: 2 953 instructions (`Gaussian<8>` footprint)
-    /// - `m4:photodiode_probe_irradiance N=16`: 830 instructions (`CosinePower<1>`)
+    /// - `m4:probe_irradiance N=16`: 828 instructions
+    /// - `m4:probe_irradiance N=32`: 1 549 instructions
+    /// - `m4:probe_irradiance N=64`: 2 916 instructions
+    /// - `m4:probe_irradiance N=256`: 11 640 instructions
+    /// - `m4:gaussian8_probe_irradiance N=64`: 2 932 instructions (`Gaussian<8>` footprint)
+    /// - `m4:photodiode_probe_irradiance N=16`: 828 instructions (`CosinePower<1>`)
     ///
     /// # Examples
     /// ```
@@ -930,11 +930,11 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
     /// - `m4:probe_glossy N=16`: 2 675 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=32`: 4 923 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=64`: 9 134 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=256`: 38 176 instructions (SG lobe of Phong e = 20)
-    /// - `m4:gaussian8_probe_glossy N=64`: 9 384 instructions (`Gaussian<8>`)
-    /// - `m4:photodiode_probe_glossy N=16`: 11 585 instructions (photodiodes)
+    /// - `m4:probe_glossy N=32`: 4 897 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=64`: 9 333 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=256`: 38 175 instructions (SG lobe of Phong e = 20)
+    /// - `m4:gaussian8_probe_glossy N=64`: 9 450 instructions (`Gaussian<8>`)
+    /// - `m4:photodiode_probe_glossy N=16`: 11 537 instructions (photodiodes)
     ///
     /// # Examples
     /// ```
@@ -1003,10 +1003,10 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_glossy_variance N=16`: 773 826 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=32`: 893 996 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=64`: 1 217 120 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=256`: 5 495 680 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=16`: 773 836 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=32`: 894 020 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=64`: 1 217 180 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=256`: 5 495 160 instructions (soft f64 quadrature)
     pub fn glossy_variance(&self, lobe: &SphericalGaussian) -> Result<T, Error> {
         let (r, mu, amp) = check_lobe(lobe)?;
         let f = self.member_in_use()?;
@@ -1081,10 +1081,10 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_phong N=16`: 9 462 instructions (e = 20)
-    /// - `m4:probe_phong N=32`: 13 533 instructions (e = 20)
-    /// - `m4:probe_phong N=64`: 21 320 instructions (e = 20)
-    /// - `m4:probe_phong N=256`: 66 523 instructions (e = 20)
+    /// - `m4:probe_phong N=16`: 9 436 instructions (e = 20)
+    /// - `m4:probe_phong N=32`: 13 428 instructions (e = 20)
+    /// - `m4:probe_phong N=64`: 21 245 instructions (e = 20)
+    /// - `m4:probe_phong N=256`: 66 520 instructions (e = 20)
     ///
     /// # Examples
     /// ```
@@ -1135,10 +1135,10 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_phong_variance N=16`: 422 714 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=32`: 778 068 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=64`: 1 568 680 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=256`: 8 657 080 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=16`: 422 712 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=32`: 778 064 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=64`: 1 568 670 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=256`: 8 657 040 instructions (e = 20)
     pub fn phong_variance(&self, axis: Vec3, exponent: f32) -> Result<T, Error> {
         let r = axis.try_normalize().ok_or(Error::InvalidDirection)?;
         if !(0.0..=MAX_GLOSSY_SHARPNESS).contains(&exponent) {
@@ -1760,10 +1760,10 @@ fn legendre_sum_f32(h: &[f32], rec: &[(f32, f32)], t: f32) -> f32 {
 /// # Cost
 /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
 /// `examples/cortex-m4`, whose output CI checks these lines against):
-/// - `m4:cosine_weighted_average N=16`: 471 instructions
-/// - `m4:cosine_weighted_average N=32`: 857 instructions
-/// - `m4:cosine_weighted_average N=64`: 1 608 instructions
-/// - `m4:cosine_weighted_average N=256`: 6 120 instructions
+/// - `m4:cosine_weighted_average N=16`: 516 instructions
+/// - `m4:cosine_weighted_average N=32`: 896 instructions
+/// - `m4:cosine_weighted_average N=64`: 1 652 instructions
+/// - `m4:cosine_weighted_average N=256`: 6 190 instructions
 pub fn cosine_weighted_average<T: Radiance>(
     directions: &[Vec3],
     samples: &[T],

@@ -175,9 +175,9 @@ impl LobeSampler {
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:qmc_estimate_from_samples N=16`: 47 instructions (cosine lobe)
-    /// - `m4:qmc_estimate_from_samples N=64`: 145 instructions (cosine lobe)
-    /// - `m4:qmc_estimate_from_samples N=256`: 564 instructions (cosine lobe)
+    /// - `m4:qmc_estimate_from_samples N=16`: 76 instructions (cosine lobe)
+    /// - `m4:qmc_estimate_from_samples N=64`: 184 instructions (cosine lobe)
+    /// - `m4:qmc_estimate_from_samples N=256`: 605 instructions (cosine lobe)
     pub fn estimate<T: Radiance>(&self, samples: &[T]) -> Result<T, Error> {
         if samples.len() != self.set.len() {
             return Err(Error::LengthMismatch);
@@ -244,9 +244,9 @@ fn is_finite<T: Radiance>(x: T) -> bool {
 /// # Cost
 /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
 /// `examples/cortex-m4`, whose output CI checks these lines against):
-/// - `m4:qmc_irradiance N=16`: 4 804 instructions (trivial radiance callback)
-/// - `m4:qmc_irradiance N=64`: 18 976 instructions (trivial radiance callback)
-/// - `m4:qmc_irradiance N=256`: 75 470 instructions (trivial radiance callback)
+/// - `m4:qmc_irradiance N=16`: 5 074 instructions (trivial radiance callback)
+/// - `m4:qmc_irradiance N=64`: 19 196 instructions (trivial radiance callback)
+/// - `m4:qmc_irradiance N=256`: 75 700 instructions (trivial radiance callback)
 pub fn irradiance<const N: usize, T: Radiance, F: FnMut(Vec3) -> T>(
     normal: Vec3,
     phase_bits: u64,

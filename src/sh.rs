@@ -314,10 +314,10 @@ impl<T: Radiance> ShL2<T> {
     }
 
     /// The irradiance `E(n) = ∫ L(x)·max(0, n̂·x) dx` of the expansion, `Σ Â_l·c_lm·Y_lm(n̂)`
-    /// with `Â = π, 2π/3, π/4` (Ramamoorthi and Hanrahan 2001), O(9): 59 Cortex-M4
+    /// with `Â = π, 2π/3, π/4` (Ramamoorthi and Hanrahan 2001), O(9): 57 Cortex-M4
     /// instructions per call for one channel (README). `n` need not be unit: a normal that
     /// is unit to f32 precision is used as given, any other normalised without a square
-    /// root ([`crate::math::inv_sqrt`]; 93 instructions).
+    /// root ([`crate::math::inv_sqrt`]; 88 instructions).
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero, NaN or infinite `n`.
@@ -325,9 +325,9 @@ impl<T: Radiance> ShL2<T> {
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_sh_irradiance N=64`: 59 instructions (one channel, unit normal)
-    /// - `m4:probe_sh_irradiance_non_unit N=64`: 93 instructions (one channel, to normalise)
-    /// - `m4:sh_irradiance_rgb N=9`: 102 instructions (RGB, unit normal)
+    /// - `m4:probe_sh_irradiance N=64`: 57 instructions (one channel, unit normal)
+    /// - `m4:probe_sh_irradiance_non_unit N=64`: 88 instructions (one channel, to normalise)
+    /// - `m4:sh_irradiance_rgb N=9`: 103 instructions (RGB, unit normal)
     ///
     /// The counts include the harness's closure, which loads the captured normal and stores
     /// the `Result`.

@@ -60,7 +60,7 @@ where
     /// `examples/cortex-m4`, whose output CI checks these lines against):
     /// - `m4:probe_radiance_sh N=16`: 1 316 instructions
     /// - `m4:probe_radiance_sh N=32`: 1 678 instructions
-    /// - `m4:probe_radiance_sh N=64`: 2 398 instructions
+    /// - `m4:probe_radiance_sh N=64`: 2 399 instructions
     /// - `m4:probe_radiance_sh N=256`: 6 848 instructions
     #[must_use]
     pub fn radiance_sh(&self) -> ShL2<T> {
@@ -104,10 +104,10 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_radiance_sh_variance N=16`: 353 270 instructions (soft f64)
+    /// - `m4:probe_radiance_sh_variance N=16`: 353 268 instructions (soft f64)
     /// - `m4:probe_radiance_sh_variance N=32`: 934 784 instructions (soft f64)
     /// - `m4:probe_radiance_sh_variance N=64`: 2 787 450 instructions (soft f64)
-    /// - `m4:probe_radiance_sh_variance N=256`: 33 646 640 instructions (soft f64)
+    /// - `m4:probe_radiance_sh_variance N=256`: 33 627 000 instructions (soft f64)
     #[must_use]
     pub fn radiance_sh_variance(&self) -> [T; 9] {
         let Ok(f) = self.member_in_use() else { return [T::ZERO; 9] };

@@ -278,7 +278,7 @@ impl FibonacciPoints {
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:nearest_index N=256`: 2 707 instructions (`SphericalFibonacci`)
+    /// - `m4:nearest_index N=256`: 2 706 instructions (`SphericalFibonacci`)
     /// - `m4:nearest_index N=4096`: 2 509 instructions (`SphericalFibonacci`)
     pub fn nearest_index(&self, dir: Vec3) -> Result<usize, Error> {
         self.locate(dir).map(|best| best.j)
