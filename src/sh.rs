@@ -30,7 +30,7 @@
 //! `Â_l = 2π∫₀¹ t·P_l(t) dt`: `Â₀ = π`, `Â₁ = 2π/3`, `Â₂ = π/4` (Ramamoorthi and Hanrahan,
 //! "An Efficient Representation for Irradiance Environment Maps", SIGGRAPH 2001, section
 //! 3), so [`ShL2::irradiance`] is `E(n) = Σ Â_l·c_lm·Y_lm(n)`: 9 multiply-adds after a
-//! check of `n` (59 Cortex-M4 instructions per call for one channel and a unit normal, 93
+//! check of `n` (57 Cortex-M4 instructions per call for one channel and a unit normal, 88
 //! for a normal that must be normalised; README). It is exact for a radiance without
 //! harmonics above degree 2; for any other it is the irradiance of the projection, which
 //! drops the terms of `Â₄ = −π/24`, `Â₆ = π/64`, … (the odd `Â_l` above 1 vanish):
