@@ -13,8 +13,15 @@ use sphere_quadrature::{Error, Mat3, RotationSequence, Vec3};
 
 const PI: f32 = core::f32::consts::PI;
 
+/// A fixed seed: CI runs the same cases every time (a new failure is then a change of the
+/// code, not of the draw). Change the seed to explore other cases.
 fn config(cases: u32) -> ProptestConfig {
-    ProptestConfig { cases, failure_persistence: None, ..ProptestConfig::default() }
+    ProptestConfig {
+        cases,
+        failure_persistence: None,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x5EED_2026),
+        ..ProptestConfig::default()
+    }
 }
 
 /// A valid direction: a unit vector from two uniforms, scaled by `10^k`, `k ∈ [−30, 30]`
@@ -187,13 +194,15 @@ proptest! {
 proptest! {
     #![proptest_config(config(24))]
 
-    /// Finite outputs for finite in-range input: samples of any sign up to 10¹⁵ (results then
-    /// stay far below `f32::MAX` even after the lobe amplitude), any valid normal and lobe
-    /// axis, lobe sharpness up to 10⁴ and amplitude up to 10⁶, Phong exponents up to 10³:
-    /// every value and variance is finite and every variance non-negative.
+    /// Finite outputs for finite in-range input: samples of any sign up to 10¹⁰, any valid
+    /// normal and lobe axis, lobe sharpness up to 10⁴ and amplitude up to 10⁶, Phong exponents
+    /// up to 10³: every value and variance is finite and every variance non-negative. (A
+    /// variance is squared: samples of 10¹⁵ and an amplitude of 10⁶ put `glossy_variance` near
+    /// 10⁴², beyond f32, where +∞ is the right answer; 10¹⁰ keeps it below 10³⁵ with the
+    /// largest calibration factor.)
     #[test]
     fn finite_outputs(
-        r in rotation(), y in prop::collection::vec(-1e15f32..1e15, 64), n in direction(),
+        r in rotation(), y in prop::collection::vec(-1e10f32..1e10, 64), n in direction(),
         axis in direction(), mu in 0.0f32..1e4, amp in -1e6f32..1e6, e in 0.0f32..1e3,
     ) {
         let mut p = Probe::<64>::new();
