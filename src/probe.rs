@@ -499,6 +499,11 @@ where
     };
 
     /// A probe on the unrotated spherical Fibonacci sphere set, with no data yet.
+    ///
+    /// # Cost
+    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// these lines against; the tables come with the first query or update):
+    /// - `flash:probe_new N=64`: 1 856 bytes of code and 256 bytes of tables
     #[must_use]
     pub fn new() -> Self {
         Self {
@@ -615,6 +620,11 @@ where
     /// - `m4:probe_update N=64`: 88 800 instructions (four-member selection)
     /// - `m4:probe_update N=256`: 790 440 instructions (four-member selection)
     ///
+    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// these lines against):
+    /// - `flash:probe_update N=64`: 18 396 bytes of code and 24 096 bytes of tables
+    ///   (on top of `Probe::new`)
+    ///
     /// Flash: the size's baked tables, [`Probe::table_bytes`].
     pub fn update(&mut self, samples: &[T; N]) -> Result<(), Error> {
         self.update_with(samples, Selection::MaxLikelihood)
@@ -633,6 +643,11 @@ where
     /// - `m4:probe_update_one_member N=32`: 11 876 instructions (one member)
     /// - `m4:probe_update_one_member N=64`: 31 080 instructions (one member)
     /// - `m4:probe_update_one_member N=256`: 274 880 instructions (one member)
+    ///
+    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// these lines against):
+    /// - `flash:probe_update_one_member N=64`: 18 188 bytes of code and 24 096 bytes of tables
+    ///   (on top of `Probe::new`)
     pub fn update_with(&mut self, samples: &[T; N], selection: Selection) -> Result<(), Error> {
         if !samples.iter().all(|y| (0..T::CHANNELS).all(|c| y.channel(c).is_finite())) {
             return Err(Error::InvalidRadiance);
@@ -771,6 +786,11 @@ where
     /// - `m4:probe_irradiance N=256`: 11 640 instructions
     /// - `m4:gaussian8_probe_irradiance N=64`: 2 932 instructions (`Gaussian<8>` footprint)
     /// - `m4:photodiode_probe_irradiance N=16`: 828 instructions (`CosinePower<1>`)
+    ///
+    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// these lines against):
+    /// - `flash:probe_irradiance N=64`: 1 772 bytes of code and 24 096 bytes of tables
+    ///   (on top of `Probe::new`)
     ///
     /// # Examples
     /// ```
@@ -936,6 +956,11 @@ where
     /// - `m4:gaussian8_probe_glossy N=64`: 9 450 instructions (`Gaussian<8>`)
     /// - `m4:photodiode_probe_glossy N=16`: 11 537 instructions (photodiodes)
     ///
+    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// these lines against):
+    /// - `flash:probe_glossy N=64`: 3 768 bytes of code and 24 104 bytes of tables
+    ///   (on top of `Probe::new`)
+    ///
     /// # Examples
     /// ```
     /// use sphere_quadrature::{probe::Probe, sg::SphericalGaussian, Vec3};
@@ -1007,6 +1032,11 @@ where
     /// - `m4:probe_glossy_variance N=32`: 894 020 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=64`: 1 217 180 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=256`: 5 495 160 instructions (soft f64 quadrature)
+    ///
+    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// these lines against):
+    /// - `flash:probe_glossy_variance N=64`: 19 448 bytes of code and 24 112 bytes of tables
+    ///   (on top of `Probe::new`)
     pub fn glossy_variance(&self, lobe: &SphericalGaussian) -> Result<T, Error> {
         let (r, mu, amp) = check_lobe(lobe)?;
         let f = self.member_in_use()?;
@@ -1086,6 +1116,11 @@ where
     /// - `m4:probe_phong N=64`: 21 245 instructions (e = 20)
     /// - `m4:probe_phong N=256`: 66 520 instructions (e = 20)
     ///
+    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// these lines against):
+    /// - `flash:probe_phong N=64`: 9 468 bytes of code and 24 096 bytes of tables
+    ///   (on top of `Probe::new`)
+    ///
     /// # Examples
     /// ```
     /// use sphere_quadrature::{probe::Probe, Error, Vec3};
@@ -1139,6 +1174,11 @@ where
     /// - `m4:probe_phong_variance N=32`: 778 064 instructions (e = 20)
     /// - `m4:probe_phong_variance N=64`: 1 568 670 instructions (e = 20)
     /// - `m4:probe_phong_variance N=256`: 8 657 040 instructions (e = 20)
+    ///
+    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// these lines against):
+    /// - `flash:probe_phong_variance N=64`: 20 892 bytes of code and 24 096 bytes of tables
+    ///   (on top of `Probe::new`)
     pub fn phong_variance(&self, axis: Vec3, exponent: f32) -> Result<T, Error> {
         let r = axis.try_normalize().ok_or(Error::InvalidDirection)?;
         if !(0.0..=MAX_GLOSSY_SHARPNESS).contains(&exponent) {
@@ -1764,6 +1804,11 @@ fn legendre_sum_f32(h: &[f32], rec: &[(f32, f32)], t: f32) -> f32 {
 /// - `m4:cosine_weighted_average N=32`: 896 instructions
 /// - `m4:cosine_weighted_average N=64`: 1 652 instructions
 /// - `m4:cosine_weighted_average N=256`: 6 190 instructions
+///
+/// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+/// these lines against):
+/// - `flash:cosine_weighted_average N=64`: 948 bytes of code and 0 bytes of tables
+///   (on top of the `Probe::new` that gives the directions)
 pub fn cosine_weighted_average<T: Radiance>(
     directions: &[Vec3],
     samples: &[T],

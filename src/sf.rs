@@ -541,6 +541,10 @@ macro_rules! const_set {
             /// - `m4:sf_points N=16`: 4 486 instructions (`SphericalFibonacci`)
             /// - `m4:sf_points N=64`: 12 108 instructions (`SphericalFibonacci`)
             /// - `m4:sf_points N=256`: 48 300 instructions (`SphericalFibonacci`)
+            ///
+            /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+            /// these lines against):
+            /// - `flash:sf_points N=64`: 1 632 bytes of code and 256 bytes of tables
             #[must_use]
             pub fn points(&self) -> [Vec3; N] {
                 core::array::from_fn(|j| self.set.point_unchecked(j))

@@ -329,6 +329,10 @@ impl<T: Radiance> ShL2<T> {
     /// - `m4:probe_sh_irradiance_non_unit N=64`: 88 instructions (one channel, to normalise)
     /// - `m4:sh_irradiance_rgb N=9`: 103 instructions (RGB, unit normal)
     ///
+    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// these lines against):
+    /// - `flash:probe_sh_irradiance N=64`: 944 bytes of code and 256 bytes of tables (one channel)
+    ///
     /// The counts include the harness's closure, which loads the captured normal and stores
     /// the `Result`.
     #[inline]

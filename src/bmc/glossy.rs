@@ -344,6 +344,11 @@ where
     /// - `m4:glossy_renderer_estimate N=16`: 158 instructions (e = 50, one channel)
     /// - `m4:glossy_renderer_estimate N=64`: 416 instructions (e = 50, one channel)
     /// - `m4:glossy_renderer_estimate N=80`: 497 instructions (e = 50, one channel)
+    ///
+    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// these lines against):
+    /// - `flash:glossy_renderer_estimate N=64`: 2 588 bytes of code and 26 624 bytes of tables
+    ///   (e = 50)
     pub fn estimate<T: Radiance>(
         &self,
         normal: Vec3,

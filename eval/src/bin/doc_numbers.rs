@@ -1,0 +1,427 @@
+//! The Cortex-M4 costs quoted in the docs, checked against (or rewritten from) the device.
+//!
+//! ```text
+//! (cd examples/cortex-m4 && cargo run --release) > target/ci/m4-libm.txt
+//! .ci/m4-flash.sh > target/ci/m4-flash.txt
+//! cargo eval doc_numbers                # check the docs (CI)
+//! cargo eval doc_numbers -- --write     # rewrite them from the measurements
+//! ```
+//!
+//! Two kinds of place quote a measurement:
+//! - rustdoc lines in `src/`: "`` `m4:NAME N=n`: K instructions ``" (the device's
+//!   `# count NAME N=n K instructions/call`) and "`` `flash:NAME N=n`: C bytes of code and
+//!   D bytes of tables ``" (`.ci/m4-flash.sh`'s `# flash NAME N=n C D`);
+//! - generated regions of `README.md`, between `<!-- numbers: TEMPLATE -->` and
+//!   `<!-- /numbers -->`: the template file with each `{m4:NAME N=n}`, `{code:NAME N=n}` and
+//!   `{data:NAME N=n}` replaced by the measurement.
+//!
+//! Numbers are written in groups of three digits separated by spaces (`88 800`). Without
+//! `--write` the program fails, listing every place that disagrees, if any quoted number
+//! differs from the measurement or names one the measurements do not have.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::Parser;
+
+#[path = "../common/cli.rs"]
+#[allow(dead_code)]
+mod cli;
+
+/// Check (or rewrite) the Cortex-M4 instruction counts and flash sizes quoted in the rustdoc of
+/// `src/` and in README.md against the device's output.
+#[derive(Parser)]
+#[command(bin_name = "cargo eval doc_numbers --")]
+struct Args {
+    /// The Cortex-M4 scenario's output with the `libm` backend
+    /// (`cd examples/cortex-m4 && cargo run --release`).
+    #[arg(long, default_value = "target/ci/m4-libm.txt")]
+    m4: PathBuf,
+    /// The flash sizes (`.ci/m4-flash.sh`).
+    #[arg(long, default_value = "target/ci/m4-flash.txt")]
+    flash: PathBuf,
+    /// Rewrite the quoted numbers from the measurements instead of checking them.
+    #[arg(long)]
+    write: bool,
+}
+
+/// A measurement's name: `NAME N=n`.
+type Key = (String, u64);
+
+#[derive(Default)]
+struct Measured {
+    /// Instructions per call.
+    m4: BTreeMap<Key, u64>,
+    /// Bytes of code, bytes of tables.
+    flash: BTreeMap<Key, (u64, u64)>,
+}
+
+impl Measured {
+    fn load(m4: &Path, flash: &Path) -> Result<Self, String> {
+        let read = |p: &Path| {
+            std::fs::read_to_string(p).map_err(|e| format!("cannot read {}: {e}", p.display()))
+        };
+        let mut out = Self::default();
+        for line in read(m4)?.lines() {
+            // "# count NAME N=n K instructions/call"
+            let w: Vec<&str> = line.split_whitespace().collect();
+            if let ["#", "count", name, n, k, "instructions/call"] = w[..] {
+                out.m4.insert(key(name, n)?, number(k)?);
+            }
+        }
+        for line in read(flash)?.lines() {
+            // "# flash NAME N=n CODE DATA"
+            let w: Vec<&str> = line.split_whitespace().collect();
+            if let ["#", "flash", name, n, code, data] = w[..] {
+                out.flash.insert(key(name, n)?, (number(code)?, number(data)?));
+            }
+        }
+        if out.m4.is_empty() || out.flash.is_empty() {
+            return Err(format!(
+                "no measurements in {} ({} counts) or {} ({} sizes)",
+                m4.display(),
+                out.m4.len(),
+                flash.display(),
+                out.flash.len()
+            ));
+        }
+        Ok(out)
+    }
+}
+
+fn number(s: &str) -> Result<u64, String> {
+    s.parse().map_err(|_| format!("not a count: {s:?}"))
+}
+
+fn key(name: &str, n: &str) -> Result<Key, String> {
+    let n = n.strip_prefix("N=").ok_or_else(|| format!("expected N=n, found {n:?}"))?;
+    Ok((name.to_string(), number(n)?))
+}
+
+/// `n` in groups of three digits separated by spaces: `88 800`, `2 716`, `57`.
+fn grouped(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(' ');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// The grouped number at the start of `s` (`88 800 instructions` → 88 800, its 6 bytes).
+fn leading_grouped(s: &str) -> Option<(u64, usize)> {
+    let b = s.as_bytes();
+    let mut end = b.iter().take_while(|c| c.is_ascii_digit()).count();
+    if end == 0 {
+        return None;
+    }
+    // Further groups: a space and exactly three digits, not followed by another digit.
+    while b.len() >= end + 4
+        && b[end] == b' '
+        && b[end + 1..end + 4].iter().all(u8::is_ascii_digit)
+        && b.get(end + 4).is_none_or(|c| !c.is_ascii_digit())
+    {
+        end += 4;
+    }
+    let value = s[..end].replace(' ', "").parse().ok()?;
+    Some((value, end))
+}
+
+/// Parses the key `NAME N=n` that follows a prefix such as "`m4:": returns it and the rest of
+/// the line after the closing "`: ".
+fn quoted_key(s: &str) -> Option<(Key, &str)> {
+    let close = s.find('`')?;
+    let (name, n) = s[..close].split_once(' ')?;
+    let key = key(name, n).ok()?;
+    Some((key, s[close..].strip_prefix("`: ")?))
+}
+
+/// One quoted number that disagrees, or names nothing measured.
+struct Problem {
+    place: String,
+    what: String,
+}
+
+/// Checks or rewrites the rustdoc quotes of one line; returns the line as it should be.
+fn doc_line(line: &str, measured: &Measured, place: &str, problems: &mut Vec<Problem>) -> String {
+    let mut out = String::new();
+    let mut rest = line;
+    loop {
+        let m4 = rest.find("`m4:");
+        let flash = rest.find("`flash:");
+        let (at, is_m4) = match (m4, flash) {
+            (Some(a), Some(b)) if a < b => (a, true),
+            (Some(a), None) => (a, true),
+            (_, Some(b)) => (b, false),
+            (None, None) => break,
+        };
+        let prefix = if is_m4 { "`m4:" } else { "`flash:" };
+        out.push_str(&rest[..at + prefix.len()]);
+        rest = &rest[at + prefix.len()..];
+        let Some((key, after)) = quoted_key(rest) else {
+            problems.push(Problem { place: place.into(), what: format!("cannot parse {prefix}") });
+            continue;
+        };
+        let name = format!("{} N={}", key.0, key.1);
+        out.push_str(&rest[..rest.len() - after.len()]);
+        rest = after;
+        if is_m4 {
+            let Some((k, len)) =
+                leading_grouped(rest).filter(|(_, len)| rest[*len..].starts_with(" instructions"))
+            else {
+                problems.push(Problem {
+                    place: place.into(),
+                    what: format!("m4:{name}: expected \"K instructions\""),
+                });
+                continue;
+            };
+            match measured.m4.get(&key) {
+                Some(&device) => {
+                    if device != k {
+                        problems.push(Problem {
+                            place: place.into(),
+                            what: format!("m4:{name} says {k} instructions, the device {device}"),
+                        });
+                    }
+                    out.push_str(&grouped(device));
+                }
+                None => {
+                    problems.push(Problem {
+                        place: place.into(),
+                        what: format!("cites m4:{name}, which the device does not print"),
+                    });
+                    out.push_str(&rest[..len]);
+                }
+            }
+            rest = &rest[len..];
+        } else {
+            const MID: &str = " bytes of code and ";
+            let parsed = leading_grouped(rest).and_then(|(code, len)| {
+                let tail = rest[len..].strip_prefix(MID)?;
+                let (data, len2) = leading_grouped(tail)?;
+                tail[len2..].starts_with(" bytes of tables").then_some((code, data, len, len2))
+            });
+            let Some((code, data, len, len2)) = parsed else {
+                problems.push(Problem {
+                    place: place.into(),
+                    what: format!(
+                        "flash:{name}: expected \"C bytes of code and D bytes of tables\""
+                    ),
+                });
+                continue;
+            };
+            let consumed = len + MID.len() + len2;
+            match measured.flash.get(&key) {
+                Some(&(c, d)) => {
+                    if (c, d) != (code, data) {
+                        problems.push(Problem {
+                            place: place.into(),
+                            what: format!(
+                                "flash:{name} says {code} + {data} bytes, the build {c} + {d}"
+                            ),
+                        });
+                    }
+                    let _ = write!(out, "{}{MID}{}", grouped(c), grouped(d));
+                }
+                None => {
+                    problems.push(Problem {
+                        place: place.into(),
+                        what: format!("cites flash:{name}, which .ci/m4-flash.sh does not print"),
+                    });
+                    out.push_str(&rest[..consumed]);
+                }
+            }
+            rest = &rest[consumed..];
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The template with every `{m4:…}`, `{code:…}` and `{data:…}` replaced.
+fn render(template: &str, measured: &Measured, place: &str) -> Result<String, String> {
+    let mut out = String::new();
+    let mut rest = template;
+    while let Some(open) = rest.find('{') {
+        out.push_str(&rest[..open]);
+        let close = rest[open..].find('}').ok_or_else(|| format!("{place}: unclosed {{"))? + open;
+        let inner = &rest[open + 1..close];
+        let (kind, name) = inner.split_once(':').ok_or_else(|| format!("{place}: {{{inner}}}"))?;
+        let (name, n) = name.split_once(' ').ok_or_else(|| format!("{place}: {{{inner}}}"))?;
+        let k = key(name, n)?;
+        let value = match kind {
+            "m4" => measured.m4.get(&k).copied(),
+            "code" => measured.flash.get(&k).map(|f| f.0),
+            "data" => measured.flash.get(&k).map(|f| f.1),
+            _ => return Err(format!("{place}: unknown placeholder {{{inner}}}")),
+        };
+        let value = value.ok_or_else(|| format!("{place}: {{{inner}}} was not measured"))?;
+        out.push_str(&grouped(value));
+        rest = &rest[close + 1..];
+    }
+    out.push_str(rest);
+    Ok(out)
+}
+
+const OPEN: &str = "<!-- numbers: ";
+const CLOSE: &str = "<!-- /numbers -->";
+
+/// README.md with its generated regions rendered from their templates.
+fn generated_regions(
+    root: &Path,
+    text: &str,
+    measured: &Measured,
+    regions: &mut usize,
+) -> Result<String, String> {
+    let mut out = String::new();
+    let mut lines = text.split_inclusive('\n');
+    while let Some(line) = lines.next() {
+        out.push_str(line);
+        let Some(template) =
+            line.trim_end().strip_prefix(OPEN).and_then(|t| t.strip_suffix(" -->"))
+        else {
+            continue;
+        };
+        let path = root.join(template);
+        let body = std::fs::read_to_string(&path)
+            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+        out.push_str(&render(&body, measured, template)?);
+        // Skip the old region up to its closing marker, which is kept.
+        loop {
+            let Some(old) = lines.next() else {
+                return Err(format!("README.md: {template}: no {CLOSE}"));
+            };
+            if old.trim_end() == CLOSE {
+                out.push_str(old);
+                break;
+            }
+        }
+        *regions += 1;
+    }
+    Ok(out)
+}
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
+    for entry in std::fs::read_dir(dir)? {
+        let path = entry?.path();
+        if path.is_dir() {
+            rust_files(&path, out)?;
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+    Ok(())
+}
+
+fn run(args: &Args) -> Result<bool, String> {
+    let measured = Measured::load(&args.m4, &args.flash)?;
+    let root = cli::repo_root();
+    let mut problems = Vec::new();
+    let mut changed = Vec::new();
+    let (mut m4_cited, mut flash_cited) = (0, 0);
+
+    let mut files = Vec::new();
+    rust_files(&root.join("src"), &mut files).map_err(|e| format!("src/: {e}"))?;
+    files.sort();
+    for path in &files {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let rel = path.strip_prefix(root).unwrap_or(path).display().to_string();
+        let mut new = String::new();
+        for (i, line) in text.split_inclusive('\n').enumerate() {
+            m4_cited += line.matches("`m4:").count();
+            flash_cited += line.matches("`flash:").count();
+            new.push_str(&doc_line(line, &measured, &format!("{rel}:{}", i + 1), &mut problems));
+        }
+        if new != text {
+            changed.push((path.clone(), new));
+        }
+    }
+
+    let readme = root.join("README.md");
+    let text = std::fs::read_to_string(&readme).map_err(|e| format!("README.md: {e}"))?;
+    let mut regions = 0;
+    let new = generated_regions(root, &text, &measured, &mut regions)?;
+    if new != text {
+        problems.push(Problem {
+            place: "README.md".into(),
+            what: "a generated region differs from its template and the measurements".into(),
+        });
+        changed.push((readme, new));
+    }
+
+    if args.write {
+        for (path, text) in &changed {
+            std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+            println!("rewrote {}", path.display());
+        }
+        return Ok(true);
+    }
+    for p in &problems {
+        eprintln!("{}: {}", p.place, p.what);
+    }
+    println!(
+        "{m4_cited} instruction counts and {flash_cited} flash sizes in the rustdoc of src/, and \
+         {regions} generated region(s) of README.md: {}",
+        if problems.is_empty() { "all equal the measurements" } else { "see the errors above" }
+    );
+    Ok(problems.is_empty())
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    match run(&args) {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => {
+            eprintln!("rerun with --write to take the measurements (after checking them)");
+            ExitCode::FAILURE
+        }
+        Err(e) => {
+            eprintln!("doc_numbers: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn groups() {
+        assert_eq!(grouped(57), "57");
+        assert_eq!(grouped(2716), "2 716");
+        assert_eq!(grouped(33_627_000), "33 627 000");
+        assert_eq!(leading_grouped("88 800 instructions"), Some((88_800, 6)));
+        assert_eq!(leading_grouped("2 716 / 828"), Some((2716, 5)));
+        assert_eq!(leading_grouped("57 instructions"), Some((57, 2)));
+        assert_eq!(leading_grouped("x"), None);
+    }
+
+    #[test]
+    fn lines() {
+        let mut m = Measured::default();
+        m.m4.insert(("probe_update".into(), 64), 88_801);
+        m.flash.insert(("probe_update".into(), 64), (18_396, 24_096));
+        let mut problems = Vec::new();
+        let line = "/// - `m4:probe_update N=64`: 88 800 instructions (four-member selection)\n";
+        let fixed = doc_line(line, &m, "x", &mut problems);
+        assert_eq!(fixed, line.replace("88 800", "88 801"));
+        assert_eq!(problems.len(), 1);
+        problems.clear();
+        let line =
+            "/// - `flash:probe_update N=64`: 18 396 bytes of code and 24 096 bytes of tables\n";
+        assert_eq!(doc_line(line, &m, "x", &mut problems), line);
+        assert!(problems.is_empty());
+        let line = "/// - `m4:missing N=64`: 1 instructions\n";
+        assert_eq!(doc_line(line, &m, "x", &mut problems), line);
+        assert_eq!(problems.len(), 1);
+        let t = render("a {m4:probe_update N=64} b {code:probe_update N=64}", &m, "t").unwrap();
+        assert_eq!(t, "a 88 801 b 18 396");
+        assert!(render("{m4:other N=1}", &m, "t").is_err());
+    }
+}
