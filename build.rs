@@ -46,6 +46,11 @@ fn main() {
     // The same weights as Q1.31 integers for the `fixed` feature (`src/fixed_point.rs`).
     let fixed = gen::bmc::render_fixed(&sets);
     write_if_changed(&out_dir.join("bmc_fixed_tables.rs"), &fixed);
+    // The compile error of an unbaked renderer or fixed-point size lists the sizes baked here.
+    write_if_changed(
+        &out_dir.join("bmc_size_diagnostics.rs"),
+        &gen::bmc::render_size_diagnostics(&sets),
+    );
 
     let (glossy_file, text) = config(gen::glossy::CONFIG_FILE, GLOSSY_ENV);
     // (Every file in tables/ is already a rerun trigger.)

@@ -129,29 +129,27 @@ use crate::warp::Lobe;
 #[derive(Clone, Copy, Debug)]
 pub struct Size<const N: usize>;
 
-/// Implemented for exactly the sizes `N` whose weights are baked (`Size<16>`, `Size<32>`,
-/// `Size<64>`, `Size<128>`, `Size<256>`); sealed.
-///
-/// # Examples
-/// ```
-/// use sphere_quadrature::bmc::{BakedSize, Renderer, Size, BAKED_SIZES};
-///
-/// fn variance<const N: usize>() -> f32
-/// where
-///     Size<N>: BakedSize,
-/// {
-///     Renderer::<N>::variance()
-/// }
-/// // More samples, less posterior variance.
-/// assert!(variance::<64>() < variance::<16>());
-/// assert!(BAKED_SIZES.contains(&64));
-/// ```
-#[diagnostic::on_unimplemented(
-    message = "no Bayesian Monte Carlo weights are baked for `{Self}`",
-    label = "this sample count has no baked weights",
-    note = "the baked sizes are N = 16, 32, 64, 80, 128, 256 (tables/bmc.txt)"
-)]
-pub trait BakedSize: sealed::Sealed {}
+unbaked_size_diagnostic! { renderer,
+    /// Implemented for exactly the sizes `N` whose weights are baked ([`BAKED_SIZES`]: the
+    /// `set = …` lines of this build's table, `tables/bmc.txt` or the file named by
+    /// `SPHERE_QUADRATURE_BMC_TABLE`); sealed. For any other `N` the compile error lists them.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::bmc::{BakedSize, Renderer, Size, BAKED_SIZES};
+    ///
+    /// fn variance<const N: usize>() -> f32
+    /// where
+    ///     Size<N>: BakedSize,
+    /// {
+    ///     Renderer::<N>::variance()
+    /// }
+    /// // More samples, less posterior variance.
+    /// assert!(variance::<64>() < variance::<16>());
+    /// assert!(BAKED_SIZES.contains(&64));
+    /// ```
+    pub trait BakedSize: sealed::Sealed {}
+}
 
 pub(crate) mod sealed {
     /// What `build.rs` baked for one size.

@@ -164,34 +164,31 @@ pub fn weighted_sum_signed<const N: usize>(
     }))
 }
 
-/// Implemented for exactly the sizes with baked fixed-point BMC weights; sealed.
-///
-/// These are the sizes of [`crate::bmc::BAKED_SIZES`] whose weights all lie in [0, 1), which
-/// is every shipped size. It is a trait of its own, not part of `bmc::BakedSize`, because a
-/// table of your own (`SPHERE_QUADRATURE_BMC_TABLE`) may give a size a negative weight: that
-/// size keeps its float renderer and gets no fixed-point form, instead of failing the build.
-///
-/// # Examples
-/// ```
-/// use sphere_quadrature::bmc::{BakedSize, Size};
-/// use sphere_quadrature::fixed_point::{BmcFixed, FixedSize};
-///
-/// // The Q1.31 weights of every baked size sum to exactly 2³¹.
-/// fn weight_sum<const N: usize>() -> u64
-/// where
-///     Size<N>: BakedSize + FixedSize,
-/// {
-///     BmcFixed::<N>::weights_q31().iter().map(|&w| u64::from(w)).sum()
-/// }
-/// assert_eq!(weight_sum::<16>(), 1 << 31);
-/// assert_eq!(weight_sum::<64>(), 1 << 31);
-/// ```
-#[diagnostic::on_unimplemented(
-    message = "no fixed-point Bayesian Monte Carlo weights are baked for `{Self}`",
-    label = "this sample count has no baked weights",
-    note = "the baked sizes are N = 16, 32, 64, 80, 128, 256 (tables/bmc.txt)"
-)]
-pub trait FixedSize: sealed::FixedSet {}
+unbaked_size_diagnostic! { fixed,
+    /// Implemented for exactly the sizes with baked fixed-point BMC weights; sealed.
+    ///
+    /// These are the sizes of [`crate::bmc::BAKED_SIZES`] whose weights all lie in [0, 1), which
+    /// is every shipped size. It is a trait of its own, not part of `bmc::BakedSize`, because a
+    /// table of your own (`SPHERE_QUADRATURE_BMC_TABLE`) may give a size a negative weight: that
+    /// size keeps its float renderer and gets no fixed-point form, instead of failing the build.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::bmc::{BakedSize, Size};
+    /// use sphere_quadrature::fixed_point::{BmcFixed, FixedSize};
+    ///
+    /// // The Q1.31 weights of every baked size sum to exactly 2³¹.
+    /// fn weight_sum<const N: usize>() -> u64
+    /// where
+    ///     Size<N>: BakedSize + FixedSize,
+    /// {
+    ///     BmcFixed::<N>::weights_q31().iter().map(|&w| u64::from(w)).sum()
+    /// }
+    /// assert_eq!(weight_sum::<16>(), 1 << 31);
+    /// assert_eq!(weight_sum::<64>(), 1 << 31);
+    /// ```
+    pub trait FixedSize: sealed::FixedSet {}
+}
 
 pub(crate) mod sealed {
     /// What `build.rs` baked for one size.

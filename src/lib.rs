@@ -119,6 +119,10 @@
 #![deny(missing_docs)]
 #![cfg_attr(docsrs, feature(doc_cfg))]
 
+// `unbaked_size_diagnostic!`: the compile error of an unbaked renderer or fixed-point size,
+// listing the sizes this build baked (generator `gen/bmc.rs`, `render_size_diagnostics`).
+include!(concat!(env!("OUT_DIR"), "/bmc_size_diagnostics.rs"));
+
 pub mod bmc;
 pub mod envmap;
 mod error;

@@ -296,3 +296,24 @@ fn defect_14_product_with_the_largest_sharpness_stays_finite() {
     let g3 = SphericalGaussian::new(Vec3::Z, 3e38, 1.0).unwrap();
     assert_eq!(g3.product(&g3).sharpness, f32::INFINITY);
 }
+
+/// Defect 10 for the renderer and fixed-point sizes (found after the probe's fix): their
+/// compile errors said "N = 16, 32, 64, 80, 128, 256" whatever a user table
+/// (`SPHERE_QUADRATURE_BMC_TABLE`) baked. `.ci/unbaked-size.sh` compiles the real error.
+#[test]
+fn defect_10_renderer_and_fixed_notes_list_the_baked_sizes() {
+    let specs = gen::bmc::parse("set = 24 0.9 0.1 cosine\nset = 48 0.9 0.1 cosine\n").unwrap();
+    let sets = gen::bmc::bake_all(&specs).unwrap();
+    let src = gen::bmc::render_size_diagnostics(&sets);
+    assert_eq!(src.matches("the baked sizes are N = 24, 48 (").count(), 2, "{src}");
+    assert!(!src.contains("16, 32"), "{src}");
+    // The crate's own table: the shipped sizes, for both traits.
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/bmc.txt");
+    let specs = gen::bmc::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let sets = gen::bmc::bake_all(&specs).unwrap();
+    let src = gen::bmc::render_size_diagnostics(&sets);
+    let sizes: Vec<String> =
+        sphere_quadrature::bmc::BAKED_SIZES.iter().map(usize::to_string).collect();
+    let shipped = format!("N = {}", sizes.join(", "));
+    assert_eq!(src.matches(&format!("the baked sizes are {shipped} (")).count(), 2, "{src}");
+}
