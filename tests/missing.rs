@@ -270,11 +270,21 @@ fn value_bar(cond: f32) -> f64 {
     }
 }
 
-/// Every member on one random field, rotation and mask of `missing` samples against the
-/// reference: irradiance (RMS over `queries` normals relative to the mean |E|, held to
-/// [`value_bar`]), its exact variance (10⁻², as `tests/probe.rs`), σ̂_f² and ℓ (10⁻⁴
-/// relative, or [`value_bar`] if larger); each printed.
-fn compare<const N: usize, const M: usize>(rng: &mut Rng, missing: usize, queries: usize)
+/// One random rotation, field and mask of `missing` of the `N` samples (drawn in that order):
+/// a probe of capacity `M` set to the rotation, the field's samples in its directions (NaN
+/// where missing) and the valid ones.
+struct Masked<const N: usize, const M: usize>
+where
+    Size<N>: ProbeSize,
+{
+    rot: [[f64; 3]; 3],
+    probe: Probe<N, f32, Point, M>,
+    valid: [bool; N],
+    y: [f32; N],
+    y_valid: Vec<f64>,
+}
+
+fn masked<const N: usize, const M: usize>(rng: &mut Rng, missing: usize) -> Masked<N, M>
 where
     Size<N>: ProbeSize,
 {
@@ -285,6 +295,18 @@ where
     let valid = random_mask::<N>(rng, missing);
     let y = masked_samples(&probe, &lights, &valid);
     let y_valid = valid_values(&y, &valid);
+    Masked { rot, probe, valid, y, y_valid }
+}
+
+/// Every member on one random field, rotation and mask of `missing` samples against the
+/// reference: irradiance (RMS over `queries` normals relative to the mean |E|, held to
+/// [`value_bar`]), its exact variance (10⁻², as `tests/probe.rs`), σ̂_f² and ℓ (10⁻⁴
+/// relative, or [`value_bar`] if larger); each printed.
+fn compare<const N: usize, const M: usize>(rng: &mut Rng, missing: usize, queries: usize)
+where
+    Size<N>: ProbeSize,
+{
+    let Masked { rot, mut probe, valid, y, y_valid } = masked::<N, M>(rng, missing);
     let normals: Vec<[f64; 3]> = (0..queries).map(|_| rng.uniform_sphere()).collect();
     let count = (N - missing) as f64;
     for (k, m) in Probe::<N>::family().enumerate() {
@@ -377,13 +399,7 @@ fn masks_with_mirrored_pairs_and_the_first_sample() {
 #[test]
 fn masked_glossy_and_phong_match_the_f64_reference() {
     let mut rng = Rng::new(0x6105);
-    let rot = rng.uniform_rotation();
-    let lights = field(&mut rng);
-    let mut probe = Probe::<64, f32, Point, 16>::new();
-    probe.set_rotation(mat3(rot)).unwrap();
-    let valid = random_mask::<64>(&mut rng, 16);
-    let y = masked_samples(&probe, &lights, &valid);
-    let y_valid = valid_values(&y, &valid);
+    let Masked { rot, mut probe, valid, y, y_valid } = masked::<64, 16>(&mut rng, 16);
     for (k, m) in Probe::<64>::family().enumerate() {
         probe.update_masked_with(&y, &valid, Selection::Member(k)).unwrap();
         let sub = Subset::new(rot, &valid, m.lambda as f64, m.sigma as f64);
@@ -980,13 +996,7 @@ fn masked_gaussian_footprint_matches_the_f64_reference() {
 #[test]
 fn masked_sh_export_matches_the_f64_reference() {
     let mut rng = Rng::new(0x5405);
-    let rot = rng.uniform_rotation();
-    let lights = field(&mut rng);
-    let mut probe = Probe::<64, f32, Point, 16>::new();
-    probe.set_rotation(mat3(rot)).unwrap();
-    let valid = random_mask::<64>(&mut rng, 16);
-    let y = masked_samples(&probe, &lights, &valid);
-    let y_valid = valid_values(&y, &valid);
+    let Masked { rot, mut probe, valid, y, y_valid } = masked::<64, 16>(&mut rng, 16);
     let degree = [0usize, 1, 1, 1, 2, 2, 2, 2, 2];
     let order = [0i64, -1, 0, 1, -2, -1, 0, 1, 2];
     for (k, m) in Probe::<64>::family().enumerate() {

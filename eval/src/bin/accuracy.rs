@@ -168,13 +168,6 @@ const CLAMP: usize = 1;
 const SMOOTH: usize = 2;
 const SYNTHETIC: usize = 3;
 
-const ALL_MAPS: [&str; 10] =
-    ["apartment", "bridge", "city", "dawn", "forest", "hall", "lab", "lobby", "night", "park"];
-/// Maps the probe's hyperparameters were trained on; every other map is held out.
-const TRAINING_MAPS: [&str; 4] = ["apartment", "bridge", "forest", "lab"];
-/// `--quick`: one training and one held-out map.
-const QUICK_MAPS: [&str; 2] = ["apartment", "lobby"];
-
 const SEED_NORMALS: u64 = 0xACC0_0001;
 const SEED_MC: u64 = 0xACC0_0002;
 const SEED_PHASES: u64 = 0xACC0_0003;
@@ -1090,18 +1083,12 @@ fn plot(results: &[TierResult], path: &Path) -> Result<(), Box<dyn Error>> {
     Ok(())
 }
 
-fn name_of(path: &Path) -> String {
-    path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
-}
-
 /// accuracy benchmark: irradiance on environment maps (issues #6, #13)
 #[derive(Parser)]
 #[command(bin_name = "cargo eval accuracy --")]
 struct Args {
-    /// Equirectangular .hdr maps (default: the ten in examples/envmaps/); maps named
-    /// apartment, bridge, forest or lab count as training maps, the rest as held out
-    #[arg(value_name = "MAPS", value_parser = cli::map_file, verbatim_doc_comment)]
-    maps: Vec<PathBuf>,
+    #[command(flatten)]
+    maps: cli::TrainingMaps,
     /// Write DIR/accuracy.md and DIR/accuracy.png (`--out docs` regenerates the
     /// repository's docs); without it the report goes to stdout only
     #[arg(long, value_name = "DIR", verbatim_doc_comment)]
@@ -1117,16 +1104,15 @@ struct Args {
     /// Family member of the BMC fixed probe
     #[arg(long, value_name = "K", default_value_t = 1)]
     fixed_member: usize,
-    /// Worker threads (default: all cores)
-    #[arg(long, value_name = "T")]
-    threads: Option<usize>,
+    #[command(flatten)]
+    threads: cli::Threads,
 }
 
 fn main() -> Result<(), Box<dyn Error>> {
     let start = Instant::now();
     let raw_args: Vec<String> = std::env::args().skip(1).collect();
-    let Args { maps: mut paths, out, csv, quick, fixed_member, threads } = Args::parse();
-    let threads = cli::threads(threads);
+    let Args { maps, out, csv, quick, fixed_member, threads } = Args::parse();
+    let (mut paths, threads) = (maps.maps, threads.count());
     let p = Params {
         normals: if quick { 64 } else { 256 },
         draws: if quick { 1 } else { 4 },
@@ -1136,7 +1122,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         threads,
     };
     if paths.is_empty() {
-        paths = cli::bundled_maps(if quick { &QUICK_MAPS } else { &ALL_MAPS });
+        paths = cli::named_maps(quick);
     }
     if families().iter().any(|f| fixed_member >= f.len()) {
         return Err(format!("--fixed-member {fixed_member} is outside a baked probe family").into());
@@ -1146,8 +1132,9 @@ fn main() -> Result<(), Box<dyn Error>> {
     let normals: Vec<[f64; 3]> = (0..p.normals).map(|_| rng.uniform_sphere()).collect();
 
     // Tiers.
-    let names: Vec<String> = paths.iter().map(|p| name_of(p)).collect();
-    let held_out: Vec<bool> = names.iter().map(|n| !TRAINING_MAPS.contains(&n.as_str())).collect();
+    let names: Vec<String> = paths.iter().map(|p| cli::map_name(p)).collect();
+    let held_out: Vec<bool> =
+        names.iter().map(|n| !cli::TRAINING_MAPS.contains(&n.as_str())).collect();
     let raw: Vec<EnvMap> = paths
         .iter()
         .map(EnvMap::load)

@@ -289,9 +289,8 @@ fn evaluate_all(scene: &Scene, stem: &str, sizes: &[usize]) -> Table {
 #[derive(Parser)]
 #[command(bin_name = "cargo eval footprint --")]
 struct Args {
-    /// Equirectangular .hdr maps (default: examples/envmaps/*.hdr)
-    #[arg(value_name = "MAPS", value_parser = cli::map_file)]
-    maps: Vec<PathBuf>,
+    #[command(flatten)]
+    maps: cli::AllMaps,
     /// clamp (default: luminance capped at 30× the map mean) or raw
     #[arg(long = "tier", value_name = "T", value_enum, default_value_t = Tier::Clamp)]
     #[arg(hide_possible_values = true, hide_default_value = true)]
@@ -302,10 +301,8 @@ struct Args {
     /// Report folder (default target/footprint; `--out docs` to update the docs)
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// Training map stems (default apartment,bridge,forest,lab)
-    #[arg(long, value_name = "A,B,…", value_delimiter = ',', hide_default_value = true)]
-    #[arg(default_values = ["apartment", "bridge", "forest", "lab"])]
-    train: Vec<String>,
+    #[command(flatten)]
+    train: cli::Train,
     /// Random probe rotations per map
     #[arg(long, value_name = "R", default_value_t = 4)]
     rotations: usize,
@@ -329,20 +326,13 @@ enum Tier {
 /// The arguments, defaults filled in.
 fn parse_args() -> Result<Args, Box<dyn Error>> {
     let mut a = Args::parse();
-    if a.maps.is_empty() {
-        a.maps = cli::all_bundled_maps()?;
-        if a.quick {
-            a.maps.retain(|p| p.file_stem().is_some_and(|s| s == "apartment" || s == "park"));
-        }
+    if a.maps.maps.is_empty() {
+        a.maps.maps = cli::all_bundled_maps_or(a.quick, ["apartment", "park"])?;
     }
     if a.quick {
         a.rotations = a.rotations.min(2);
     }
     Ok(a)
-}
-
-fn stem(p: &std::path::Path) -> String {
-    p.file_stem().map_or("map".into(), |s| s.to_string_lossy().into_owned())
 }
 
 fn main() -> Result<(), Box<dyn Error>> {
@@ -365,10 +355,10 @@ fn main() -> Result<(), Box<dyn Error>> {
         .map(|j| reference::vec::mat_mul_vec(turn, reference::sf::sphere_point(j, QUERIES as u64)))
         .collect();
     let mut scenes: Vec<(String, EnvMap)> = Vec::new();
-    for p in &args.maps {
+    for p in &args.maps.maps {
         let map = EnvMap::load(p)?;
         let map = if clamp { compare::clamped(&map) } else { map };
-        scenes.push((stem(p), map));
+        scenes.push((cli::map_name(p), map));
     }
     // Truth weights per grid size (one set serves every map of that size).
     let mut weights: BTreeMap<(usize, usize), Vec<Vec<Vec<f64>>>> = BTreeMap::new();
@@ -479,9 +469,11 @@ fn mean_of(a: &BTreeMap<String, Sums>, maps: &[String], f: impl Fn(&Sums) -> f64
 type Curves = Vec<(usize, Vec<(f64, f64)>)>;
 
 fn report(t: &Table, args: &Args, tier: &str, sizes: &[usize]) -> (String, Curves) {
-    let maps: Vec<String> = args.maps.iter().map(|p| stem(p)).collect();
-    let train: Vec<String> = maps.iter().filter(|m| args.train.contains(m)).cloned().collect();
-    let held: Vec<String> = maps.iter().filter(|m| !args.train.contains(m)).cloned().collect();
+    let maps: Vec<String> = args.maps.maps.iter().map(|p| cli::map_name(p)).collect();
+    let train: Vec<String> =
+        maps.iter().filter(|m| args.train.train.contains(m)).cloned().collect();
+    let held: Vec<String> =
+        maps.iter().filter(|m| !args.train.train.contains(m)).cloned().collect();
     let held = if held.is_empty() { maps.clone() } else { held };
     let train = if train.is_empty() { maps.clone() } else { train };
     let mut s = String::new();

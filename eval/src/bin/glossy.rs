@@ -72,11 +72,12 @@ mod tiers;
 
 use std::error::Error;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
+use cli::TRAINING_MAPS;
 use luminance_bar::LuminanceBar;
 use parallel::parallel_map;
 use reference::envmap::{luminance, EnvMap};
@@ -89,12 +90,6 @@ use sphere_quadrature::sg::SphericalGaussian;
 use sphere_quadrature::sh::ShL2;
 use sphere_quadrature::{Mat3, Vec3};
 
-const ALL_MAPS: [&str; 10] =
-    ["apartment", "bridge", "city", "dawn", "forest", "hall", "lab", "lobby", "night", "park"];
-/// Maps the probe's hyperparameters were trained on; every other map is held out.
-const TRAINING_MAPS: [&str; 4] = ["apartment", "bridge", "forest", "lab"];
-/// `--quick`: one training and one held-out map.
-const QUICK_MAPS: [&str; 2] = ["apartment", "lobby"];
 const NS: [usize; 5] = [16, 32, 64, 128, 256];
 const EXPONENTS: [f64; 3] = [5.0, 20.0, 100.0];
 const TIERS: [&str; 2] = ["clamp", "smooth"];
@@ -349,10 +344,8 @@ fn targets(md: &mut String, cases: &[Case], held_out: &str) {
 #[derive(Parser)]
 #[command(bin_name = "cargo eval glossy --")]
 struct Args {
-    /// Equirectangular .hdr maps (default: the ten in examples/envmaps/); maps named
-    /// apartment, bridge, forest or lab count as training maps, the rest as held out
-    #[arg(value_name = "MAPS", value_parser = cli::map_file, verbatim_doc_comment)]
-    maps: Vec<PathBuf>,
+    #[command(flatten)]
+    maps: cli::TrainingMaps,
     /// Write DIR/glossy.md (`--out docs` regenerates the repository's docs); without
     /// it the report goes to stdout only
     #[arg(long, value_name = "DIR", verbatim_doc_comment)]
@@ -378,23 +371,18 @@ struct Args {
         verbatim_doc_comment
     )]
     lobe: LobeKind,
-    /// Worker threads (default: all cores)
-    #[arg(long, value_name = "T")]
-    threads: Option<usize>,
+    #[command(flatten)]
+    threads: cli::Threads,
 }
 
 /// The arguments, the default maps filled in.
 fn parse_args() -> (Args, usize) {
     let mut a = Args::parse();
-    if a.maps.is_empty() {
-        a.maps = cli::bundled_maps(if a.quick { &QUICK_MAPS } else { &ALL_MAPS });
+    if a.maps.maps.is_empty() {
+        a.maps.maps = cli::named_maps(a.quick);
     }
-    let threads = cli::threads(a.threads);
+    let threads = a.threads.count();
     (a, threads)
-}
-
-fn name_of(path: &Path) -> String {
-    path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
 }
 
 fn main() -> Result<(), Box<dyn Error>> {
@@ -415,8 +403,9 @@ fn main() -> Result<(), Box<dyn Error>> {
         .collect();
 
     // (tier, map) scenes, tier-major.
-    let names: Vec<String> = args.maps.iter().map(|p| name_of(p)).collect();
+    let names: Vec<String> = args.maps.maps.iter().map(|p| cli::map_name(p)).collect();
     let clamped: Vec<EnvMap> = args
+        .maps
         .maps
         .iter()
         .map(|p| EnvMap::load(p).map(|m| compare::clamped(&m)))

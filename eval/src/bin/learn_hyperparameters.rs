@@ -66,6 +66,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Parser;
+use cli::TRAINING_MAPS;
 use reference::envmap::{luminance, EnvMap};
 use reference::rng::Rng;
 use reference::sf::{hemisphere_point, sphere_point};
@@ -74,8 +75,6 @@ use sphere_quadrature::{qmc, Vec3};
 
 /// Sample counts learned for (the sizes `tables/` bakes).
 const NS: [usize; 5] = [16, 32, 64, 128, 256];
-/// The default training maps, in `examples/envmaps/`.
-const TRAINING_MAPS: [&str; 4] = ["apartment", "bridge", "forest", "lab"];
 /// Held out for evaluation by another tool; never read here.
 const HELD_OUT_MAPS: [&str; 6] = ["city", "dawn", "hall", "lobby", "night", "park"];
 /// Random rotations of the probe set per map.
@@ -470,12 +469,7 @@ fn main() {
     let root = cli::repo_root();
     let paths: Vec<PathBuf> =
         if custom.is_empty() { cli::bundled_maps(&TRAINING_MAPS) } else { custom };
-    let names: Vec<String> = paths
-        .iter()
-        .map(|p| {
-            p.file_stem().map_or_else(|| p.display().to_string(), |s| s.to_string_lossy().into())
-        })
-        .collect();
+    let names: Vec<String> = paths.iter().map(|p| cli::map_name(p)).collect();
     let maps: Vec<EnvMap> = paths
         .iter()
         .map(|p| {

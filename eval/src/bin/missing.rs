@@ -66,7 +66,7 @@ use report::{pct, ratio, Case, MapRow, Maps};
 use std::error::Error;
 use std::fmt::Write as _;
 use std::hint::black_box;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
@@ -86,11 +86,6 @@ const METHODS: [&str; 2] = ["bmc-masked", "cos-avg-valid"];
 const TIER: &str = "clamp";
 /// The issue's target: at 25 % missing, N = 64, BMC ≤ 0.9× the valid-sample average.
 const TARGET: (f64, usize, f64) = (0.25, 64, 0.9);
-
-const ALL_MAPS: [&str; 10] =
-    ["apartment", "bridge", "city", "dawn", "forest", "hall", "lab", "lobby", "night", "park"];
-const TRAINING_MAPS: [&str; 4] = ["apartment", "bridge", "forest", "lab"];
-const QUICK_MAPS: [&str; 2] = ["apartment", "lobby"];
 
 const SEED_NORMALS: u64 = 0x3155_0001;
 const SEED_ROTATIONS: u64 = 0x3155_0002;
@@ -326,10 +321,6 @@ fn case(scenes: &[Scene], outcomes: &[Vec<Vec<Outcome>>], ni: usize, n: usize, f
     Case { tier: TIER.into(), query: format!("{:.2}", FRACTIONS[fi]), n, rows }
 }
 
-fn name_of(path: &Path) -> String {
-    path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
-}
-
 /// missing-samples benchmark: irradiance from a probe with missing samples (issue #14)
 #[derive(Parser)]
 #[command(
@@ -339,10 +330,8 @@ fn name_of(path: &Path) -> String {
                   samples (the same subsets for every map)."
 )]
 struct Args {
-    /// Equirectangular .hdr maps (default: the ten in examples/envmaps/); maps named
-    /// apartment, bridge, forest or lab count as training maps, the rest as held out
-    #[arg(value_name = "MAPS", value_parser = cli::map_file, verbatim_doc_comment)]
-    maps: Vec<PathBuf>,
+    #[command(flatten)]
+    maps: cli::TrainingMaps,
     /// Write DIR/missing.md (`--out docs` regenerates the repository's docs); without
     /// it the report goes to stdout only
     #[arg(long, value_name = "DIR", verbatim_doc_comment)]
@@ -354,23 +343,23 @@ struct Args {
     /// 2 maps, N = 64 only, 64 normals, 8 rotations (CI)
     #[arg(long)]
     quick: bool,
-    /// Worker threads (default: all cores)
-    #[arg(long, value_name = "T")]
-    threads: Option<usize>,
+    #[command(flatten)]
+    threads: cli::Threads,
 }
 
 fn main() -> Result<(), Box<dyn Error>> {
     let start = Instant::now();
     let raw_args: Vec<String> = std::env::args().skip(1).collect();
-    let Args { maps: mut paths, out, csv, quick, threads } = Args::parse();
+    let Args { maps: cli::TrainingMaps { maps: mut paths }, out, csv, quick, threads } =
+        Args::parse();
     let p = Params {
         ns: if quick { vec![64] } else { NS.to_vec() },
         normals: if quick { 64 } else { 256 },
         rotations: if quick { 8 } else { 32 },
-        threads: cli::threads(threads),
+        threads: threads.count(),
     };
     if paths.is_empty() {
-        paths = cli::bundled_maps(if quick { &QUICK_MAPS } else { &ALL_MAPS });
+        paths = cli::named_maps(quick);
     }
     let mut rng = Rng::new(SEED_NORMALS);
     let normals: Vec<[f64; 3]> = (0..p.normals).map(|_| rng.uniform_sphere()).collect();
@@ -400,8 +389,8 @@ fn main() -> Result<(), Box<dyn Error>> {
         .zip(maps)
         .zip(truths)
         .map(|((path, map), truth)| {
-            let name = name_of(path);
-            let held_out = !TRAINING_MAPS.contains(&name.as_str());
+            let name = cli::map_name(path);
+            let held_out = !cli::TRAINING_MAPS.contains(&name.as_str());
             Scene { name, held_out, map, truth: truth.unwrap_or_default() }
         })
         .collect();

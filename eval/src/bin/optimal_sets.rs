@@ -149,9 +149,8 @@ struct Cli {
     /// Jittered restarts per set besides the SF starts
     #[arg(long, value_name = "R", default_value_t = 1)]
     restarts: usize,
-    /// Worker threads (default: all cores)
-    #[arg(long, value_name = "T")]
-    threads: Option<usize>,
+    #[command(flatten)]
+    threads: cli::Threads,
     /// Recompute var_sf and var_opt of every set of FILE and fail on a relative
     /// difference above 1e-9 or a direction that is not a unit vector; writes
     /// nothing
@@ -203,7 +202,7 @@ fn parse_args() -> Options {
         ns: c.n,
         iterations: c.iterations,
         restarts: c.restarts,
-        threads: cli::threads(c.threads),
+        threads: c.threads.count(),
         check: c.check,
         self_test: c.self_test,
         args,

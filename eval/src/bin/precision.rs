@@ -38,10 +38,6 @@ use sphere_quadrature::bmc::Size;
 use sphere_quadrature::probe::{Probe, ProbeSize};
 use sphere_quadrature::{Mat3, Vec3};
 
-const MAPS: [&str; 10] =
-    ["apartment", "bridge", "city", "dawn", "forest", "hall", "lab", "lobby", "night", "park"];
-const QUICK_MAPS: [&str; 2] = ["apartment", "lobby"];
-
 /// Per member: squared differences, Σ|E₆₄|, count; and selection agreements.
 #[derive(Clone, Default)]
 struct Tally {
@@ -142,15 +138,8 @@ fn main() -> Result<(), Box<dyn Error>> {
     let args = Args::parse();
     let quick = args.quick;
     let out = args.out.unwrap_or_else(|| cli::default_out("precision"));
-    let paths = if args.maps.is_empty() {
-        cli::bundled_maps(if quick { &QUICK_MAPS[..] } else { &MAPS[..] })
-    } else {
-        args.maps
-    };
-    let names: Vec<String> = paths
-        .iter()
-        .map(|p| p.file_stem().map_or("map".into(), |s| s.to_string_lossy().into_owned()))
-        .collect();
+    let paths = if args.maps.is_empty() { cli::named_maps(quick) } else { args.maps };
+    let names: Vec<String> = paths.iter().map(|p| cli::map_name(p)).collect();
     let (n_rot, n_normals) = if quick { (4, 32) } else { (32, 256) };
     let start = std::time::Instant::now();
     // `clamp` then `smooth` of every map.

@@ -49,7 +49,7 @@ mod tiers;
 use std::error::Error;
 use std::f64::consts::PI;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Parser;
 use reference::envmap::{luminance, EnvMap};
@@ -479,9 +479,8 @@ struct MapJob {
 #[derive(Clone, Parser)]
 #[command(bin_name = "cargo eval probe_trust --")]
 struct Args {
-    /// Equirectangular .hdr maps (default: examples/envmaps/*.hdr)
-    #[arg(value_name = "MAPS", value_parser = cli::map_file)]
-    maps: Vec<PathBuf>,
+    #[command(flatten)]
+    maps: cli::AllMaps,
     /// Rows
     /// probe_trust,<part>,<tier>,<query>,<n>,<method>,<map>,<rel_rmse>,<coverage2s>
     #[arg(long, value_name = "FILE", verbatim_doc_comment)]
@@ -492,10 +491,8 @@ struct Args {
     /// Write the calibration lines of tables/probe.txt (needs training maps)
     #[arg(long)]
     write: bool,
-    /// Training map stems (default apartment,bridge,forest,lab)
-    #[arg(long, value_name = "A,B,…", value_delimiter = ',', hide_default_value = true)]
-    #[arg(default_values = ["apartment", "bridge", "forest", "lab"])]
-    train: Vec<String>,
+    #[command(flatten)]
+    train: cli::Train,
     /// Random probe rotations per map
     #[arg(long, value_name = "R", default_value_t = 16, value_parser = cli::positive)]
     rotations: usize,
@@ -505,19 +502,15 @@ struct Args {
     /// Two maps, N = 16 and 32, four rotations, 16 axes (CI)
     #[arg(long)]
     quick: bool,
-    /// Worker threads (default: all cores)
-    #[arg(long, value_name = "T")]
-    threads: Option<usize>,
+    #[command(flatten)]
+    threads: cli::Threads,
 }
 
 /// The arguments, defaults filled in.
 fn parse_args() -> Result<Args, Box<dyn Error>> {
     let mut a = Args::parse();
-    if a.maps.is_empty() {
-        a.maps = cli::all_bundled_maps()?;
-        if a.quick {
-            a.maps.retain(|p| p.file_stem().is_some_and(|s| s == "apartment" || s == "lobby"));
-        }
+    if a.maps.maps.is_empty() {
+        a.maps.maps = cli::all_bundled_maps_or(a.quick, ["apartment", "lobby"])?;
     }
     if a.quick {
         a.rotations = a.rotations.min(4);
@@ -526,23 +519,8 @@ fn parse_args() -> Result<Args, Box<dyn Error>> {
     Ok(a)
 }
 
-fn stem(p: &Path) -> String {
-    p.file_stem().map_or("map".into(), |s| s.to_string_lossy().into_owned())
-}
-
 fn main() {
-    match parse_args() {
-        Ok(args) => {
-            if let Err(e) = run(&args) {
-                eprintln!("probe_trust: {e}");
-                std::process::exit(1);
-            }
-        }
-        Err(e) => {
-            eprintln!("probe_trust: {e}");
-            std::process::exit(2);
-        }
-    }
+    cli::run_main("probe_trust", parse_args, run);
 }
 
 fn run(args: &Args) -> Result<(), Box<dyn Error>> {
@@ -550,14 +528,14 @@ fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     let table_path = cli::repo_root().join("tables/probe.txt");
     let table_text = std::fs::read_to_string(&table_path)?;
     let (families, baked_calibration) = read_table(&table_text)?;
-    let threads = cli::threads(args.threads);
-    let jobs: Vec<MapJob> = parallel::parallel_map(&args.maps, threads, |_, path| {
+    let threads = args.threads.count();
+    let jobs: Vec<MapJob> = parallel::parallel_map(&args.maps.maps, threads, |_, path| {
         let map = EnvMap::load(path).map_err(|e| format!("{}: {e}", path.display()))?;
         let clamp = compare::clamped(&map);
         let smooth = tiers::smooth(&clamp);
-        let name = stem(path);
+        let name = cli::map_name(path);
         Ok::<_, String>(MapJob {
-            training: args.train.contains(&name),
+            training: args.train.train.contains(&name),
             name,
             tiers: [clamp, smooth],
         })

@@ -112,6 +112,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use clap::Parser;
+use cli::TRAINING_MAPS;
 use engine::{Brdf, Gls, LobeFrame, LumPyramid, Query, Reml, Rule};
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
@@ -155,11 +156,6 @@ const SEL_SIGMAS: [f64; 6] = [1e-4, 1e-3, 1e-2, 0.1, 0.3, 1.0];
 const SEL_L_FACTORS: [f64; 4] = [0.5, 1.0, 2.0, 4.0];
 /// Family size.
 const SEL: usize = SEL_SIGMAS.len() * SEL_L_FACTORS.len();
-
-const ALL_MAPS: [&str; 10] =
-    ["apartment", "bridge", "city", "dawn", "forest", "hall", "lab", "lobby", "night", "park"];
-const TRAINING_MAPS: [&str; 4] = ["apartment", "bridge", "forest", "lab"];
-const QUICK_MAPS: [&str; 2] = ["apartment", "lobby"];
 
 const SEED_QUERIES: u64 = 0x12E0_0001;
 const SEED_MC: u64 = 0x12E0_0002;
@@ -268,20 +264,15 @@ struct Cli {
     /// Convergence and consistency checks of the f64 engine
     #[arg(long)]
     self_test: bool,
-    /// Worker threads (default: all cores)
-    #[arg(long, value_name = "T")]
-    threads: Option<usize>,
+    #[command(flatten)]
+    threads: cli::Threads,
 }
 
 fn parse_args() -> Options {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let c = Cli::parse();
     let root = cli::repo_root();
-    let paths = if c.maps.is_empty() {
-        cli::bundled_maps(if c.quick { &QUICK_MAPS[..] } else { &ALL_MAPS[..] })
-    } else {
-        c.maps
-    };
+    let paths = if c.maps.is_empty() { cli::named_maps(c.quick) } else { c.maps };
     Options {
         out: c.out.unwrap_or_else(|| root.join("target/renderer")),
         csv: c.csv,
@@ -290,7 +281,7 @@ fn parse_args() -> Options {
         self_test: c.self_test,
         hyper_file: c.hyper_file.unwrap_or_else(|| root.join(HYPER_FILE)),
         hyper_method: c.hyper_method,
-        threads: cli::threads(c.threads),
+        threads: c.threads.count(),
         queries: c.queries.unwrap_or(if c.quick { 32 } else { 256 }),
         mixtures: if c.quick { 2 } else { 10 },
         sobol_queries: c.sobol_queries.unwrap_or(usize::MAX),
@@ -1808,22 +1799,18 @@ fn plot(results: &[Vec<TierResult>], path: &Path) -> Result<(), Box<dyn Error>> 
     Ok(())
 }
 
-fn name_of(path: &Path) -> String {
-    path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
-}
-
 // ---------------------------------------------------------------------------------------
 
 fn main() -> Result<(), Box<dyn Error>> {
     let o = parse_args();
     let start = Instant::now();
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
+    let root = cli::repo_root();
     let hyper_text = std::fs::read_to_string(&o.hyper_file).ok();
     if o.self_test {
         let h = hyper_text.as_deref().map(|t| parse_hyper(t, &o.hyper_method)).transpose()?;
         return self_test(&o, h.as_ref());
     }
-    let names: Vec<String> = o.paths.iter().map(|p| name_of(p)).collect();
+    let names: Vec<String> = o.paths.iter().map(|p| cli::map_name(p)).collect();
     let raw: Vec<EnvMap> = o
         .paths
         .iter()

@@ -40,7 +40,7 @@ mod tiers;
 
 use std::error::Error;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Parser;
 use reference::envmap::{luminance, EnvMap};
@@ -92,9 +92,8 @@ struct Args {
     /// Two maps, N = 16 and 64, one sequence, 32 normals (CI)
     #[arg(long)]
     quick: bool,
-    /// Worker threads (default: all cores)
-    #[arg(long, value_name = "T")]
-    threads: Option<usize>,
+    #[command(flatten)]
+    threads: cli::Threads,
 }
 
 /// The arguments, defaults filled in.
@@ -104,10 +103,7 @@ fn parse_args() -> Result<Args, Box<dyn Error>> {
         THRESHOLD.store(t, std::sync::atomic::Ordering::Relaxed);
     }
     if a.maps.is_empty() {
-        a.maps = cli::all_bundled_maps()?;
-        if a.quick {
-            a.maps.retain(|p| p.file_stem().is_some_and(|s| s == "apartment" || s == "lobby"));
-        }
+        a.maps = cli::all_bundled_maps_or(a.quick, ["apartment", "lobby"])?;
     }
     if a.quick {
         a.sequences = 1;
@@ -116,23 +112,8 @@ fn parse_args() -> Result<Args, Box<dyn Error>> {
     Ok(a)
 }
 
-fn stem(p: &Path) -> String {
-    p.file_stem().map_or("map".into(), |s| s.to_string_lossy().into_owned())
-}
-
 fn main() {
-    match parse_args() {
-        Ok(args) => {
-            if let Err(e) = run(&args) {
-                eprintln!("temporal: {e}");
-                std::process::exit(1);
-            }
-        }
-        Err(e) => {
-            eprintln!("temporal: {e}");
-            std::process::exit(2);
-        }
-    }
+    cli::run_main("temporal", parse_args, run);
 }
 
 /// Per normal, per pixel: the irradiance truth weights of one grid.
@@ -311,12 +292,12 @@ fn curves(
 
 fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     let start = std::time::Instant::now();
-    let threads = cli::threads(args.threads);
+    let threads = args.threads.count();
     let mut rng = Rng::new(SEED_NORMALS);
     let normals64: Vec<[f64; 3]> = (0..args.normals).map(|_| rng.uniform_sphere()).collect();
     let normals: Vec<Vec3> =
         normals64.iter().map(|d| Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32)).collect();
-    let names: Vec<String> = args.maps.iter().map(|p| stem(p)).collect();
+    let names: Vec<String> = args.maps.iter().map(|p| cli::map_name(p)).collect();
     let loaded: Vec<[EnvMap; 2]> = parallel::parallel_map(&args.maps, threads, |_, path| {
         let map = EnvMap::load(path).map_err(|e| format!("{}: {e}", path.display()))?;
         let clamp = compare::clamped(&map);

@@ -1,7 +1,10 @@
 //! Shared command-line pieces of the evaluation programs: each program parses its arguments
-//! with its own `#[derive(clap::Parser)]` struct and takes from here the repository root, the
-//! bundled maps, the default output folder and the `--threads` default.
+//! with its own `#[derive(clap::Parser)]` struct, flattens into it the argument groups that
+//! several programs share (`--threads`, the positional maps, `--train`), and takes from here
+//! the repository root, the bundled maps, map names, the default output folder, the
+//! `--threads` default and the `main` wrapper.
 
+use std::error::Error;
 use std::path::{Path, PathBuf};
 
 /// The repository root (the `eval/` crate's parent): bundled maps, `tables/` and the default
@@ -16,6 +19,20 @@ pub fn bundled_maps(names: &[&str]) -> Vec<PathBuf> {
     names.iter().map(|n| dir.join(format!("{n}.hdr"))).collect()
 }
 
+/// The ten bundled maps, by name.
+pub const ALL_MAPS: [&str; 10] =
+    ["apartment", "bridge", "city", "dawn", "forest", "hall", "lab", "lobby", "night", "park"];
+/// The training maps (tables/ are learned on them); the other bundled maps are held out.
+pub const TRAINING_MAPS: [&str; 4] = ["apartment", "bridge", "forest", "lab"];
+/// `--quick`: one training and one held-out map.
+pub const QUICK_MAPS: [&str; 2] = ["apartment", "lobby"];
+
+/// The default maps of the programs that name theirs: [`QUICK_MAPS`] with `--quick`, else
+/// [`ALL_MAPS`].
+pub fn named_maps(quick: bool) -> Vec<PathBuf> {
+    bundled_maps(if quick { &QUICK_MAPS } else { &ALL_MAPS })
+}
+
 /// Every `examples/envmaps/*.hdr`, sorted by path.
 pub fn all_bundled_maps() -> std::io::Result<Vec<PathBuf>> {
     let mut maps: Vec<PathBuf> = std::fs::read_dir(repo_root().join("examples/envmaps"))?
@@ -24,6 +41,21 @@ pub fn all_bundled_maps() -> std::io::Result<Vec<PathBuf>> {
         .collect();
     maps.sort();
     Ok(maps)
+}
+
+/// The default maps of the programs that take every bundled map: [`all_bundled_maps`], with
+/// `--quick` only the two named.
+pub fn all_bundled_maps_or(quick: bool, quick_maps: [&str; 2]) -> std::io::Result<Vec<PathBuf>> {
+    let mut maps = all_bundled_maps()?;
+    if quick {
+        maps.retain(|p| p.file_stem().is_some_and(|s| s == quick_maps[0] || s == quick_maps[1]));
+    }
+    Ok(maps)
+}
+
+/// A map's name in reports and CSV rows: its file stem (`examples/envmaps/lab.hdr` → `lab`).
+pub fn map_name(path: &Path) -> String {
+    path.file_stem().map_or("map".into(), |s| s.to_string_lossy().into_owned())
 }
 
 /// Where a program writes its files without `--out`: `target/eval/<program>/` of the
@@ -57,4 +89,71 @@ pub fn positive(s: &str) -> Result<usize, String> {
         Ok(n) => Ok(n),
         Err(e) => Err(e.to_string()),
     }
+}
+
+/// `main` of a program whose argument check goes on after clap's: `program: error` on stderr,
+/// exit code 2 when `parse` fails (a usage error, as clap's own) and 1 when `run` does.
+pub fn run_main<A>(
+    program: &str,
+    parse: impl FnOnce() -> Result<A, Box<dyn Error>>,
+    run: impl FnOnce(&A) -> Result<(), Box<dyn Error>>,
+) {
+    match parse() {
+        Ok(args) => {
+            if let Err(e) = run(&args) {
+                eprintln!("{program}: {e}");
+                std::process::exit(1);
+            }
+        }
+        Err(e) => {
+            eprintln!("{program}: {e}");
+            std::process::exit(2);
+        }
+    }
+}
+
+// The argument groups below are flattened (`#[command(flatten)]`) into the programs that take
+// them with the same meaning and help text.
+
+// `--threads T`.
+#[derive(Clone, clap::Args)]
+pub struct Threads {
+    /// Worker threads (default: all cores)
+    #[arg(long, value_name = "T")]
+    pub threads: Option<usize>,
+}
+
+impl Threads {
+    /// The worker count: [`threads`] of the option.
+    pub fn count(&self) -> usize {
+        threads(self.threads)
+    }
+}
+
+// The positional maps of the programs that name their default maps (`named_maps`) and count
+// the `TRAINING_MAPS` as training maps, the rest as held out.
+#[derive(Clone, clap::Args)]
+pub struct TrainingMaps {
+    /// Equirectangular .hdr maps (default: the ten in examples/envmaps/); maps named
+    /// apartment, bridge, forest or lab count as training maps, the rest as held out
+    #[arg(value_name = "MAPS", value_parser = map_file, verbatim_doc_comment)]
+    pub maps: Vec<PathBuf>,
+}
+
+// The positional maps of the programs that take every bundled map by default
+// (`all_bundled_maps_or`).
+#[derive(Clone, clap::Args)]
+pub struct AllMaps {
+    /// Equirectangular .hdr maps (default: examples/envmaps/*.hdr)
+    #[arg(value_name = "MAPS", value_parser = map_file)]
+    pub maps: Vec<PathBuf>,
+}
+
+// `--train A,B,…`: the training maps by stem.
+#[derive(Clone, clap::Args)]
+pub struct Train {
+    /// Training map stems (default apartment,bridge,forest,lab)
+    #[arg(long, value_name = "A,B,…", value_delimiter = ',', hide_default_value = true)]
+    #[arg(default_values = ["apartment", "bridge", "forest", "lab"])]
+    pub train: Vec<String>,
 }
