@@ -118,6 +118,10 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 #![cfg_attr(docsrs, feature(doc_cfg))]
+// CI's nightly docs build lists the public items without a rustdoc example
+// (`--cfg sq_doc_examples`): every type and module must have one.
+#![cfg_attr(sq_doc_examples, feature(rustdoc_missing_doc_code_examples))]
+#![cfg_attr(sq_doc_examples, warn(rustdoc::missing_doc_code_examples))]
 
 // `unbaked_size_diagnostic!`: the compile error of an unbaked renderer or fixed-point size,
 // listing the sizes this build baked (generator `gen/bmc.rs`, `render_size_diagnostics`).
