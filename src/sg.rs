@@ -193,9 +193,19 @@ impl SphericalGaussian {
     ///
     /// Computed with both sharpnesses divided by the larger one, so any finite sharpnesses
     /// work (10¹⁹ does not overflow `|u|²`, 10⁻⁴⁴ does not underflow it): the axis is unit to
-    /// f32 rounding. Axes are taken as given (unit, as [`Self::new`] makes them). A zero `u`
-    /// (both sharpnesses 0, or equal sharpnesses on opposite axes) keeps `self`'s axis with
-    /// sharpness 0; NaN propagates.
+    /// f32 rounding. Where `u` nearly cancels (nearly opposite lobes of equal sharpness) and
+    /// `|u|²` would be below the normal range, `|u|` is taken after scaling: the sharpness is
+    /// `|u|` to f32 rounding however small (`6·10⁻²²`, not 0 or `6.001·10⁻²²`). Axes are taken
+    /// as given (unit, as [`Self::new`] makes them). A zero `u` (both sharpnesses 0, or equal
+    /// sharpnesses on opposite axes) keeps `self`'s axis with sharpness 0; NaN propagates.
+    ///
+    /// The amplitude is the true one rounded to f32 (up to the rounding of the exponent): finite
+    /// amplitudes give a finite result or 0 wherever the true value is within f32, and ±∞ only
+    /// where it is beyond (two aligned lobes of amplitude 10²⁰: ∞; opposite ones of sharpness
+    /// 500: 10⁴⁰·e⁻¹⁰⁰⁰ = 0, not ∞·0 = NaN; `a₁a₂ = 10³⁰` with `e⁻¹²⁰`: 7.7·10⁻²³, not 0).
+    /// Where `a₁a₂` overflows f32 or the exponential leaves the normal range, it is formed in
+    /// f64 (a cold path; the common one is the f32 expression). A non-finite amplitude
+    /// propagates as in the f32 product.
     #[must_use]
     pub fn product(&self, other: &Self) -> Self {
         let (l1, l2) = (self.sharpness, other.sharpness);
@@ -207,7 +217,10 @@ impl SphericalGaussian {
         // λᵢ/m ≤ 1 (NaN for a NaN or infinite sharpness, which then propagates).
         let (s1, s2) = (l1 / m, l2 / m);
         let v = self.axis * s1 + other.axis * s2;
-        let len = v.length();
+        // |v| of nearly opposite lobes of equal sharpness (v cancels): below the normal range
+        // |v|² loses its relative precision (or is 0), so |v| is then taken after scaling.
+        let v2 = v.length_squared();
+        let len = if v2 >= 1e-30 { math::sqrt(v2) } else { length_scaled(v) };
         let (axis, sharpness) = match v.try_normalize() {
             Some(axis) => {
                 // |v| = 1 + O(ε) when one lobe dominates: rounding must not take a sharpness
@@ -223,7 +236,16 @@ impl SphericalGaussian {
         // λ₁λ₂|d|²/(|u| + λ₁ + λ₂) = s₁·(λ₂/(|v| + s₁ + s₂))·|d|², every factor bounded.
         let d = self.axis - other.axis;
         let log_a = -s1 * (l2 / (len + s1 + s2)) * d.length_squared();
-        Self { axis, sharpness, amplitude: a * math::exp(log_a) }
+        let e = math::exp(log_a);
+        let amplitude = a * e;
+        // a₁a₂ beyond f32 (∞, and ∞·0 = NaN when e underflows), or e below the normal range
+        // (a subnormal or 0 factor where a₁a₂ is large): the product again in f64.
+        let amplitude = if amplitude.is_finite() && e >= f32::MIN_POSITIVE {
+            amplitude
+        } else {
+            amplitude_wide(self.amplitude, other.amplitude, log_a)
+        };
+        Self { axis, sharpness, amplitude }
     }
 
     /// `∫_S² G = 2πa(1 − e^(−2λ))/λ` (exact; `4πa` at `λ = 0`).
@@ -273,6 +295,29 @@ impl SphericalGaussian {
         }
         Ok(t)
     }
+}
+
+/// `|v|` for a `v` whose `|v|²` is below `10⁻³⁰` (or NaN): divided by its largest component
+/// magnitude first, so no precision is lost to subnormal squares; 0 for a zero `v`, NaN
+/// propagates.
+#[cold]
+#[inline(never)]
+fn length_scaled(v: Vec3) -> f32 {
+    let m = math::abs(v.x).max(math::abs(v.y)).max(math::abs(v.z));
+    if m == 0.0 {
+        return 0.0;
+    }
+    let s = Vec3::new(v.x / m, v.y / m, v.z / m);
+    m * math::sqrt(s.length_squared())
+}
+
+/// `a₁a₂·e^x` in f64, rounded once to f32: finite or 0 where the true value is, ±∞ only
+/// beyond f32 (`a₁a₂` of f32s is exact in f64, and where `e^x` underflows f64 the result is
+/// below f32's range too). Non-finite amplitudes give what the f32 product gives.
+#[cold]
+#[inline(never)]
+fn amplitude_wide(a1: f32, a2: f32, x: f32) -> f32 {
+    (f64::from(a1) * f64::from(a2) * math::exp64(f64::from(x))) as f32
 }
 
 /// Least-squares SG sharpness for the clamped cosine (re-derived by `tests/sg.rs`).
