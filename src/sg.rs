@@ -71,6 +71,8 @@
 //! `[−1, 1]` are clamped. The plain-data methods ([`SphericalGaussian::evaluate`],
 //! [`SphericalGaussian::product`], …) do not check and propagate NaN.
 
+use core::f64::consts::PI as PI64;
+
 use crate::error::Error;
 use crate::math;
 use crate::rotation::Mat3;
@@ -256,9 +258,20 @@ impl SphericalGaussian {
     }
 
     /// `∫_S² G₁·G₂`, exactly (the integral of [`Self::product`]).
+    ///
+    /// The true value rounded to f32 for any finite SGs: finite wherever it is within f32,
+    /// ±∞ only beyond, never NaN, also where the product itself leaves f32 (`a₁a₂` or
+    /// `λₘ` beyond f32::MAX, whose ∞ then met a small or zero factor: `∞·0 = NaN` for two
+    /// lobes of sharpness near f32::MAX and amplitudes 10³⁰). Those cases (a non-finite f32
+    /// result) are recomputed in f64; the common path is the f32 product's integral.
     #[must_use]
     pub fn inner_product(&self, other: &Self) -> f32 {
-        self.product(other).integral()
+        let r = self.product(other).integral();
+        if r.is_finite() {
+            r
+        } else {
+            inner_product_wide(self, other)
+        }
     }
 
     /// The SG rotated by `m`: `G′(v) = G(mᵀv)`.
@@ -318,6 +331,31 @@ fn length_scaled(v: Vec3) -> f32 {
 #[inline(never)]
 fn amplitude_wide(a1: f32, a2: f32, x: f32) -> f32 {
     (f64::from(a1) * f64::from(a2) * math::exp64(f64::from(x))) as f32
+}
+
+/// [`SphericalGaussian::inner_product`] in f64, rounded once: `a₁a₂·e^x·F(λₘ)` with the
+/// product's `λₘ = |λ₁μ₁ + λ₂μ₂|` and `x = −λ₁λ₂|μ₁ − μ₂|²/(λₘ + λ₁ + λ₂)` (every term is
+/// within f64 for f32 inputs); NaN and non-finite inputs propagate.
+#[cold]
+#[inline(never)]
+fn inner_product_wide(g1: &SphericalGaussian, g2: &SphericalGaussian) -> f32 {
+    let (l1, l2) = (f64::from(g1.sharpness), f64::from(g2.sharpness));
+    let m1 = [g1.axis.x, g1.axis.y, g1.axis.z].map(f64::from);
+    let m2 = [g2.axis.x, g2.axis.y, g2.axis.z].map(f64::from);
+    let (mut u2, mut d2) = (0.0, 0.0);
+    for (a, b) in m1.into_iter().zip(m2) {
+        let (u, d) = (l1 * a + l2 * b, a - b);
+        u2 += u * u;
+        d2 += d * d;
+    }
+    let lm = math::sqrt64(u2);
+    let x = if l1 == 0.0 && l2 == 0.0 { 0.0 } else { -l1 * l2 * d2 / (lm + l1 + l2) };
+    let full = if lm < 1e-4 {
+        4.0 * PI64 * (1.0 - lm * (1.0 - lm * (2.0 / 3.0)))
+    } else {
+        2.0 * PI64 * (1.0 - math::exp64(-2.0 * lm)) / lm
+    };
+    (f64::from(g1.amplitude) * f64::from(g2.amplitude) * math::exp64(x) * full) as f32
 }
 
 /// Least-squares SG sharpness for the clamped cosine (re-derived by `tests/sg.rs`).

@@ -214,6 +214,12 @@ fuzz_target!(|data: &[u8]| {
                 }
                 let ip = g1.inner_product(&g2);
                 assert!(!ip.is_nan(), "inner product NaN: {g1:?} {g2:?}");
+                // Finite wherever ∫G₁G₂ = a₁a₂·e^x·F(λₘ) is within f32 (defect 15: ∞ or NaN
+                // where the product left f32).
+                let want_ip = want * if ul == 0.0 { 4.0 * PI } else { full64(ul) };
+                if x.is_finite() && want_ip.abs() <= 0.999 * f64::from(f32::MAX) {
+                    assert!(ip.is_finite(), "inner product {ip}, want {want_ip:e}: {g1:?} {g2:?}");
+                }
             }
             3 => {
                 let Some(g) = read_sg(&mut b) else { continue };
