@@ -255,6 +255,13 @@ pub fn ln64(x: f64) -> f64 {
     libm::log(x)
 }
 
+/// f64 exponential eˣ (always `libm`).
+#[inline]
+#[must_use]
+pub fn exp64(x: f64) -> f64 {
+    libm::exp(x)
+}
+
 /// f64 largest integer not greater than `x` (always `libm`).
 #[inline]
 #[must_use]

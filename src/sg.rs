@@ -71,6 +71,8 @@
 //! `[−1, 1]` are clamped. The plain-data methods ([`SphericalGaussian::evaluate`],
 //! [`SphericalGaussian::product`], …) do not check and propagate NaN.
 
+use core::f64::consts::PI as PI64;
+
 use crate::error::Error;
 use crate::math;
 use crate::rotation::Mat3;
@@ -193,9 +195,19 @@ impl SphericalGaussian {
     ///
     /// Computed with both sharpnesses divided by the larger one, so any finite sharpnesses
     /// work (10¹⁹ does not overflow `|u|²`, 10⁻⁴⁴ does not underflow it): the axis is unit to
-    /// f32 rounding. Axes are taken as given (unit, as [`Self::new`] makes them). A zero `u`
-    /// (both sharpnesses 0, or equal sharpnesses on opposite axes) keeps `self`'s axis with
-    /// sharpness 0; NaN propagates.
+    /// f32 rounding. Where `u` nearly cancels (nearly opposite lobes of equal sharpness) and
+    /// `|u|²` would be below the normal range, `|u|` is taken after scaling: the sharpness is
+    /// `|u|` to f32 rounding however small (`6·10⁻²²`, not 0 or `6.001·10⁻²²`). Axes are taken
+    /// as given (unit, as [`Self::new`] makes them). A zero `u` (both sharpnesses 0, or equal
+    /// sharpnesses on opposite axes) keeps `self`'s axis with sharpness 0; NaN propagates.
+    ///
+    /// The amplitude is the true one rounded to f32 (up to the rounding of the exponent): finite
+    /// amplitudes give a finite result or 0 wherever the true value is within f32, and ±∞ only
+    /// where it is beyond (two aligned lobes of amplitude 10²⁰: ∞; opposite ones of sharpness
+    /// 500: 10⁴⁰·e⁻¹⁰⁰⁰ = 0, not ∞·0 = NaN; `a₁a₂ = 10³⁰` with `e⁻¹²⁰`: 7.7·10⁻²³, not 0).
+    /// Where `a₁a₂` overflows f32 or the exponential leaves the normal range, it is formed in
+    /// f64 (a cold path; the common one is the f32 expression). A non-finite amplitude
+    /// propagates as in the f32 product.
     #[must_use]
     pub fn product(&self, other: &Self) -> Self {
         let (l1, l2) = (self.sharpness, other.sharpness);
@@ -207,7 +219,10 @@ impl SphericalGaussian {
         // λᵢ/m ≤ 1 (NaN for a NaN or infinite sharpness, which then propagates).
         let (s1, s2) = (l1 / m, l2 / m);
         let v = self.axis * s1 + other.axis * s2;
-        let len = v.length();
+        // |v| of nearly opposite lobes of equal sharpness (v cancels): below the normal range
+        // |v|² loses its relative precision (or is 0), so |v| is then taken after scaling.
+        let v2 = v.length_squared();
+        let len = if v2 >= 1e-30 { math::sqrt(v2) } else { length_scaled(v) };
         let (axis, sharpness) = match v.try_normalize() {
             Some(axis) => {
                 // |v| = 1 + O(ε) when one lobe dominates: rounding must not take a sharpness
@@ -223,7 +238,16 @@ impl SphericalGaussian {
         // λ₁λ₂|d|²/(|u| + λ₁ + λ₂) = s₁·(λ₂/(|v| + s₁ + s₂))·|d|², every factor bounded.
         let d = self.axis - other.axis;
         let log_a = -s1 * (l2 / (len + s1 + s2)) * d.length_squared();
-        Self { axis, sharpness, amplitude: a * math::exp(log_a) }
+        let e = math::exp(log_a);
+        let amplitude = a * e;
+        // a₁a₂ beyond f32 (∞, and ∞·0 = NaN when e underflows), or e below the normal range
+        // (a subnormal or 0 factor where a₁a₂ is large): the product again in f64.
+        let amplitude = if amplitude.is_finite() && e >= f32::MIN_POSITIVE {
+            amplitude
+        } else {
+            amplitude_wide(self.amplitude, other.amplitude, log_a)
+        };
+        Self { axis, sharpness, amplitude }
     }
 
     /// `∫_S² G = 2πa(1 − e^(−2λ))/λ` (exact; `4πa` at `λ = 0`).
@@ -234,9 +258,20 @@ impl SphericalGaussian {
     }
 
     /// `∫_S² G₁·G₂`, exactly (the integral of [`Self::product`]).
+    ///
+    /// The true value rounded to f32 for any finite SGs: finite wherever it is within f32,
+    /// ±∞ only beyond, never NaN, also where the product itself leaves f32 (`a₁a₂` or
+    /// `λₘ` beyond f32::MAX, whose ∞ then met a small or zero factor: `∞·0 = NaN` for two
+    /// lobes of sharpness near f32::MAX and amplitudes 10³⁰). Those cases (a non-finite f32
+    /// result) are recomputed in f64; the common path is the f32 product's integral.
     #[must_use]
     pub fn inner_product(&self, other: &Self) -> f32 {
-        self.product(other).integral()
+        let r = self.product(other).integral();
+        if r.is_finite() {
+            r
+        } else {
+            inner_product_wide(self, other)
+        }
     }
 
     /// The SG rotated by `m`: `G′(v) = G(mᵀv)`.
@@ -273,6 +308,54 @@ impl SphericalGaussian {
         }
         Ok(t)
     }
+}
+
+/// `|v|` for a `v` whose `|v|²` is below `10⁻³⁰` (or NaN): divided by its largest component
+/// magnitude first, so no precision is lost to subnormal squares; 0 for a zero `v`, NaN
+/// propagates.
+#[cold]
+#[inline(never)]
+fn length_scaled(v: Vec3) -> f32 {
+    let m = math::abs(v.x).max(math::abs(v.y)).max(math::abs(v.z));
+    if m == 0.0 {
+        return 0.0;
+    }
+    let s = Vec3::new(v.x / m, v.y / m, v.z / m);
+    m * math::sqrt(s.length_squared())
+}
+
+/// `a₁a₂·e^x` in f64, rounded once to f32: finite or 0 where the true value is, ±∞ only
+/// beyond f32 (`a₁a₂` of f32s is exact in f64, and where `e^x` underflows f64 the result is
+/// below f32's range too). Non-finite amplitudes give what the f32 product gives.
+#[cold]
+#[inline(never)]
+fn amplitude_wide(a1: f32, a2: f32, x: f32) -> f32 {
+    (f64::from(a1) * f64::from(a2) * math::exp64(f64::from(x))) as f32
+}
+
+/// [`SphericalGaussian::inner_product`] in f64, rounded once: `a₁a₂·e^x·F(λₘ)` with the
+/// product's `λₘ = |λ₁μ₁ + λ₂μ₂|` and `x = −λ₁λ₂|μ₁ − μ₂|²/(λₘ + λ₁ + λ₂)` (every term is
+/// within f64 for f32 inputs); NaN and non-finite inputs propagate.
+#[cold]
+#[inline(never)]
+fn inner_product_wide(g1: &SphericalGaussian, g2: &SphericalGaussian) -> f32 {
+    let (l1, l2) = (f64::from(g1.sharpness), f64::from(g2.sharpness));
+    let m1 = [g1.axis.x, g1.axis.y, g1.axis.z].map(f64::from);
+    let m2 = [g2.axis.x, g2.axis.y, g2.axis.z].map(f64::from);
+    let (mut u2, mut d2) = (0.0, 0.0);
+    for (a, b) in m1.into_iter().zip(m2) {
+        let (u, d) = (l1 * a + l2 * b, a - b);
+        u2 += u * u;
+        d2 += d * d;
+    }
+    let lm = math::sqrt64(u2);
+    let x = if l1 == 0.0 && l2 == 0.0 { 0.0 } else { -l1 * l2 * d2 / (lm + l1 + l2) };
+    let full = if lm < 1e-4 {
+        4.0 * PI64 * (1.0 - lm * (1.0 - lm * (2.0 / 3.0)))
+    } else {
+        2.0 * PI64 * (1.0 - math::exp64(-2.0 * lm)) / lm
+    };
+    (f64::from(g1.amplitude) * f64::from(g2.amplitude) * math::exp64(x) * full) as f32
 }
 
 /// Least-squares SG sharpness for the clamped cosine (re-derived by `tests/sg.rs`).

@@ -317,3 +317,159 @@ fn defect_10_renderer_and_fixed_notes_list_the_baked_sizes() {
     let shipped = format!("N = {}", sizes.join(", "));
     assert_eq!(src.matches(&format!("the baked sizes are {shipped} (")).count(), 2, "{src}");
 }
+
+/// Found by the `metrics` fuzz target: `uniform_circle_coefficient` formed `θ = n·a/(2K)` in
+/// f64 and reduced it by `round(θ/π)·π`, which loses every digit once `|θ|` passes about 2⁵⁰ and
+/// gives NaN once `n·a` overflows f64 (`n = 2⁴⁰`, `a = 10³⁰⁰`). The phase is now reduced
+/// exactly; the references below are products of f64 cosines, whose arguments `libm` reduces
+/// exactly: `sin(2ᵏθ)/(2ᵏ sin θ) = Π_{i<k} cos(2ⁱθ)`.
+#[test]
+fn defect_11_circle_coefficient_of_huge_phases() {
+    let cos_product = |theta: f64, k: u32| -> f64 {
+        (0..k).map(|i| (theta * 2f64.powi(i as i32)).cos()).product()
+    };
+    // K = 2: c = cos θ, θ = n·a/4 = 10³⁰⁰ (n = 4) and 2⁻⁴⁰·… (n = 2⁴², a = 10³⁰⁰·2⁻⁴⁰).
+    for (n, a) in [(4i64, 1e300), (1 << 42, 1e300 * 2f64.powi(-40)), (-4, 1e300), (4, -1e300)] {
+        let c = metrics::uniform_circle_coefficient(n, 2, a).unwrap();
+        let want = 1e300f64.cos();
+        assert!((c - want).abs() <= 1e-14, "n = {n}, a = {a:e}: {c} against {want}");
+    }
+    // K = 2⁶¹, n = 2⁶², a = 10²⁹⁰: θ = 10²⁹⁰, but n·a/2 = 2.3·10³⁰⁸ is beyond f64.
+    let c = metrics::uniform_circle_coefficient(1 << 62, 1 << 61, 1e290).unwrap();
+    let want = cos_product(1e290, 61);
+    assert!((c - want).abs() <= 1e-12 * want.abs() + 1e-300, "{c:e} against {want:e}");
+    // The fuzz target's input, and the largest phases: finite, in [−1, 1]; K = 1 is exactly 1.
+    for (n, k, a) in [
+        (1i64 << 40, 3usize, 1e300),
+        (i64::MIN, 3, f64::MAX),
+        (i64::MAX, usize::MAX, -f64::MAX),
+        (i64::MAX, 65535, 1e-300),
+        (1 << 62, 256, 1.7e308),
+        (1 << 40, 1, 1e300),
+    ] {
+        let c = metrics::uniform_circle_coefficient(n, k, a).unwrap();
+        assert!(c.is_finite() && c.abs() <= 1.0 + 1e-15, "({n}, {k}, {a:e}): {c}");
+        if k == 1 {
+            assert_eq!(c, 1.0);
+        }
+    }
+    // Across the switch to the exact reduction (|n·a/2| = 2²⁰) the closed form still matches
+    // the sum over the nodes (whose own phases n·xₖ lose about |n·xₖ|·10⁻¹⁶).
+    for (n, k, a) in [(1_000_003i64, 7usize, 2.1), (3_000_001, 64, 0.77), (1 << 20, 5, 2.0)] {
+        let mut xs = vec![0.0; k];
+        metrics::uniform_circle_nodes(a, &mut xs).unwrap();
+        let (re, _) = metrics::circle_coefficient(&xs, n).unwrap();
+        let c = metrics::uniform_circle_coefficient(n, k, a).unwrap();
+        assert!((c - re).abs() <= 1e-9, "({n}, {k}, {a}): {c} against the sum {re}");
+    }
+}
+
+/// Found by the `sg` fuzz target: the product's amplitude `a₁a₂·exp(x)` was formed in f32, so
+/// `a₁a₂` beyond f32 gave ∞ (or ∞·0 = NaN) where the true amplitude is finite or 0, and a large
+/// `a₁a₂` times an exponential below the normal range lost its digits or became 0.
+#[test]
+fn defect_12_product_amplitude_beyond_f32_in_between() {
+    let sg = |axis: Vec3, l: f32, a: f32| SphericalGaussian::new(axis, l, a).unwrap();
+    // Opposite lobes: u = 0, x = −λ₁λ₂·4/(λ₁ + λ₂) = −2λ exactly.
+    for (l, a, want) in [
+        (500.0f32, 1e20f32, 0.0f64),            // 10⁴⁰·e⁻¹⁰⁰⁰
+        (50.0, 1e15, 1e30 * (-100.0f64).exp()), // e⁻¹⁰⁰ is subnormal in f32
+        (60.0, 1e15, 1e30 * (-120.0f64).exp()), // e⁻¹²⁰ is 0 in f32
+        (10.0, 1e20, 1e40 * (-20.0f64).exp()),  // 2·10³¹: a₁a₂ = ∞ in f32
+        (10.0, -1e20, -1e40 * (-20.0f64).exp()),
+    ] {
+        let p = sg(Vec3::X, l, a).product(&sg(-Vec3::X, l, a.abs()));
+        let got = f64::from(p.amplitude);
+        assert!(
+            (got - want).abs() <= 1e-6 * want.abs(),
+            "λ = {l}, a = {a:e}: {} against {want:e}",
+            p.amplitude
+        );
+    }
+    // Not opposite: |u| = λ√2, |μ₁ − μ₂|² = 2, x = −2λ²/(λ√2 + 2λ).
+    let (p, l) = (sg(Vec3::Z, 10.0, 1e20).product(&sg(Vec3::X, 10.0, 1e20)), 10.0f64);
+    let want = 1e40 * (-2.0 * l * l / (l * 2f64.sqrt() + 2.0 * l)).exp();
+    assert!(rel(p.amplitude, want as f32) < 1e-5, "{} against {want:e}", p.amplitude);
+    // Beyond f32 it is +∞ (aligned lobes: e⁰ = 1).
+    assert_eq!(sg(Vec3::Z, 3.0, 1e20).product(&sg(Vec3::Z, 5.0, 1e20)).amplitude, f32::INFINITY);
+    assert_eq!(
+        sg(Vec3::Z, 3.0, -1e20).product(&sg(Vec3::Z, 5.0, 1e20)).amplitude,
+        f32::NEG_INFINITY
+    );
+    // The ordinary range is unchanged, and the inner product is no longer NaN.
+    let q = sg(Vec3::Z, 3.0, 2.0).product(&sg(Vec3::X, 5.0, 0.5));
+    let want = (-15.0f64 * 2.0 / (34f64.sqrt() + 8.0)).exp();
+    assert!(rel(q.amplitude, want as f32) < 1e-6, "{q:?}");
+    let ip = sg(Vec3::X, 500.0, 1e20).inner_product(&sg(-Vec3::X, 500.0, 1e20));
+    assert_eq!(ip, 0.0);
+}
+
+/// Found by the `sg` fuzz target: nearly opposite lobes of equal sharpness cancel in
+/// `u = λ₁μ₁ + λ₂μ₂`; where `|u|²` is below the normal range the fuzz target saw an axis of
+/// length 0.99981 (before `Vec3::try_normalize` learned to scale) and the sharpness `|u|` is
+/// still taken from the subnormal `|u|²`: 6.0011·10⁻²² for 6·10⁻²², 0 for 10⁻²⁰·….
+#[test]
+fn defect_13_product_of_nearly_opposite_lobes() {
+    let sg = |axis: Vec3, l: f32| SphericalGaussian::new(axis, l, 1.0).unwrap();
+    // (μ₁, μ₂, λ) and the exact u = λ(μ₁ + μ₂) (the axes are unit as given: 1 + t² = 1 in f32).
+    for (m1, m2, l, u) in [
+        (Vec3::new(0.0, -1.0, 6e-22), Vec3::Y, 1.0f32, Vec3::new(0.0, 0.0, 6e-22)),
+        (Vec3::new(3e-21, -1.0, 4e-21), Vec3::Y, 2.0, Vec3::new(6e-21, 0.0, 8e-21)),
+        (
+            Vec3::new(3e-21, -1.0, 0.0),
+            Vec3::new(0.0, 1.0, 4e-21),
+            1e10,
+            Vec3::new(3e-11, 0.0, 4e-11),
+        ),
+        (Vec3::new(-1.0, 1e-44, 0.0), Vec3::new(1.0, 0.0, 0.0), 1.0, Vec3::new(0.0, 1e-44, 0.0)),
+    ] {
+        let (g1, g2) = (sg(m1, l), sg(m2, l));
+        assert_eq!(g1.axis, m1);
+        assert_eq!(g2.axis, m2);
+        let ul = (f64::from(u.x).powi(2) + f64::from(u.y).powi(2) + f64::from(u.z).powi(2)).sqrt();
+        for p in [g1.product(&g2), g2.product(&g1)] {
+            assert!((p.axis.length() - 1.0).abs() < 1e-6, "{p:?}");
+            let want = Vec3::new(
+                (f64::from(u.x) / ul) as f32,
+                (f64::from(u.y) / ul) as f32,
+                (f64::from(u.z) / ul) as f32,
+            );
+            assert!(close(p.axis, want, 1e-6), "{p:?} against {want:?}");
+            assert!(rel(p.sharpness, ul as f32) < 1e-6, "{p:?}: sharpness against {ul:e}");
+            // exp(−λ²·|μ₁ − μ₂|²/(|u| + 2λ)) with |μ₁ − μ₂|² = 4: e^(−2λ) (micromath's exp is
+            // good to about 10⁻³).
+            let want = (-2.0 * f64::from(l)).exp() as f32;
+            let tol = if cfg!(feature = "micromath") { 5e-3 } else { 1e-6 };
+            assert!(rel(p.amplitude, want) < tol || want == 0.0 && p.amplitude == 0.0, "{p:?}");
+        }
+    }
+}
+
+/// Found by the `sg` fuzz target after defect 12's fix: `inner_product` is the product's
+/// integral in f32, so a product beyond f32 (`a₁a₂` = ∞, or `λₘ` = ∞ with `F(∞) = 0`) gave ∞
+/// or ∞·0 = NaN where `∫G₁G₂` is well within f32 (two lobes of sharpness f32::MAX and
+/// 3.3·10³⁵, amplitudes 3.3·10³⁵ and 5.2·10³⁴: NaN, want 3.1·10³¹).
+#[test]
+fn defect_15_inner_product_of_products_beyond_f32() {
+    let sg = |axis: Vec3, l: f32, a: f32| SphericalGaussian::new(axis, l, a).unwrap();
+    // ∫G₁G₂ for aligned lobes: a₁a₂·F(λ₁ + λ₂), F(λ) = 2π(1 − e^(−2λ))/λ.
+    let full = |l: f64| 2.0 * core::f64::consts::PI * -(-2.0 * l).exp_m1() / l;
+    for (l1, a1, l2, a2) in [
+        (f32::MAX, 1e30f32, 1e36f32, 1e30f32), // λₘ = ∞ in f32, a₁a₂ = ∞: NaN before
+        (1e3, 1e20, 1e3, 1e20),                // a₁a₂ = ∞, F = π/1000: ∞ before
+        (f32::MAX, 3.2513958e35, 3.2513958e35, 5.1747567e34), // the fuzz target's input
+        (f32::MAX, -1e30, 1e36, 1e30),
+    ] {
+        let (g1, g2) = (sg(Vec3::X, l1, a1), sg(Vec3::X, l2, a2));
+        let want = f64::from(a1) * f64::from(a2) * full(f64::from(l1) + f64::from(l2));
+        for ip in [g1.inner_product(&g2), g2.inner_product(&g1)] {
+            assert!(ip.is_finite() && rel(ip, want as f32) < 1e-6, "{ip:e} against {want:e}");
+        }
+    }
+    // Beyond f32 it is ±∞; the ordinary range is unchanged.
+    let g = sg(Vec3::Z, 1.0, 1e20);
+    assert_eq!(g.inner_product(&g), f32::INFINITY);
+    assert_eq!(g.inner_product(&sg(Vec3::Z, 1.0, -1e20)), f32::NEG_INFINITY);
+    let (g1, g2) = (sg(Vec3::Z, 3.0, 2.0), sg(Vec3::X, 5.0, 0.5));
+    assert_eq!(g1.inner_product(&g2), g1.product(&g2).integral());
+}
