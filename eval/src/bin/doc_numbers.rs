@@ -149,6 +149,7 @@ struct Problem {
 
 /// Checks or rewrites the rustdoc quotes of one line; returns the line as it should be.
 fn doc_line(line: &str, measured: &Measured, place: &str, problems: &mut Vec<Problem>) -> String {
+    let mut report = |what: String| problems.push(Problem { place: place.into(), what });
     let mut out = String::new();
     let mut rest = line;
     loop {
@@ -164,7 +165,7 @@ fn doc_line(line: &str, measured: &Measured, place: &str, problems: &mut Vec<Pro
         out.push_str(&rest[..at + prefix.len()]);
         rest = &rest[at + prefix.len()..];
         let Some((key, after)) = quoted_key(rest) else {
-            problems.push(Problem { place: place.into(), what: format!("cannot parse {prefix}") });
+            report(format!("cannot parse {prefix}"));
             continue;
         };
         let name = format!("{} N={}", key.0, key.1);
@@ -174,27 +175,18 @@ fn doc_line(line: &str, measured: &Measured, place: &str, problems: &mut Vec<Pro
             let Some((k, len)) =
                 leading_grouped(rest).filter(|(_, len)| rest[*len..].starts_with(" instructions"))
             else {
-                problems.push(Problem {
-                    place: place.into(),
-                    what: format!("m4:{name}: expected \"K instructions\""),
-                });
+                report(format!("m4:{name}: expected \"K instructions\""));
                 continue;
             };
             match measured.m4.get(&key) {
                 Some(&device) => {
                     if device != k {
-                        problems.push(Problem {
-                            place: place.into(),
-                            what: format!("m4:{name} says {k} instructions, the device {device}"),
-                        });
+                        report(format!("m4:{name} says {k} instructions, the device {device}"));
                     }
                     out.push_str(&grouped(device));
                 }
                 None => {
-                    problems.push(Problem {
-                        place: place.into(),
-                        what: format!("cites m4:{name}, which the device does not print"),
-                    });
+                    report(format!("cites m4:{name}, which the device does not print"));
                     out.push_str(&rest[..len]);
                 }
             }
@@ -207,32 +199,21 @@ fn doc_line(line: &str, measured: &Measured, place: &str, problems: &mut Vec<Pro
                 tail[len2..].starts_with(" bytes of tables").then_some((code, data, len, len2))
             });
             let Some((code, data, len, len2)) = parsed else {
-                problems.push(Problem {
-                    place: place.into(),
-                    what: format!(
-                        "flash:{name}: expected \"C bytes of code and D bytes of tables\""
-                    ),
-                });
+                report(format!("flash:{name}: expected \"C bytes of code and D bytes of tables\""));
                 continue;
             };
             let consumed = len + MID.len() + len2;
             match measured.flash.get(&key) {
                 Some(&(c, d)) => {
                     if (c, d) != (code, data) {
-                        problems.push(Problem {
-                            place: place.into(),
-                            what: format!(
-                                "flash:{name} says {code} + {data} bytes, the build {c} + {d}"
-                            ),
-                        });
+                        report(format!(
+                            "flash:{name} says {code} + {data} bytes, the build {c} + {d}"
+                        ));
                     }
                     let _ = write!(out, "{}{MID}{}", grouped(c), grouped(d));
                 }
                 None => {
-                    problems.push(Problem {
-                        place: place.into(),
-                        what: format!("cites flash:{name}, which .ci/m4-flash.sh does not print"),
-                    });
+                    report(format!("cites flash:{name}, which .ci/m4-flash.sh does not print"));
                     out.push_str(&rest[..consumed]);
                 }
             }
