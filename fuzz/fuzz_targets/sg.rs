@@ -8,24 +8,13 @@
 
 use std::f64::consts::PI;
 
-use fuzz_support::{classify, known_defect, Bytes, DirClass};
+use fuzz_support::{classify, direction_rejected, known_defect, Bytes, DirClass};
 use libfuzzer_sys::fuzz_target;
 use sphere_quadrature::sg::{self, SphericalGaussian};
 use sphere_quadrature::{Error, Mat3, Vec3};
 
 fn bad_sharpness(l: f32) -> bool {
     !(l >= 0.0 && l.is_finite())
-}
-
-/// `Some(true)` must be rejected, `Some(false)` accepted, `None` either.
-fn direction_bad(d: Vec3) -> Option<bool> {
-    match classify(d) {
-        DirClass::Invalid => Some(true),
-        DirClass::Valid => Some(false),
-        // Known defect 7: huge finite directions must be accepted.
-        DirClass::Huge if !known_defect(7) => Some(false),
-        DirClass::Huge | DirClass::Tiny => None,
-    }
 }
 
 /// `F(λ)` in f64.
@@ -66,7 +55,7 @@ fn read_sg(b: &mut Bytes) -> Option<SphericalGaussian> {
     };
     let bad_param = if choice < 2 { bad_sharpness(x) } else { !(x >= 0.0 && x.is_finite()) };
     let param_err = if choice < 2 { Error::InvalidSharpness } else { Error::InvalidExponent };
-    match direction_bad(axis) {
+    match direction_rejected(axis) {
         // Both errors documented, in no stated order (the Phong fits check the exponent first).
         Some(true) if bad_param => {
             assert!(r == Err(Error::InvalidDirection) || r == Err(param_err), "{r:?}");
@@ -249,7 +238,7 @@ fuzz_target!(|data: &[u8]| {
                 let rh = g.hemispherical_integral(n);
                 let rc = g.clamped_cosine_integral(n);
                 for (what, r) in [("hemispherical", rh), ("clamped", rc)] {
-                    match direction_bad(n) {
+                    match direction_rejected(n) {
                         Some(true) => {
                             assert_eq!(r, Err(Error::InvalidDirection), "{what} at {n:?}")
                         }

@@ -196,6 +196,21 @@ pub fn classify(v: Vec3) -> DirClass {
     }
 }
 
+/// Whether a function must reject direction `d` with `Error::InvalidDirection`: `Some(true)`
+/// must be rejected, `Some(false)` accepted, `None` either (a direction too short or too long
+/// for the documented contract to decide, unless `strict` settles huge ones, defect 7).
+#[must_use]
+pub fn direction_rejected(d: Vec3) -> Option<bool> {
+    match classify(d) {
+        DirClass::Invalid => Some(true),
+        DirClass::Valid => Some(false),
+        // Known defect 7: huge finite directions must be accepted ("Bad input" in the lib
+        // docs lists only zero, NaN and infinite directions as errors).
+        DirClass::Huge if !known_defect(7) => Some(false),
+        DirClass::Huge | DirClass::Tiny => None,
+    }
+}
+
 /// `v` normalised in f64 (scaled by its largest component first, so any finite non-zero `v`
 /// works).
 #[must_use]
