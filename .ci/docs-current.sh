@@ -2,8 +2,8 @@
 # The reports in docs/ are what their benchmarks write now: reruns each benchmark in full
 # (the maps of examples/envmaps/, as `--out docs` would) into target/docs-current/ and
 # compares the Markdown with docs/, ignoring only what a rerun cannot reproduce: wall and CPU
-# times ("12 s", "3.1 s wall"), the --out folder in the quoted command, and the `## Cost`
-# sections of host timings. A stale report fails with the command that regenerates it.
+# times ("12 s", "3.1 s wall"), the --out folder and --csv file of the quoted command, and
+# the `## Cost` sections of host timings. A stale report fails with the command that regenerates it.
 # Usage: .ci/docs-current.sh [BENCHMARK...] (default: all of them; about 9 min on 2 cores)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,7 +11,8 @@ out=target/docs-current
 mkdir -p "$out"
 
 normalise() {
-    sed -E -e 's/--out [^ `)]+/--out DIR/g' -e 's/[0-9]+(\.[0-9]+)? s\b/T s/g' "$1" \
+    sed -E -e 's/--out [^ `)]+/--out DIR/g' -e 's/ --csv [^ `)]+//g' \
+        -e 's/[0-9]+(\.[0-9]+)? s\b/T s/g' "$1" \
         | awk '/^## Cost/ { skip = 1; next } /^## / { skip = 0 } !skip'
 }
 
