@@ -221,8 +221,7 @@ impl SphericalGaussian {
         let v = self.axis * s1 + other.axis * s2;
         // |v| of nearly opposite lobes of equal sharpness (v cancels): below the normal range
         // |v|² loses its relative precision (or is 0), so |v| is then taken after scaling.
-        let v2 = v.length_squared();
-        let len = if v2 >= 1e-30 { math::sqrt(v2) } else { length_scaled(v) };
+        let len = v.length_precise();
         let (axis, sharpness) = match v.try_normalize() {
             Some(axis) => {
                 // |v| = 1 + O(ε) when one lobe dominates: rounding must not take a sharpness
@@ -308,20 +307,6 @@ impl SphericalGaussian {
         }
         Ok(t)
     }
-}
-
-/// `|v|` for a `v` whose `|v|²` is below `10⁻³⁰` (or NaN): divided by its largest component
-/// magnitude first, so no precision is lost to subnormal squares; 0 for a zero `v`, NaN
-/// propagates.
-#[cold]
-#[inline(never)]
-fn length_scaled(v: Vec3) -> f32 {
-    let m = math::abs(v.x).max(math::abs(v.y)).max(math::abs(v.z));
-    if m == 0.0 {
-        return 0.0;
-    }
-    let s = Vec3::new(v.x / m, v.y / m, v.z / m);
-    m * math::sqrt(s.length_squared())
 }
 
 /// `a₁a₂·e^x` in f64, rounded once to f32: finite or 0 where the true value is, ±∞ only

@@ -120,12 +120,44 @@ impl Vec3 {
     #[cold]
     #[inline(never)]
     fn normalize_scaled(self) -> Option<Self> {
-        let m = math::abs(self.x).max(math::abs(self.y)).max(math::abs(self.z));
+        let (m, s) = self.scaled();
         if !(m > 0.0 && m.is_finite() && self.is_finite()) {
             return None;
         }
-        let s = Self::new(self.x / m, self.y / m, self.z / m);
         Some(s * (1.0 / math::sqrt(s.length_squared())))
+    }
+
+    /// `|v|` without the precision a subnormal `|v|²` loses: below `10⁻³⁰` (or NaN) it is
+    /// taken after dividing by the largest component magnitude, as [`Self::try_normalize`]
+    /// does. 0 for a zero vector; NaN propagates.
+    #[inline]
+    #[must_use]
+    pub(crate) fn length_precise(self) -> f32 {
+        let l2 = self.length_squared();
+        if l2 >= 1e-30 {
+            math::sqrt(l2)
+        } else {
+            self.length_scaled()
+        }
+    }
+
+    /// The slow path of [`Self::length_precise`].
+    #[cold]
+    #[inline(never)]
+    fn length_scaled(self) -> f32 {
+        let (m, s) = self.scaled();
+        if m == 0.0 {
+            return 0.0;
+        }
+        m * math::sqrt(s.length_squared())
+    }
+
+    /// The largest component magnitude `m` and `self / m`, whose squared length is in
+    /// `[1, 3]` for a finite nonzero `self`.
+    #[inline]
+    fn scaled(self) -> (f32, Self) {
+        let m = math::abs(self.x).max(math::abs(self.y)).max(math::abs(self.z));
+        (m, Self::new(self.x / m, self.y / m, self.z / m))
     }
 
     /// The components as an array.
