@@ -616,10 +616,10 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_update N=16`: 2 716 instructions (four-member selection)
+    /// - `m4:probe_update N=16`: 2 714 instructions (four-member selection)
     /// - `m4:probe_update N=32`: 33 964 instructions (four-member selection)
     /// - `m4:probe_update N=64`: 88 800 instructions (four-member selection)
-    /// - `m4:probe_update N=256`: 790 400 instructions (four-member selection)
+    /// - `m4:probe_update N=256`: 790 440 instructions (four-member selection)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
     /// these lines against):
@@ -640,9 +640,9 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_update_one_member N=16`: 1 272 instructions (one member)
-    /// - `m4:probe_update_one_member N=32`: 11 868 instructions (one member)
-    /// - `m4:probe_update_one_member N=64`: 31 070 instructions (one member)
+    /// - `m4:probe_update_one_member N=16`: 1 274 instructions (one member)
+    /// - `m4:probe_update_one_member N=32`: 11 872 instructions (one member)
+    /// - `m4:probe_update_one_member N=64`: 31 060 instructions (one member)
     /// - `m4:probe_update_one_member N=256`: 274 880 instructions (one member)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
@@ -781,12 +781,12 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_irradiance N=16`: 829 instructions
+    /// - `m4:probe_irradiance N=16`: 828 instructions
     /// - `m4:probe_irradiance N=32`: 1 550 instructions
     /// - `m4:probe_irradiance N=64`: 2 916 instructions
-    /// - `m4:probe_irradiance N=256`: 11 640 instructions
+    /// - `m4:probe_irradiance N=256`: 11 639 instructions
     /// - `m4:gaussian8_probe_irradiance N=64`: 2 932 instructions (`Gaussian<8>` footprint)
-    /// - `m4:photodiode_probe_irradiance N=16`: 828 instructions (`CosinePower<1>`)
+    /// - `m4:photodiode_probe_irradiance N=16`: 827 instructions (`CosinePower<1>`)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
     /// these lines against):
@@ -885,7 +885,7 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
     /// - `m4:probe_masked_posterior_variance_M16_m0 N=64`: 261 700 instructions (none missing)
-    /// - `m4:probe_masked_posterior_variance_M8_m8 N=64`: 518 430 instructions (8 missing)
+    /// - `m4:probe_masked_posterior_variance_M8_m8 N=64`: 518 420 instructions (8 missing)
     /// - `m4:probe_masked_posterior_variance_M16_m16 N=64`: 547 330 instructions (16 missing)
     ///
     /// `M8`, `M16` in the names: the probe's capacity `M` for missing samples.
@@ -950,12 +950,12 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_glossy N=16`: 2 674 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=16`: 2 666 instructions (SG lobe of Phong e = 20)
     /// - `m4:probe_glossy N=32`: 4 898 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=64`: 9 333 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=64`: 9 266 instructions (SG lobe of Phong e = 20)
     /// - `m4:probe_glossy N=256`: 38 175 instructions (SG lobe of Phong e = 20)
-    /// - `m4:gaussian8_probe_glossy N=64`: 9 450 instructions (`Gaussian<8>`)
-    /// - `m4:photodiode_probe_glossy N=16`: 11 537 instructions (photodiodes)
+    /// - `m4:gaussian8_probe_glossy N=64`: 9 386 instructions (`Gaussian<8>`)
+    /// - `m4:photodiode_probe_glossy N=16`: 11 533 instructions (photodiodes)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
     /// these lines against):
@@ -1029,10 +1029,10 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_glossy_variance N=16`: 773 834 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=16`: 773 836 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=32`: 894 020 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=64`: 1 217 180 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=256`: 5 495 200 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=256`: 5 495 960 instructions (soft f64 quadrature)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
     /// these lines against):
@@ -1112,9 +1112,9 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_phong N=16`: 9 436 instructions (e = 20)
-    /// - `m4:probe_phong N=32`: 13 427 instructions (e = 20)
-    /// - `m4:probe_phong N=64`: 21 244 instructions (e = 20)
+    /// - `m4:probe_phong N=16`: 9 417 instructions (e = 20)
+    /// - `m4:probe_phong N=32`: 13 399 instructions (e = 20)
+    /// - `m4:probe_phong N=64`: 21 307 instructions (e = 20)
     /// - `m4:probe_phong N=256`: 66 521 instructions (e = 20)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
@@ -1173,7 +1173,7 @@ where
     /// `examples/cortex-m4`, whose output CI checks these lines against):
     /// - `m4:probe_phong_variance N=16`: 422 712 instructions (e = 20)
     /// - `m4:probe_phong_variance N=32`: 778 064 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=64`: 1 568 680 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=64`: 1 568 660 instructions (e = 20)
     /// - `m4:probe_phong_variance N=256`: 8 657 080 instructions (e = 20)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
@@ -1801,10 +1801,10 @@ fn legendre_sum_f32(h: &[f32], rec: &[(f32, f32)], t: f32) -> f32 {
 /// # Cost
 /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
 /// `examples/cortex-m4`, whose output CI checks these lines against):
-/// - `m4:cosine_weighted_average N=16`: 516 instructions
+/// - `m4:cosine_weighted_average N=16`: 515 instructions
 /// - `m4:cosine_weighted_average N=32`: 896 instructions
 /// - `m4:cosine_weighted_average N=64`: 1 652 instructions
-/// - `m4:cosine_weighted_average N=256`: 6 188 instructions
+/// - `m4:cosine_weighted_average N=256`: 6 190 instructions
 ///
 /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
 /// these lines against):

@@ -18,7 +18,7 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use sphere_quadrature::footprint::{CosinePower, Footprint, Gaussian, Kind, Point};
 use sphere_quadrature::qmc::{self, LobeSampler};
-use sphere_quadrature::{bmc, probe, sg, sh};
+use sphere_quadrature::{bmc, probe, sg, sh, temporal};
 use sphere_quadrature::{Lobe, SphericalFibonacci, Vec3};
 
 struct Semihosting;
@@ -133,6 +133,12 @@ fn main() -> ! {
     // and none), and the queries after one.
     masked_counts::<8>(&[0, 8]);
     masked_counts::<16>(&[0, 16]);
+    // The temporal probe at a budget of N rays (N − S rotated, S sentinels): update and the
+    // irradiance query, and without sentinels at N = 64.
+    temporal_counts::<15, 1>(16, 10, 200);
+    temporal_counts::<62, 2>(64, 4, 100);
+    temporal_counts::<252, 4>(256, 1, 50);
+    temporal_counts::<64, 0>(64, 4, 100);
     report!("sg_clamped_cosine_fraction", 1, 200, || {
         sg::clamped_cosine_fraction(black_box(7.3), black_box(0.41))
     });
@@ -224,6 +230,27 @@ fn masked_counts<const M: usize>(counts: &[usize]) {
             hprintln!("# count probe_masked_{}_M{}_m{} N=64 {} instructions/call", what, M, m, c);
         }
     }
+}
+
+/// `TemporalProbe<NR, f32, Point, S>::update` and `irradiance` (lines
+/// `# count temporal_{update,irradiance}_S{S} N={rays}`), on a probe warmed by three updates.
+fn temporal_counts<const NR: usize, const S: usize>(
+    rays: usize,
+    update_reps: u32,
+    query_reps: u32,
+) {
+    let mut p = temporal::TemporalProbe::<NR, f32, Point, S>::new(1);
+    let sky = |d: Vec3| 1.0 + 0.5 * d.z + 0.25 * d.x * d.y;
+    for _ in 0..3 {
+        let (y, s) = (p.directions().map(sky), p.sentinels().map(sky));
+        let _ = p.update(&y, &s);
+    }
+    let (y, s) = (p.directions().map(sky), p.sentinels().map(sky));
+    let n = black_box(Vec3::new(0.3, -0.4, 0.5));
+    let update = count(update_reps, || black_box(&mut p).update(black_box(&y), black_box(&s)));
+    let query = count(query_reps, || black_box(&p).irradiance(n));
+    hprintln!("# count temporal_update_S{} N={} {} instructions/call", S, rays, update);
+    hprintln!("# count temporal_irradiance_S{} N={} {} instructions/call", S, rays, query);
 }
 
 /// Ends the QEMU run with a status.
