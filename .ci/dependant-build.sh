@@ -44,6 +44,8 @@ pub fn irradiance(samples: &[f32; 64], normal: Vec3) -> f32 {
 }
 RS
 cd "$dir/user"
+# A path dependency would be compiled incrementally in debug builds; one from crates.io is not.
+export CARGO_INCREMENTAL=0
 rustup target add thumbv7em-none-eabihf >/dev/null 2>&1 || true
 # Warm registry: resolve and download first, so the timings are of building only.
 cargo fetch --quiet
