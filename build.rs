@@ -1,10 +1,15 @@
 //! Build script: bakes the spherical-Gaussian integral tables (issue #4) into
 //! `$OUT_DIR/sg_tables.rs` and the Bayesian Monte Carlo weights (issue #6) into
 //! `$OUT_DIR/bmc_tables.rs` (and as Q1.31 integers into `$OUT_DIR/bmc_fixed_tables.rs`, for
-//! the `fixed` feature), in f64, from the generators in `gen/` and the files in `tables/`.
-//! Plain std Rust with no build-dependencies; the output is deterministic (exact f32 bits, no
-//! timestamps or paths). `tests/sg_tables.rs` and `tests/bmc.rs` run the same generators and
-//! check the baked tables bit for bit.
+//! the `fixed` feature), the glossy weights and the probe families, in f64, from the
+//! generators in `gen/` and the files in `tables/`. Plain std Rust with no build-dependencies;
+//! the output is deterministic (exact f32 bits, no timestamps or paths). `tests/sg_tables.rs`
+//! and `tests/bmc.rs` run the same generators and check the baked tables bit for bit.
+//!
+//! The bake of the crate's own tables is also stored in `baked/` (`gen/cache.rs`), keyed by a
+//! hash of `gen/`, `tables/` and this file: when the key matches, a family without a user
+//! table or feature sweep is expanded from there instead of baked (a dependant runs this
+//! script unoptimised); `tests/baked.rs` checks that the store equals a fresh bake.
 
 // The host tests use more of the generator than the build does.
 #[allow(dead_code)]
@@ -34,65 +39,75 @@ fn main() {
         fail("build.rs", "OUT_DIR is not set (run the build through cargo)")
     };
 
-    let text = read(gen::sg::CONFIG_FILE);
-    let cfg = gen::sg::parse(&text).unwrap_or_else(|e| fail(gen::sg::CONFIG_FILE, &e));
-    let tables = gen::sg::tables(&cfg);
-    write_if_changed(&out_dir.join("sg_tables.rs"), &gen::sg::render(&cfg, &tables));
-
-    let (bmc_file, text) = config(gen::bmc::CONFIG_FILE, BMC_ENV);
-    let specs = gen::bmc::parse(&text).unwrap_or_else(|e| fail(&bmc_file, &e));
-    let sets = gen::bmc::bake_all(&specs).unwrap_or_else(|e| fail(&bmc_file, &e));
-    write_if_changed(&out_dir.join("bmc_tables.rs"), &gen::bmc::render(&sets));
-    // The same weights as Q1.31 integers for the `fixed` feature (`src/fixed_point.rs`).
-    let fixed = gen::bmc::render_fixed(&sets);
-    write_if_changed(&out_dir.join("bmc_fixed_tables.rs"), &fixed);
-    // The compile error of an unbaked renderer or fixed-point size lists the sizes baked here.
-    write_if_changed(
-        &out_dir.join("bmc_size_diagnostics.rs"),
-        &gen::bmc::render_size_diagnostics(&sets),
+    // The crate's own tables come prebaked from `baked/` when it is current (`gen/cache.rs`):
+    // a family bakes here only for a user table, a feature sweep, or a stale cache.
+    println!("cargo::rerun-if-changed={}", gen::cache::DIR);
+    let root = PathBuf::from(".");
+    let key = gen::cache::key(&root).unwrap_or_else(|e| fail("build.rs", &e));
+    let cached = gen::cache::load(&root, &key).unwrap_or_else(|e| fail(gen::cache::DIR, &e));
+    if cached.is_none() {
+        println!(
+            "cargo::warning={}/ does not hold this bake of gen/ and tables/: baking every table \
+             (refresh it: SPHERE_QUADRATURE_WRITE_BAKED=1 cargo test --release --test baked)",
+            gen::cache::DIR
+        );
+    }
+    let read_crate = |file: &str| -> Result<String, gen::Failure> {
+        std::fs::read_to_string(file).map_err(|e| gen::Failure {
+            file: file.to_string(),
+            message: format!("cannot read it: {e}"),
+        })
+    };
+    let sweep = |feature: &str| std::env::var_os(feature).is_some();
+    // Each family: its files from the cache, or baked from the config (user's or default).
+    let bake = |names: &[&str], env: Option<&str>, custom: bool, files: Bake| {
+        let user = env.is_some_and(|env| {
+            println!("cargo::rerun-if-env-changed={env}");
+            std::env::var_os(env).is_some()
+        });
+        let from_cache = cached.as_ref().filter(|_| !user && !custom).map(|c| {
+            c.iter().filter(|(n, _)| names.contains(&n.as_str())).cloned().collect::<Vec<_>>()
+        });
+        let files: Vec<(String, String)> = match from_cache {
+            Some(c) if c.len() == names.len() => c,
+            _ => files()
+                .unwrap_or_else(|e| fail(&e.file, &e.message))
+                .into_iter()
+                .map(|(n, t)| (n.to_string(), t))
+                .collect(),
+        };
+        for (name, text) in files {
+            write_if_changed(&out_dir.join(name), &text);
+        }
+    };
+    bake(&["sg_tables.rs"], None, false, &|| {
+        gen::sg_files(gen::sg::CONFIG_FILE, &read(gen::sg::CONFIG_FILE))
+    });
+    bake(
+        &["bmc_tables.rs", "bmc_fixed_tables.rs", "bmc_size_diagnostics.rs"],
+        Some(BMC_ENV),
+        false,
+        &|| {
+            let (file, text) = config(gen::bmc::CONFIG_FILE, BMC_ENV);
+            gen::bmc_files(&file, &text)
+        },
     );
-
-    let (glossy_file, text) = config(gen::glossy::CONFIG_FILE, GLOSSY_ENV);
-    // (Every file in tables/ is already a rerun trigger.)
-    let learned_file = gen::glossy::LEARNED_FILE;
-    let learned =
-        gen::glossy::parse_learned(&read(learned_file)).unwrap_or_else(|e| fail(learned_file, &e));
-    let optimal_file = gen::glossy::OPTIMAL_FILE;
-    let optimal =
-        gen::glossy::parse_optimal(&read(optimal_file)).unwrap_or_else(|e| fail(optimal_file, &e));
-    let mut specs =
-        gen::glossy::parse(&text, &learned, &optimal).unwrap_or_else(|e| fail(&glossy_file, &e));
     // The feature `renderer-sweep` adds the renderer benchmark's other sets.
-    if std::env::var_os("CARGO_FEATURE_RENDERER_SWEEP").is_some() {
-        let file = gen::glossy::SWEEP_FILE;
-        let extra =
-            gen::glossy::parse(&read(file), &learned, &optimal).unwrap_or_else(|e| fail(file, &e));
-        for spec in extra {
-            if !specs.iter().any(|s| s.n == spec.n && s.e == spec.e && s.optimal == spec.optimal) {
-                specs.push(spec);
-            }
-        }
-    }
-    let sets = gen::glossy::bake_all(&specs, &optimal).unwrap_or_else(|e| fail(&glossy_file, &e));
-    write_if_changed(&out_dir.join("glossy_tables.rs"), &gen::glossy::render(&sets));
-
-    let (probe_file, text) = config(gen::probe::CONFIG_FILE, PROBE_ENV);
-    let mut specs = gen::probe::parse(&text).unwrap_or_else(|e| fail(&probe_file, &e));
+    let renderer_sweep = sweep("CARGO_FEATURE_RENDERER_SWEEP");
+    bake(&["glossy_tables.rs"], Some(GLOSSY_ENV), renderer_sweep, &|| {
+        let (file, text) = config(gen::glossy::CONFIG_FILE, GLOSSY_ENV);
+        gen::glossy_files(&file, &text, renderer_sweep, &read_crate)
+    });
     // The feature `footprint-sweep` adds the footprint benchmark's extra footprints.
-    if std::env::var_os("CARGO_FEATURE_FOOTPRINT_SWEEP").is_some() {
-        let file = gen::probe::SWEEP_FILE;
-        let extra = gen::probe::parse_extra(&read(file)).unwrap_or_else(|e| fail(file, &e));
-        for spec in extra {
-            if !specs.iter().any(|s| s.n == spec.n && s.footprint == spec.footprint) {
-                specs.push(spec);
-            }
-        }
-    }
-    // (A footprint-sweep spec's error names its line in the sweep file.)
-    let families = gen::probe::bake_all(&specs).unwrap_or_else(|e| fail(&probe_file, &e));
-    write_if_changed(&out_dir.join("probe_tables.rs"), &gen::probe::render(&specs, &families));
-    write_if_changed(&out_dir.join("probe_size.rs"), &gen::probe::render_size_trait(&specs));
+    let footprint_sweep = sweep("CARGO_FEATURE_FOOTPRINT_SWEEP");
+    bake(&["probe_tables.rs", "probe_size.rs"], Some(PROBE_ENV), footprint_sweep, &|| {
+        let (file, text) = config(gen::probe::CONFIG_FILE, PROBE_ENV);
+        gen::probe_files(&file, &text, footprint_sweep, &read_crate)
+    });
 }
+
+/// Bakes one family's files.
+type Bake<'a> = &'a dyn Fn() -> Result<gen::Files, gen::Failure>;
 
 /// Environment variable naming a file that replaces `tables/bmc.txt` (renderer weights).
 const BMC_ENV: &str = "SPHERE_QUADRATURE_BMC_TABLE";

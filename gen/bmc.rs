@@ -165,58 +165,124 @@ pub fn gram(spec: &Spec) -> Vec<f64> {
     q
 }
 
+// The loops below run in every dependant's unoptimised build script when it bakes (a user
+// table, a feature sweep): plain `while` loops over slices (no iterator adapters or `Vec`
+// indexing calls), summing in the same order as `Iterator::sum` (from −0.0, left to right),
+// so that the results are the same bits as the iterator forms they replace.
+
 /// Lower Cholesky factor of the SPD row-major `q`.
 pub fn cholesky(q: &[f64], n: usize) -> Result<Vec<f64>, String> {
     let mut l = vec![0.0; n * n];
-    for i in 0..n {
-        for j in 0..=i {
+    let lm = &mut l[..];
+    let mut i = 0;
+    while i < n {
+        let mut j = 0;
+        while j <= i {
             let mut s = q[i * n + j];
-            for k in 0..j {
-                s -= l[i * n + k] * l[j * n + k];
+            let (ri, rj) = (i * n, j * n);
+            let mut k = 0;
+            while k < j {
+                s -= lm[ri + k] * lm[rj + k];
+                k += 1;
             }
             if i == j {
                 if s <= 0.0 || !s.is_finite() {
                     return Err(format!("Q is not positive definite (pivot {i}: {s:e})"));
                 }
-                l[i * n + i] = s.sqrt();
+                lm[ri + i] = s.sqrt();
             } else {
-                l[i * n + j] = s / l[j * n + j];
+                lm[ri + j] = s / lm[rj + j];
             }
+            j += 1;
         }
+        i += 1;
     }
     Ok(l)
 }
 
 /// `x = (LLᵀ)⁻¹b` for the row-major lower factor `l` of [`cholesky`].
 pub fn chol_solve(l: &[f64], n: usize, b: &[f64]) -> Vec<f64> {
-    let mut y = b.to_vec();
-    for i in 0..n {
+    let mut out = b.to_vec();
+    let y = &mut out[..];
+    let mut i = 0;
+    while i < n {
         let mut s = y[i];
-        for k in 0..i {
-            s -= l[i * n + k] * y[k];
+        let row = &l[i * n..i * n + i];
+        let mut k = 0;
+        while k < i {
+            s -= row[k] * y[k];
+            k += 1;
         }
         y[i] = s / l[i * n + i];
+        i += 1;
     }
-    for i in (0..n).rev() {
+    let mut i = n;
+    while i > 0 {
+        i -= 1;
         let mut s = y[i];
-        for k in i + 1..n {
+        let mut k = i + 1;
+        while k < n {
             s -= l[k * n + i] * y[k];
+            k += 1;
         }
         y[i] = s / l[i * n + i];
     }
-    y
+    out
 }
 
-fn mat_vec(q: &[f64], n: usize, x: &[f64]) -> Vec<f64> {
-    (0..n).map(|i| (0..n).map(|j| q[i * n + j] * x[j]).sum()).collect()
+/// `q·x` for the row-major `n × n` matrix `q`.
+pub fn mat_vec(q: &[f64], n: usize, x: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; n];
+    let o = &mut out[..];
+    let mut i = 0;
+    while i < n {
+        let row = &q[i * n..i * n + n];
+        let mut s = -0.0;
+        let mut j = 0;
+        while j < n {
+            s += row[j] * x[j];
+            j += 1;
+        }
+        o[i] = s;
+        i += 1;
+    }
+    out
+}
+
+/// `Σ aᵢbᵢ`, left to right from −0.0 (as `Iterator::sum`).
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let mut s = -0.0;
+    let mut i = 0;
+    while i < n {
+        s += a[i] * b[i];
+        i += 1;
+    }
+    s
+}
+
+/// `b − q·x` (the residual of iterative refinement).
+pub fn residual(q: &[f64], n: usize, x: &[f64], b: &[f64]) -> Vec<f64> {
+    let mut r = mat_vec(q, n, x);
+    let rs = &mut r[..];
+    let mut i = 0;
+    while i < n {
+        rs[i] = b[i] - rs[i];
+        i += 1;
+    }
+    r
 }
 
 /// `Q⁻¹b` by Cholesky and one step of iterative refinement.
 fn solve(q: &[f64], l: &[f64], n: usize, b: &[f64]) -> Vec<f64> {
     let mut x = chol_solve(l, n, b);
-    let r: Vec<f64> = mat_vec(q, n, &x).iter().zip(b).map(|(qx, b)| b - qx).collect();
-    for (x, d) in x.iter_mut().zip(chol_solve(l, n, &r)) {
-        *x += d;
+    let r = residual(q, n, &x, b);
+    let d = chol_solve(l, n, &r);
+    let xs = &mut x[..];
+    let mut i = 0;
+    while i < n {
+        xs[i] += d[i];
+        i += 1;
     }
     x
 }
@@ -228,10 +294,15 @@ fn condition(q: &[f64], l: &[f64], n: usize) -> f64 {
         let mut v: Vec<f64> = (0..n).map(|i| 1.0 + 0.37 * (i as f64).sin()).collect();
         let mut est = 0.0;
         for _ in 0..100 {
-            let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-            v.iter_mut().for_each(|x| *x /= norm);
+            let norm = dot(&v, &v).sqrt();
+            let vs = &mut v[..];
+            let mut i = 0;
+            while i < n {
+                vs[i] /= norm;
+                i += 1;
+            }
             let w = f(&v);
-            est = v.iter().zip(&w).map(|(a, b)| a * b).sum::<f64>();
+            est = dot(&v, &w);
             v = w;
         }
         est

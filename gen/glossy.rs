@@ -437,8 +437,7 @@ impl System {
     pub fn solve(&self, b: &[f64]) -> Vec<f64> {
         let n = self.spec.n;
         let mut x = super::bmc::chol_solve(&self.l, n, b);
-        let r: Vec<f64> =
-            (0..n).map(|i| b[i] - (0..n).map(|j| self.q[i * n + j] * x[j]).sum::<f64>()).collect();
+        let r = super::bmc::residual(&self.q, n, &x, b);
         for (x, d) in x.iter_mut().zip(super::bmc::chol_solve(&self.l, n, &r)) {
             *x += d;
         }

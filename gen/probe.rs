@@ -772,16 +772,24 @@ impl Member {
 
 /// `A·x` for a symmetric `A` stored as packed lower-triangle rows.
 pub fn packed_mul(a: &[f64], m: usize, x: &[f64]) -> Vec<f64> {
+    // Plain loops over slices: this runs unoptimised in a dependant's build script.
     let mut out = vec![0.0; m];
+    let o = &mut out[..];
     let mut k = 0;
-    for i in 0..m {
-        for j in 0..=i {
-            out[i] += a[k] * x[j];
-            if i != j {
-                out[j] += a[k] * x[i];
-            }
+    let mut i = 0;
+    while i < m {
+        let xi = x[i];
+        let mut j = 0;
+        while j < i {
+            let ak = a[k];
+            o[i] += ak * x[j];
+            o[j] += ak * xi;
             k += 1;
+            j += 1;
         }
+        o[i] += a[k] * xi;
+        k += 1;
+        i += 1;
     }
     out
 }
@@ -795,8 +803,7 @@ fn spd_inverse(a: &[f64], m: usize) -> Result<(Vec<f64>, Vec<f64>, f64), String>
     for c in 0..m {
         let e: Vec<f64> = (0..m).map(|i| if i == c { 1.0 } else { 0.0 }).collect();
         let mut x = super::bmc::chol_solve(&l, m, &e);
-        let r: Vec<f64> =
-            (0..m).map(|i| e[i] - (0..m).map(|j| a[i * m + j] * x[j]).sum::<f64>()).collect();
+        let r = super::bmc::residual(a, m, &x, &e);
         for (x, d) in x.iter_mut().zip(super::bmc::chol_solve(&l, m, &r)) {
             *x += d;
         }
@@ -852,10 +859,10 @@ fn largest_eigenvalue(a: &[f64], m: usize) -> f64 {
     let mut v: Vec<f64> = (0..m).map(|i| 1.0 + 0.37 * (i as f64).sin()).collect();
     let mut est = 0.0;
     for _ in 0..200 {
-        let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let norm = super::bmc::dot(&v, &v).sqrt();
         v.iter_mut().for_each(|x| *x /= norm);
-        let w: Vec<f64> = (0..m).map(|i| (0..m).map(|j| a[i * m + j] * v[j]).sum()).collect();
-        est = v.iter().zip(&w).map(|(a, b)| a * b).sum::<f64>();
+        let w = super::bmc::mat_vec(a, m, &v);
+        est = super::bmc::dot(&v, &w);
         v = w;
     }
     est

@@ -174,7 +174,6 @@ fn s_at_infinity(cfg: &Config, y: f64) -> f64 {
 
 /// Bakes both tables.
 pub fn tables(cfg: &Config) -> Tables {
-    let gl = gauss_legendre(16);
     let mut hemi = Vec::with_capacity(cfg.hemi.lambda_nodes * cfg.hemi.t_nodes);
     let g = &cfg.hemi;
     for i in 0..g.lambda_nodes {
@@ -193,7 +192,7 @@ pub fn tables(cfg: &Config) -> Tables {
                 }
             } else {
                 let t = if last { 1.0 } else { t_of_y(cfg, lambda, y) };
-                let hn = fractions_upper(lambda, t, &gl).0;
+                let hn = fractions_upper(lambda, t).0;
                 (hn - 0.5) / (0.5 * (0.5 * lambda).tanh())
             };
             hemi.push(r as f32);
@@ -208,7 +207,7 @@ pub fn tables(cfg: &Config) -> Tables {
                 0.0 // Z = O(1/√λ)
             } else {
                 let t = if j + 1 == g.t_nodes { 1.0 } else { t_of_y(cfg, lambda, node_y(g, j)) };
-                fractions_upper(lambda, t, &gl).1 - t * langevin(lambda)
+                fractions_upper(lambda, t).1 - t * langevin(lambda)
             };
             clamped.push(z as f32);
         }
@@ -259,10 +258,68 @@ fn bits(x: f32) -> String {
     format!("f32::from_bits(0x{:04x}_{:04x})", b >> 16, b & 0xffff)
 }
 
+/// One panel of the δ-quadrature of [`fractions_upper`]: `k` halvings from `π/2`, or the last
+/// one, `[0, π·2^(−k−1)]`.
+struct Panel {
+    /// `sin(lo/2)`: the exponent's smallest value on the panel is at `lo` (near side).
+    sin_near_end: f64,
+    /// `sin((π − hi)/2)`, likewise for the far side (`δ = π − e₀`).
+    sin_far_end: f64,
+    nodes: Vec<Node>,
+}
+
+/// A node `e₀ = c + r·x` of a panel, with the 16-point weight times `r` and the trigonometry
+/// the integrand needs on either side (the same values every call: computing them per
+/// call, and the rule itself, was most of an unoptimised bake).
+struct Node {
+    weight: f64,
+    sin: f64,
+    cos: f64,
+    /// `sin(e₀/2)` (near side, `δ = e₀`).
+    sin_half: f64,
+    /// `sin((π − e₀)/2)` (far side, `δ = π − e₀`).
+    sin_half_far: f64,
+}
+
+/// The panels `2k` (the `k`-th, `k ≤ 80`) and `2k + 1` (the `k`-th as the last one), built once.
+fn panels() -> &'static [Panel] {
+    static PANELS: std::sync::OnceLock<Vec<Panel>> = std::sync::OnceLock::new();
+    PANELS.get_or_init(|| {
+        let gl = gauss_legendre(16);
+        let mut out = Vec::with_capacity(162);
+        for k in 0..=80 {
+            let hi = if k == 0 { 0.5 * PI } else { PI * 0.5f64.powi(k + 1) };
+            for last in [false, true] {
+                let lo = if last { 0.0 } else { PI * 0.5f64.powi(k + 2) };
+                let (c, r) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+                let nodes =
+                    gl.0.iter()
+                        .zip(&gl.1)
+                        .map(|(x, wt)| {
+                            let e0 = c + r * x;
+                            Node {
+                                weight: wt * r,
+                                sin: e0.sin(),
+                                cos: e0.cos(),
+                                sin_half: (0.5 * e0).sin(),
+                                sin_half_far: (0.5 * (PI - e0)).sin(),
+                            }
+                        })
+                        .collect();
+                out.push(Panel {
+                    sin_near_end: (0.5 * lo).sin(),
+                    sin_far_end: (0.5 * (PI - hi)).sin(),
+                    nodes,
+                });
+            }
+        }
+        out
+    })
+}
+
 /// H/F for any finite λ ≥ 0 and t ∈ [−1, 1].
 pub fn hemi_fraction(lambda: f64, t: f64) -> f64 {
-    let gl = gauss_legendre(16);
-    let h = fractions_upper(lambda, t.abs(), &gl).0;
+    let h = fractions_upper(lambda, t.abs()).0;
     if t < 0.0 {
         1.0 - h
     } else {
@@ -272,8 +329,7 @@ pub fn hemi_fraction(lambda: f64, t: f64) -> f64 {
 
 /// C/F for any finite λ ≥ 0 and t ∈ [−1, 1].
 pub fn clamped_fraction(lambda: f64, t: f64) -> f64 {
-    let gl = gauss_legendre(16);
-    let c = fractions_upper(lambda, t.abs(), &gl).1;
+    let c = fractions_upper(lambda, t.abs()).1;
     if t < 0.0 {
         c - t.abs() * langevin(lambda)
     } else {
@@ -302,7 +358,7 @@ pub fn langevin(lambda: f64) -> f64 {
 }
 
 /// (H/F, C/F) for finite λ ≥ 0 and t ∈ [0, 1].
-fn fractions_upper(lambda: f64, t: f64, gl: &(Vec<f64>, Vec<f64>)) -> (f64, f64) {
+fn fractions_upper(lambda: f64, t: f64) -> (f64, f64) {
     if lambda == 0.0 {
         return (0.5, 0.25);
     }
@@ -325,32 +381,28 @@ fn fractions_upper(lambda: f64, t: f64, gl: &(Vec<f64>, Vec<f64>)) -> (f64, f64)
         }
         // Geometric panels towards both ends: δ = 0 (the lobe axis side, and the horizon
         // crossing u = w) and δ = π (the crossing u = −w); each side is [0, π/2] in its own
-        // distance from the end.
+        // distance from the end. (Their nodes and trigonometry come from `panels`.)
         let k_max = ((4.0 * PI / scale).log2().ceil() as i32).clamp(3, 80);
+        let panels = panels();
         for far in [false, true] {
-            let mut hi = 0.5 * PI;
             for k in 0..=k_max {
-                let lo = if k == k_max { 0.0 } else { PI * 0.5f64.powi(k + 2) };
+                let p = &panels[2 * k as usize + usize::from(k == k_max)];
                 // Smallest exponent on the panel: at its end nearest δ = 0.
-                let near = if far { PI - hi } else { lo };
-                let sl = (0.5 * near).sin();
+                let sl = if far { p.sin_far_end } else { p.sin_near_end };
                 if lambda * (d + 2.0 * w * sl * sl) <= 60.0 {
-                    let (c, r) = (0.5 * (lo + hi), 0.5 * (hi - lo));
-                    for (x, wt) in gl.0.iter().zip(&gl.1) {
-                        let e0 = c + r * x; // distance from the end
-                        let delta = if far { PI - e0 } else { e0 };
-                        let (sd, cd) = (e0.sin(), if far { -e0.cos() } else { e0.cos() });
-                        let sh = (0.5 * delta).sin();
+                    for node in &p.nodes {
+                        let sd = node.sin;
+                        let cd = if far { -node.cos } else { node.cos };
+                        let sh = if far { node.sin_half_far } else { node.sin_half };
                         let e = (-lambda * (d + 2.0 * w * sh * sh)).exp();
                         let q = (t * t + w * w * sd * sd).sqrt();
                         let arg = if q > 0.0 { (-t * cd / q).clamp(-1.0, 1.0) } else { 0.0 };
                         let gamma = arg.acos();
-                        let jac = wt * r * w * sd;
+                        let jac = node.weight * w * sd;
                         h_mid += jac * e * 2.0 * gamma;
                         c_mid += jac * e * 2.0 * (t * w * cd * gamma + w * sd);
                     }
                 }
-                hi = lo;
             }
         }
     }
