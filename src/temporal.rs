@@ -266,7 +266,9 @@ pub struct Accumulated<T> {
 /// change signal. `T` is `f32` or RGB `[f32; C]`, `F` the samples' footprint
 /// ([`crate::footprint`]). Any `N ≥ 1` works: the probe needs no baked tables.
 ///
-/// It holds its directions and `(L + 1)²` sums per channel: 2.5 KiB for `N = 64`, RGB, `S = 4`.
+/// It holds its directions and two sets of 81 coefficients per channel (the sums and the
+/// queries'): 3 200 bytes for `N = 64`, RGB, `S = 4`; 1 584 for `N = 64`, one channel, no
+/// sentinels.
 ///
 /// # Examples
 /// ```
@@ -329,7 +331,7 @@ pub struct TemporalProbe<
     footprint: PhantomData<F>,
 }
 
-/// The per-channel sum of squares of `x[range]`.
+/// The per-channel sum of squares of `x`.
 fn sum_squares<T: Radiance>(x: &[T]) -> T {
     x.iter().fold(T::ZERO, |acc, &v| acc.add(v.mul(v)))
 }
@@ -439,7 +441,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against), one channel, a budget
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
-    /// - `m4:temporal_update_S1 N=16`: 24 280 instructions (15 rotated, 1 sentinel)
+    /// - `m4:temporal_update_S1 N=16`: 24 124 instructions (15 rotated, 1 sentinel)
     /// - `m4:temporal_update_S2 N=64`: 102 880 instructions (62 rotated, 2 sentinels)
     /// - `m4:temporal_update_S0 N=64`: 105 080 instructions (64 rotated)
     /// - `m4:temporal_update_S4 N=256`: 571 280 instructions (252 rotated, 4 sentinels)
@@ -469,12 +471,14 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         let p = self.project(samples);
         // v₁: the smallest mean square of the top three degrees.
         let (mut v1, mut v1_test) = (T::ZERO, T::ZERO);
+        let top = (degree - 2).max(1)..=degree;
+        let bands = top.clone().count() as f32;
         for ch in 0..T::CHANNELS {
             let (mut least, mut mean) = (f32::INFINITY, 0.0f32);
-            for l in degree - 2..=degree {
+            for l in top.clone() {
                 let band = sum_squares(&p[l * l..(l + 1) * (l + 1)]).channel(ch);
                 least = least.min(band / (2 * l + 1) as f32);
-                mean += band / (3 * (2 * l + 1)) as f32;
+                mean += band / ((2 * l + 1) as f32 * bands);
             }
             v1 = set_channel(v1, ch, least);
             v1_test = set_channel(v1_test, ch, mean);
@@ -751,7 +755,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// harmonics of degree `L` at the normal and a dot product.
     /// - `m4:temporal_irradiance_S1 N=16`: 907 instructions (`L = 4`)
     /// - `m4:temporal_irradiance_S2 N=64`: 1 467 instructions (`L = 6`)
-    /// - `m4:temporal_irradiance_S4 N=256`: 2 184 instructions (`L = 8`)
+    /// - `m4:temporal_irradiance_S4 N=256`: 2 183 instructions (`L = 8`)
     pub fn irradiance(&self, normal: Vec3) -> Result<Accumulated<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let mut y = [0.0f32; COEFFICIENTS];
