@@ -441,10 +441,10 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against), one channel, a budget
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
-    /// - `m4:temporal_update_S1 N=16`: 24 124 instructions (15 rotated, 1 sentinel)
-    /// - `m4:temporal_update_S2 N=64`: 102 880 instructions (62 rotated, 2 sentinels)
-    /// - `m4:temporal_update_S0 N=64`: 105 080 instructions (64 rotated)
-    /// - `m4:temporal_update_S4 N=256`: 571 280 instructions (252 rotated, 4 sentinels)
+    /// - `m4:temporal_update_S1 N=16`: 24 116 instructions (15 rotated, 1 sentinel)
+    /// - `m4:temporal_update_S2 N=64`: 102 800 instructions (62 rotated, 2 sentinels)
+    /// - `m4:temporal_update_S0 N=64`: 105 090 instructions (64 rotated)
+    /// - `m4:temporal_update_S4 N=256`: 571 320 instructions (252 rotated, 4 sentinels)
     ///
     /// # Examples
     /// ```
@@ -562,6 +562,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         // With sentinels the innovation alone does not forget: aliasing can fake it, and an
         // outlier that made the old evidence weigh less would weigh more itself. It adds to
         // the evidence of a change the sentinels see.
+        let rotated_alone = log_bf_rotated;
         if S > 0 {
             log_bf_rotated = log_bf_rotated.min(0.0);
         }
@@ -572,7 +573,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         };
         // A sentinel that alone would reset while the innovation finds the light unchanged
         // is flickering: its repeat noise becomes at least its latest squared change.
-        if !first && logistic(self.prior_log_odds + log_bf_rotated) < 0.5 {
+        if !first && logistic(self.prior_log_odds + rotated_alone) < 0.5 {
             for ((noise, (&y, &mean)), &bf) in self
                 .sentinel_noise
                 .iter_mut()
@@ -590,7 +591,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         // of "changed" (the new update alone) and "unchanged" (pooled with the old evidence)
         // collapsed to one pooled state with the same mean, so the old evidence keeps the
         // weight w' with w'/(w' + 1) = (1 − π)·w/(w + 1). The innovation alone beside
-        // sentinels (at most π = ¼): the old weight times 1 − π.
+        // sentinels (π at most the hazard): the old weight times 1 − π.
         let confirmed = S == 0 || log_bf_sentinel > 0.0;
         let kept = if first {
             0.0
@@ -754,8 +755,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (as [`TemporalProbe::update`]'s), one channel: the
     /// harmonics of degree `L` at the normal and a dot product.
     /// - `m4:temporal_irradiance_S1 N=16`: 907 instructions (`L = 4`)
-    /// - `m4:temporal_irradiance_S2 N=64`: 1 467 instructions (`L = 6`)
-    /// - `m4:temporal_irradiance_S4 N=256`: 2 183 instructions (`L = 8`)
+    /// - `m4:temporal_irradiance_S2 N=64`: 1 468 instructions (`L = 6`)
+    /// - `m4:temporal_irradiance_S4 N=256`: 2 184 instructions (`L = 8`)
     pub fn irradiance(&self, normal: Vec3) -> Result<Accumulated<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let mut y = [0.0f32; COEFFICIENTS];

@@ -335,3 +335,21 @@ fn bad_input_is_refused_and_keeps_the_state() {
     }
     assert!(TemporalProbe::<16>::new(1).with_hazard(0.5).is_ok());
 }
+
+#[test]
+fn a_real_switch_does_not_teach_the_sentinels_flicker() {
+    // Both the sentinels and the rotated samples see the switch: it is a change, not flicker,
+    // and the switch back is seen as clearly.
+    let other = |d: Vec3| 2.0 - 0.8 * d.x + 3.0 * (10.0 * (d.z - 1.0)).exp();
+    let mut p = TemporalProbe::<60, f32, sphere_quadrature::footprint::Point, 4>::new(9);
+    let mut changes = Vec::new();
+    for (light, updates) in [(sky as fn(Vec3) -> f32, 16), (other, 16), (sky, 1)] {
+        for _ in 0..updates {
+            let (s, t) = (p.directions().map(light), p.sentinels().map(light));
+            changes.push(p.update(&s, &t).unwrap());
+        }
+    }
+    assert_eq!(changes[16], Change::Reset);
+    assert_eq!(changes[32], Change::Reset, "{changes:?}");
+    assert!(p.last_change_probability() > 0.99, "{}", p.last_change_probability());
+}
