@@ -139,6 +139,7 @@ pub mod footprint;
 #[cfg(feature = "mint")]
 #[cfg_attr(docsrs, doc(cfg(feature = "mint")))]
 pub mod interop;
+pub mod layout;
 pub mod math;
 pub mod metrics;
 pub mod probe;

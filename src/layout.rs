@@ -1,0 +1,1333 @@
+//! Probes over sensor layouts: the hardware's own directions, angular responses and noise.
+//!
+//! A [`LayoutProbe`] takes `K` readings from sensors wherever a board puts them (six
+//! photodiodes on the faces of a cube, a dome of five, a ring on a ceiling fixture), each with
+//! its own angular response, and answers irradiance for any normal with an error bar.
+//!
+//! # Model
+//! Sensor `i` looks along `dᵢ` with a normalised response `fᵢ` (`∫ fᵢ = 1`) and reads
+//! `Yᵢ = ∫ L(x)·fᵢ(dᵢ·x) dx + εᵢ`. By the Funk–Hecke theorem a response acts on the
+//! spherical harmonics of degree `l` as a gain `g_l` ([`Response::gains`]). The radiance is a
+//! Gaussian process with an isotropic covariance of Legendre spectrum `K_l`
+//! ([`Prior::spectrum`]) scaled by `s = σ_f²`, so
+//! - `Cov(Yᵢ, Yⱼ) = s·Σ_l K_l gᵢ_l gⱼ_l (2l + 1)/(4π)·P_l(dᵢ·dⱼ) + δᵢⱼ·nᵢ`,
+//! - `Cov(Yᵢ, E(n)) = s·Σ_l K_l gᵢ_l c_l (2l + 1)/(4π)·P_l(dᵢ·n)` with the clamped cosine's
+//!   factors `c_l` (`c₀ = π`),
+//!
+//! and a prior mean that is zero, a constant, or a multiple of a zonal profile about the
+//! layout's `+z` (light from above: [`Mean`]), its coefficients by generalised least squares.
+//! The noise of sensor `i` has variance `nᵢ = wᵢ²·(σ² + η²·Ȳ²)`: `σ` absolute, `η` relative to
+//! the mean absolute reading `Ȳ` of the update ([`Noise`]), `wᵢ` the sensor's
+//! [`Sensor::noise_scale`].
+//!
+//! # Cost
+//! [`LayoutProbe::new`] builds everything at run time, with no allocation: the `K × K`
+//! covariance (Legendre series), its eigendecomposition after whitening by `wᵢ` (cyclic
+//! Jacobi, O(K³)), and a 129-node table of the query covariance per distinct response.
+//! Because the whitened covariance is `s·Λ + ν·I` in the eigenbasis for every `s` and noise
+//! level `ν`, each update projects the readings (`K²` multiply-adds per channel), chooses
+//! `s` by restricted maximum likelihood in O(K) per trial, and forms the weights (`K²`).
+//! An irradiance query is `K` table lookups; its error bar is the exact direction average
+//! of the posterior variance, computed once per update; [`LayoutProbe::irradiance_variance`]
+//! is the exact variance at one normal, O(K²).
+//!
+//! # Example
+//! ```
+//! use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
+//! use sphere_quadrature::Vec3;
+//!
+//! // Six bare photodiodes on the faces of a cube.
+//! let faces = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+//! let sensors = faces.map(Sensor::cosine);
+//! let mut probe = LayoutProbe::<6>::new(&sensors, Prior::squared_exponential(4.0)?, Noise::NONE)?;
+//! // A sky 1 + 0.5·z: a cosine sensor along d reads (1 + 0.5·(2/3)·d_z).
+//! let readings = faces.map(|d| 1.0 + 0.5 * 2.0 / 3.0 * d.z);
+//! probe.update(&readings)?;
+//! let e = probe.irradiance(Vec3::Z)?;
+//! assert!((e.value - 4.18879).abs() < 0.05, "{}", e.value);
+//! # Ok::<(), sphere_quadrature::Error>(())
+//! ```
+
+// Matrix code reads clearer with its indices.
+#![allow(clippy::needless_range_loop)]
+
+use crate::error::Error;
+use crate::math;
+use crate::probe::Estimate;
+use crate::radiance::{from_channels, Radiance};
+use crate::vec3::Vec3;
+
+/// The most sensors a layout may have.
+pub const MAX_SENSORS: usize = 64;
+/// Legendre degrees `0..DEGREES` of the spectra, gains and series.
+pub const DEGREES: usize = 33;
+/// The most distinct responses in one layout (each has its query table).
+pub const MAX_RESPONSES: usize = 4;
+/// Nodes of the query-covariance tables over `t = dᵢ·n ∈ [−1, 1]`.
+const NODES: usize = 129;
+/// The most channels a reading may have.
+const MAX_CHANNELS: usize = 4;
+/// The least eigenvalue of the whitened covariance, relative to the largest.
+const FLOOR: f32 = 1e-6;
+const FOUR_PI: f32 = 4.0 * core::f32::consts::PI;
+
+/// A sensor's angular response, normalised to `∫ f = 1` over the sphere.
+///
+/// ```
+/// use sphere_quadrature::layout::Response;
+///
+/// // A bare photodiode (cosine response): g₁ = 2/3, g₂ = 1/4, g₃ = 0.
+/// let g = Response::CosinePower(1.0).gains()?;
+/// assert!((g[0] - 1.0).abs() < 1e-7 && (g[1] - 2.0 / 3.0).abs() < 1e-7);
+/// assert!((g[2] - 0.25).abs() < 1e-7 && g[3].abs() < 1e-7);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Response {
+    /// `(P + 1)/(2π)·max(0, t)ᴾ`, `P ≥ 0` (`P = 1`: a bare photodiode; larger: a lens or a
+    /// diffuser; `P = 0`: a hemisphere).
+    CosinePower(f32),
+    /// The normalised spherical Gaussian `exp(S(t − 1))/F(S)`, `0 < S ≤ 4096`.
+    Gaussian(f32),
+    /// Legendre gains `g_l`, `l < DEGREES`, with `g₀ = 1` (from a measured table:
+    /// [`Response::from_table`]).
+    Gains([f32; DEGREES]),
+}
+
+impl Response {
+    /// The Legendre gains `g_l = 2π∫ f(t)·P_l(t) dt`, `l < DEGREES`, computed in f64 and
+    /// rounded once. [`Error::InvalidParameter`] for a parameter out of range or gains that
+    /// are not finite, do not start with `g₀ = 1` or exceed 1 in magnitude.
+    ///
+    /// ```
+    /// use sphere_quadrature::layout::Response;
+    ///
+    /// assert!(Response::Gaussian(-1.0).gains().is_err());
+    /// let g = Response::Gaussian(8.0).gains()?;
+    /// assert!(g[1] < 1.0 && g[2] < g[1]);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
+    pub fn gains(&self) -> Result<[f32; DEGREES], Error> {
+        let mut g = [0.0f64; DEGREES];
+        match *self {
+            Response::CosinePower(p) => {
+                if !(p.is_finite() && (0.0..=4096.0).contains(&p)) {
+                    return Err(Error::InvalidParameter);
+                }
+                // I_l = ∫₀¹ tᴾ P_l(t) dt: (P + l + 1)·I_l = (P − l + 2)·I_{l−2}.
+                let p = f64::from(p);
+                let mut integral = [0.0f64; DEGREES];
+                integral[0] = 1.0 / (p + 1.0);
+                integral[1] = 1.0 / (p + 2.0);
+                for l in 2..DEGREES {
+                    let lf = l as f64;
+                    integral[l] = (p - lf + 2.0) / (p + lf + 1.0) * integral[l - 2];
+                }
+                for (gl, il) in g.iter_mut().zip(integral) {
+                    *gl = (p + 1.0) * il;
+                }
+            }
+            Response::Gaussian(s) => {
+                if !(s.is_finite() && s > 0.0 && s <= 4096.0) {
+                    return Err(Error::InvalidParameter);
+                }
+                // g_l = i_l(S)/i₀(S): ratios r_l = i_l/i_{l−1} by the backward recurrence
+                // r_l = 1/((2l + 1)/S + r_{l+1}), started far enough above DEGREES.
+                let s = f64::from(s);
+                let top = DEGREES + 40 + (2.0 * s) as usize;
+                let mut r = 0.0f64;
+                let mut ratios = [0.0f64; DEGREES];
+                for l in (1..=top).rev() {
+                    r = 1.0 / ((2 * l + 1) as f64 / s + r);
+                    if l < DEGREES {
+                        ratios[l] = r;
+                    }
+                }
+                g[0] = 1.0;
+                for l in 1..DEGREES {
+                    g[l] = g[l - 1] * ratios[l];
+                }
+            }
+            Response::Gains(values) => {
+                if (values[0] - 1.0).abs() > 1e-6
+                    || values.iter().any(|v| !v.is_finite() || v.abs() > 1.0 + 1e-6)
+                {
+                    return Err(Error::InvalidParameter);
+                }
+                return Ok(values);
+            }
+        }
+        Ok(g.map(|v| v as f32))
+    }
+
+    /// Gains from a measured response: `values[k]` at angle `angles_deg[k]` from the axis
+    /// (increasing, from 0 to at most 180°; zero beyond the last angle, linear between),
+    /// normalised so that `g₀ = 1`. [`Error::InvalidParameter`] for non-finite, negative or
+    /// unsorted input, fewer than two points, or a response that integrates to zero;
+    /// [`Error::LengthMismatch`] when the slices differ in length.
+    ///
+    /// The integrals `2π∫ f(t)·P_l(t) dt` are taken in f64 over each linear piece (in angle)
+    /// with a 16-point Gauss–Legendre rule.
+    ///
+    /// ```
+    /// use sphere_quadrature::layout::Response;
+    ///
+    /// // A cosine response tabulated every 5°: the gains of CosinePower(1) within 1e-4.
+    /// let angles: Vec<f32> = (0..=18).map(|k| 5.0 * k as f32).collect();
+    /// let values: Vec<f32> = angles.iter().map(|a| a.to_radians().cos().max(0.0)).collect();
+    /// let table = Response::from_table(&angles, &values)?.gains()?;
+    /// let exact = Response::CosinePower(1.0).gains()?;
+    /// assert!(table.iter().zip(exact).all(|(a, b)| (a - b).abs() < 1e-3));
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
+    pub fn from_table(angles_deg: &[f32], values: &[f32]) -> Result<Response, Error> {
+        if angles_deg.len() != values.len() {
+            return Err(Error::LengthMismatch);
+        }
+        if angles_deg.len() < 2
+            || angles_deg.iter().chain(values).any(|v| !v.is_finite())
+            || values.iter().any(|&v| v < 0.0)
+            || angles_deg.windows(2).any(|w| w[1] <= w[0])
+            || angles_deg[0] < 0.0
+            || angles_deg[angles_deg.len() - 1] > 180.0
+        {
+            return Err(Error::InvalidParameter);
+        }
+        let mut sums = [0.0f64; DEGREES];
+        for (a, v) in angles_deg.windows(2).zip(values.windows(2)) {
+            let (t0, t1) = (f64::from(a[0]).to_radians(), f64::from(a[1]).to_radians());
+            let (v0, v1) = (f64::from(v[0]), f64::from(v[1]));
+            for (x, w) in GAUSS_16 {
+                for sign in [-1.0, 1.0] {
+                    let u = 0.5 * (1.0 + sign * x);
+                    let theta = t0 + u * (t1 - t0);
+                    let f = v0 + u * (v1 - v0);
+                    let weight = 0.5 * w * (t1 - t0) * math::sin64(theta) * f;
+                    let t = math::cos64(theta);
+                    let (mut p0, mut p1) = (1.0, t);
+                    sums[0] += weight;
+                    sums[1] += weight * t;
+                    for (l, s) in sums.iter_mut().enumerate().skip(2) {
+                        let lf = l as f64;
+                        let p2 = ((2.0 * lf - 1.0) * t * p1 - (lf - 1.0) * p0) / lf;
+                        *s += weight * p2;
+                        p0 = p1;
+                        p1 = p2;
+                    }
+                }
+            }
+        }
+        if sums[0] <= 0.0 || !sums[0].is_finite() {
+            return Err(Error::InvalidParameter);
+        }
+        let norm = sums[0];
+        Ok(Response::Gains(sums.map(|s| (s / norm) as f32)))
+    }
+}
+
+/// Nodes `x > 0` and weights of the 16-point Gauss–Legendre rule on `[−1, 1]`.
+const GAUSS_16: [(f64, f64); 8] = [
+    (0.095_012_509_837_637_44, 0.189_450_610_455_068_5),
+    (0.281_603_550_779_258_9, 0.182_603_415_044_923_6),
+    (0.458_016_777_657_227_4, 0.169_156_519_395_002_5),
+    (0.617_876_244_402_643_7, 0.149_595_988_816_576_7),
+    (0.755_404_408_355_003, 0.124_628_971_255_533_9),
+    (0.865_631_202_387_831_7, 0.095_158_511_682_492_8),
+    (0.944_575_023_073_232_6, 0.062_253_523_938_647_9),
+    (0.989_400_934_991_649_9, 0.027_152_459_411_754_1),
+];
+
+/// One sensor of a layout.
+///
+/// ```
+/// use sphere_quadrature::layout::{Response, Sensor};
+/// use sphere_quadrature::Vec3;
+///
+/// let s = Sensor::cosine(Vec3::Z);
+/// assert_eq!(s.response, Response::CosinePower(1.0));
+/// let lens = Sensor::new(Vec3::X, Response::CosinePower(2.0)).with_noise_scale(2.0);
+/// assert_eq!(lens.noise_scale, 2.0);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Sensor {
+    /// Where the sensor looks (normalised by [`LayoutProbe::new`]).
+    pub direction: Vec3,
+    /// Its angular response.
+    pub response: Response,
+    /// `wᵢ`: its noise standard deviation relative to the layout's [`Noise`] (1 for equal
+    /// sensors; 2 for one twice as noisy).
+    pub noise_scale: f32,
+}
+
+impl Sensor {
+    /// A sensor with this response and noise scale 1.
+    #[must_use]
+    pub const fn new(direction: Vec3, response: Response) -> Self {
+        Sensor { direction, response, noise_scale: 1.0 }
+    }
+
+    /// A bare photodiode: cosine response, noise scale 1.
+    #[must_use]
+    pub const fn cosine(direction: Vec3) -> Self {
+        Sensor::new(direction, Response::CosinePower(1.0))
+    }
+
+    /// The same sensor with noise scale `w`.
+    #[must_use]
+    pub const fn with_noise_scale(self, w: f32) -> Self {
+        Sensor { noise_scale: w, ..self }
+    }
+}
+
+/// The read noise of a layout: sensor `i` has variance `wᵢ²·(σ² + η²·Ȳ²)`, `Ȳ` the mean
+/// absolute reading of the update (per channel).
+///
+/// ```
+/// use sphere_quadrature::layout::Noise;
+///
+/// let n = Noise { absolute: 0.01, relative: 0.05 };
+/// assert_eq!(Noise::NONE.absolute, 0.0);
+/// assert!(n.relative > 0.0);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Noise {
+    /// `σ`, in the readings' units.
+    pub absolute: f32,
+    /// `η`, a fraction of the mean reading.
+    pub relative: f32,
+}
+
+impl Noise {
+    /// Exact readings.
+    pub const NONE: Noise = Noise { absolute: 0.0, relative: 0.0 };
+}
+
+/// The prior mean of the radiance.
+///
+/// ```
+/// use sphere_quadrature::layout::Mean;
+///
+/// // Brighter above: 1 + 0.8·z (Legendre coefficients about +z).
+/// let mut profile = [0.0; 9];
+/// profile[0] = 1.0;
+/// profile[1] = 0.8;
+/// let m = Mean::Zonal(profile);
+/// assert_ne!(m, Mean::Constant);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Mean {
+    /// Zero: the level is part of the covariance.
+    Zero,
+    /// An unknown constant (generalised least squares).
+    Constant,
+    /// An unknown multiple of the zonal profile `Σ_l a_l·P_l(z)` about the layout's `+z`.
+    Zonal([f32; 9]),
+}
+
+/// The Gaussian-process prior of a [`LayoutProbe`]: the covariance spectrum and the mean.
+///
+/// ```
+/// use sphere_quadrature::layout::{Mean, Prior};
+///
+/// let p = Prior::squared_exponential(4.0)?;
+/// assert_eq!(p.mean, Mean::Constant);
+/// // exp(λ(t − 1)) at t = 1 is 1: Σ K_l (2l + 1)/(4π) = 1.
+/// let at_one: f32 = p.spectrum.iter().enumerate().map(|(l, k)| k * (2 * l + 1) as f32).sum();
+/// assert!((at_one / (4.0 * core::f32::consts::PI) - 1.0).abs() < 1e-5);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Prior {
+    /// `K_l ≥ 0`: the covariance `Σ_l K_l (2l + 1)/(4π)·P_l(x·x′)` (before the scale `s`).
+    pub spectrum: [f32; DEGREES],
+    /// The prior mean.
+    pub mean: Mean,
+}
+
+impl Prior {
+    /// The squared-exponential kernel `exp(λ(x·x′ − 1))`, `0 < λ ≤ 64`, with a constant
+    /// mean: `K_l = 4π·e^{−λ}·i_l(λ)`, computed in f64.
+    pub fn squared_exponential(lambda: f32) -> Result<Prior, Error> {
+        if !(lambda.is_finite() && lambda > 0.0 && lambda <= 64.0) {
+            return Err(Error::InvalidParameter);
+        }
+        let g = Response::Gaussian(lambda).gains()?;
+        let x = f64::from(lambda);
+        // e^{−λ} i₀(λ) = (1 − e^{−2λ})/(2λ).
+        let k0 = 4.0 * core::f64::consts::PI * (1.0 - math::exp64(-2.0 * x)) / (2.0 * x);
+        Ok(Prior { spectrum: g.map(|r| (k0 * f64::from(r)) as f32), mean: Mean::Constant })
+    }
+
+    /// The same prior with another mean.
+    #[must_use]
+    pub const fn with_mean(self, mean: Mean) -> Self {
+        Prior { mean, ..self }
+    }
+}
+
+/// Gains of the clamped cosine `max(0, t)`: `c_l = π·g_l(CosinePower(1))`.
+fn cosine_factors() -> [f32; DEGREES] {
+    let mut c = [0.0f32; DEGREES];
+    if let Ok(g) = Response::CosinePower(1.0).gains() {
+        c = g.map(|v| v * core::f32::consts::PI);
+    }
+    c
+}
+
+/// `Σ_l coef_l·P_l(t)` by the three-term recurrence (f32).
+fn legendre_sum(coef: &[f32; DEGREES], t: f32) -> f32 {
+    let t = t.clamp(-1.0, 1.0);
+    let (mut p0, mut p1) = (1.0f32, t);
+    let mut s = coef[0] + coef[1] * t;
+    for (l, c) in coef.iter().enumerate().skip(2) {
+        let lf = l as f32;
+        let p2 = ((2.0 * lf - 1.0) * t * p1 - (lf - 1.0) * p0) / lf;
+        s += c * p2;
+        p0 = p1;
+        p1 = p2;
+    }
+    s
+}
+
+/// A probe over `K` sensors of a user's layout, `f32` or RGB `[f32; 3]` readings (module
+/// docs).
+///
+/// ```
+/// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
+/// use sphere_quadrature::Vec3;
+///
+/// // Too many different responses, a zero direction: errors, not panics.
+/// let bad = [Sensor::cosine(Vec3::ZERO), Sensor::cosine(Vec3::Z)];
+/// let prior = Prior::squared_exponential(2.0)?;
+/// assert!(LayoutProbe::<2>::new(&bad, prior, Noise::NONE).is_err());
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
+#[derive(Clone, Debug)]
+pub struct LayoutProbe<const K: usize, T: Radiance = f32> {
+    directions: [Vec3; K],
+    /// `1/wᵢ`.
+    whitening: [f32; K],
+    /// Index of each sensor's response table.
+    class: [u8; K],
+    /// Unit-scale `Cov(Yᵢ, E(n))` against `t = dᵢ·n` per distinct response.
+    tables: [[f32; NODES]; MAX_RESPONSES],
+    /// Eigenvectors (columns) of the whitened covariance.
+    vectors: [[f32; K]; K],
+    /// Its eigenvalues.
+    values: [f32; K],
+    /// The mean basis at the sensors, whitened, in the eigenbasis: `H̃ = VᵀWH`.
+    basis: [[f32; K]; 2],
+    /// The mean basis's irradiance factors per Legendre degree about `+z` (`a_l·c_l`).
+    basis_query: [[f32; 9]; 2],
+    /// Number of mean basis functions (0, 1).
+    mean_terms: usize,
+    /// `V̄`: the prior variance of the irradiance (unit scale).
+    prior_variance: f32,
+    /// Direction averages, eigenbasis: `M̃ = VᵀW·avg[z zᵀ]·WV`.
+    average_zz: [[f32; K]; K],
+    /// `avg[h_a(n)·z̃_j(n)]`.
+    average_hz: [[f32; K]; 2],
+    /// `avg[h_a h_b]`.
+    average_hh: [[f32; 2]; 2],
+    noise: Noise,
+    // Per update.
+    /// Weights of the query covariances, per channel.
+    alpha: [T; K],
+    /// GLS coefficients of the mean.
+    beta: [T; 2],
+    /// `s` per channel.
+    scale: T,
+    /// `ν` per channel.
+    nugget: T,
+    /// Direction-averaged posterior variance per channel.
+    average_variance: T,
+    updated: bool,
+}
+
+impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
+    /// Builds the probe's tables for these sensors, prior and noise: O(K³), no allocation.
+    ///
+    /// Errors:
+    /// - [`Error::InvalidSize`]: `K = 0`, `K > MAX_SENSORS`, or `K` not above the number of
+    ///   mean terms (a constant or zonal mean needs two sensors);
+    /// - [`Error::InvalidDirection`]: a zero or non-finite direction;
+    /// - [`Error::InvalidParameter`]: a response, noise scale (must be finite and positive),
+    ///   noise (finite, non-negative), spectrum (finite, non-negative) or profile out of
+    ///   range, or more than [`MAX_RESPONSES`] distinct responses.
+    ///
+    /// Readings that the prior makes linearly dependent are fine: two sensors with the same
+    /// direction and response, or the antipodal pairs of cosine sensors (their differences
+    /// see degree 1 only). The model's least noise, `10⁻⁶` of the largest eigenvalue of the
+    /// whitened covariance, keeps the system solvable, and duplicates are averaged.
+    pub fn new(sensors: &[Sensor; K], prior: Prior, noise: Noise) -> Result<Self, Error> {
+        let mean_terms = usize::from(prior.mean != Mean::Zero);
+        if T::CHANNELS > MAX_CHANNELS {
+            return Err(Error::InvalidParameter);
+        }
+        if K == 0 || K > MAX_SENSORS || K <= mean_terms {
+            return Err(Error::InvalidSize);
+        }
+        let noise_ok = |v: f32| v.is_finite() && v >= 0.0;
+        if !noise_ok(noise.absolute) || !noise_ok(noise.relative) {
+            return Err(Error::InvalidParameter);
+        }
+        if prior.spectrum.iter().any(|&k| !noise_ok(k)) || prior.spectrum.iter().all(|&k| k == 0.0)
+        {
+            return Err(Error::InvalidParameter);
+        }
+        let profile = match prior.mean {
+            Mean::Zero => [0.0; 9],
+            Mean::Constant => {
+                let mut p = [0.0; 9];
+                p[0] = 1.0;
+                p
+            }
+            Mean::Zonal(p) => {
+                if p.iter().any(|v| !v.is_finite()) || p.iter().all(|&v| v == 0.0) {
+                    return Err(Error::InvalidParameter);
+                }
+                p
+            }
+        };
+        let mut directions = [Vec3::ZERO; K];
+        let mut whitening = [0.0f32; K];
+        let mut class = [0u8; K];
+        let mut distinct: [[f32; DEGREES]; MAX_RESPONSES] = [[0.0; DEGREES]; MAX_RESPONSES];
+        let mut classes = 0usize;
+        for (i, s) in sensors.iter().enumerate() {
+            if !s.direction.is_finite() {
+                return Err(Error::InvalidDirection);
+            }
+            directions[i] = s.direction.try_normalize().ok_or(Error::InvalidDirection)?;
+            if !(s.noise_scale.is_finite() && s.noise_scale > 0.0) {
+                return Err(Error::InvalidParameter);
+            }
+            whitening[i] = 1.0 / s.noise_scale;
+            let g = s.response.gains()?;
+            let found = distinct[..classes].iter().position(|d| *d == g);
+            class[i] = match found {
+                Some(c) => c as u8,
+                None => {
+                    if classes == MAX_RESPONSES {
+                        return Err(Error::InvalidParameter);
+                    }
+                    distinct[classes] = g;
+                    classes += 1;
+                    (classes - 1) as u8
+                }
+            };
+        }
+        let c = cosine_factors();
+        let spectrum = prior.spectrum;
+        // Series coefficients (with (2l + 1)/(4π)) of sensor–sensor covariances per class
+        // pair are formed on the fly; of sensor–query covariances per class here.
+        let degree_weight = |l: usize| (2 * l + 1) as f32 / FOUR_PI;
+        let mut query_coef = [[0.0f32; DEGREES]; MAX_RESPONSES];
+        for (q, g) in query_coef.iter_mut().zip(&distinct).take(classes) {
+            for l in 0..DEGREES {
+                q[l] = spectrum[l] * g[l] * c[l] * degree_weight(l);
+            }
+        }
+        let mut tables = [[0.0f32; NODES]; MAX_RESPONSES];
+        for (t, q) in tables.iter_mut().zip(&query_coef).take(classes) {
+            for (k, v) in t.iter_mut().enumerate() {
+                let x = -1.0 + 2.0 * k as f32 / (NODES - 1) as f32;
+                *v = legendre_sum(q, x);
+            }
+        }
+        // The whitened covariance and the direction average of z zᵀ.
+        let mut cov = [[0.0f32; K]; K];
+        let mut zz = [[0.0f32; K]; K];
+        for i in 0..K {
+            for j in 0..=i {
+                let (gi, gj) = (&distinct[class[i] as usize], &distinct[class[j] as usize]);
+                let mut a = [0.0f32; DEGREES];
+                let mut b = [0.0f32; DEGREES];
+                for l in 0..DEGREES {
+                    a[l] = spectrum[l] * gi[l] * gj[l] * degree_weight(l);
+                    b[l] =
+                        spectrum[l] * spectrum[l] * gi[l] * gj[l] * c[l] * c[l] * degree_weight(l)
+                            / FOUR_PI;
+                }
+                let t = directions[i].dot(directions[j]);
+                let w = whitening[i] * whitening[j];
+                cov[i][j] = w * legendre_sum(&a, t);
+                cov[j][i] = cov[i][j];
+                zz[i][j] = w * legendre_sum(&b, t);
+                zz[j][i] = zz[i][j];
+            }
+        }
+        let (values, vectors) = jacobi_eigen(cov);
+        let top = values.iter().fold(0.0f32, |m, &v| m.max(v));
+        if !(top > 0.0 && top.is_finite()) {
+            return Err(Error::InvalidParameter);
+        }
+        // The model's least noise: eigenvalues floored at 10⁻⁶ of the largest, so that
+        // dependent readings (duplicate sensors; antipodal cosine pairs, whose differences
+        // see degree 1 only) keep the system solvable.
+        let values = values.map(|v| v.max(FLOOR * top));
+        // M̃ = Vᵀ·zz·V.
+        let average_zz = congruence(&vectors, &zz);
+        // Mean basis: sensor values h_i = Σ a_l g_l P_l(d_i·z), whitened and projected.
+        let mut basis = [[0.0f32; K]; 2];
+        let mut basis_query = [[0.0f32; 9]; 2];
+        let mut average_hz = [[0.0f32; K]; 2];
+        let mut average_hh = [[0.0f32; 2]; 2];
+        if mean_terms == 1 {
+            let mut h = [0.0f32; K];
+            let mut hz = [0.0f32; K];
+            for i in 0..K {
+                let g = &distinct[class[i] as usize];
+                let mut a = [0.0f32; DEGREES];
+                let mut b = [0.0f32; DEGREES];
+                for l in 0..9 {
+                    a[l] = profile[l] * g[l];
+                    // avg[h(n)·z_i(n)] = (1/4π)·Σ_l Q_l·K_l g_l c_l·P_l(d_i·z), Q_l = a_l c_l.
+                    b[l] = profile[l] * c[l] * spectrum[l] * g[l] * c[l] / FOUR_PI;
+                }
+                h[i] = whitening[i] * legendre_sum(&a, directions[i].z);
+                hz[i] = whitening[i] * legendre_sum(&b, directions[i].z);
+            }
+            basis[0] = project(&vectors, &h);
+            average_hz[0] = project(&vectors, &hz);
+            for l in 0..9 {
+                basis_query[0][l] = profile[l] * c[l];
+                average_hh[0][0] += basis_query[0][l] * basis_query[0][l] / (2 * l + 1) as f32;
+            }
+        }
+        let prior_variance =
+            (0..DEGREES).map(|l| spectrum[l] * c[l] * c[l] * degree_weight(l)).sum::<f32>();
+        Ok(LayoutProbe {
+            directions,
+            whitening,
+            class,
+            tables,
+            vectors,
+            values,
+            basis,
+            basis_query,
+            mean_terms,
+            prior_variance,
+            average_zz,
+            average_hz,
+            average_hh,
+            noise,
+            alpha: [T::ZERO; K],
+            beta: [T::ZERO; 2],
+            scale: T::ZERO,
+            nugget: T::ZERO,
+            average_variance: T::ZERO,
+            updated: false,
+        })
+    }
+
+    /// The sensors' unit directions.
+    #[must_use]
+    pub const fn directions(&self) -> &[Vec3; K] {
+        &self.directions
+    }
+
+    /// Takes one reading per sensor. [`Error::InvalidRadiance`] for a non-finite reading
+    /// (the probe keeps its previous state).
+    pub fn update(&mut self, readings: &[T; K]) -> Result<(), Error> {
+        for r in readings {
+            for ch in 0..T::CHANNELS {
+                if !r.channel(ch).is_finite() {
+                    return Err(Error::InvalidRadiance);
+                }
+            }
+        }
+        let mut alpha = [[0.0f32; K]; MAX_CHANNELS];
+        let mut beta = [0.0f32; MAX_CHANNELS];
+        let mut scale = [0.0f32; MAX_CHANNELS];
+        let mut nugget = [0.0f32; MAX_CHANNELS];
+        let mut average = [0.0f32; MAX_CHANNELS];
+        for ch in 0..T::CHANNELS.min(MAX_CHANNELS) {
+            let y: [f32; K] = core::array::from_fn(|i| readings[i].channel(ch));
+            let fit = self.fit(&y);
+            alpha[ch] = fit.alpha;
+            beta[ch] = fit.beta;
+            scale[ch] = fit.scale;
+            nugget[ch] = fit.nugget;
+            average[ch] = fit.average_variance;
+        }
+        self.alpha =
+            core::array::from_fn(|i| from_channels(|ch| alpha[ch.min(MAX_CHANNELS - 1)][i]));
+        self.beta = [from_channels(|ch| beta[ch.min(MAX_CHANNELS - 1)]), T::ZERO];
+        self.scale = from_channels(|ch| scale[ch.min(MAX_CHANNELS - 1)]);
+        self.nugget = from_channels(|ch| nugget[ch.min(MAX_CHANNELS - 1)]);
+        self.average_variance = from_channels(|ch| average[ch.min(MAX_CHANNELS - 1)]);
+        self.updated = true;
+        Ok(())
+    }
+
+    /// One channel's fit.
+    fn fit(&self, y: &[f32; K]) -> Fit<K> {
+        // Work relative to a power of two near the largest whitened reading.
+        let top = (0..K).fold(0.0f32, |m, i| m.max((y[i] * self.whitening[i]).abs()));
+        if top == 0.0 {
+            return Fit {
+                alpha: [0.0; K],
+                beta: 0.0,
+                scale: 0.0,
+                nugget: 0.0,
+                average_variance: 0.0,
+            };
+        }
+        let unit = libm::scalbnf(1.0, libm::ilogbf(top));
+        let inv = 1.0 / unit;
+        let yw: [f32; K] = core::array::from_fn(|i| y[i] * self.whitening[i] * inv);
+        let z = project(&self.vectors, &yw);
+        let mean_abs = y.iter().map(|v| v.abs()).sum::<f32>() / K as f32 * inv;
+        let nu = (self.noise.absolute * inv) * (self.noise.absolute * inv)
+            + (self.noise.relative * mean_abs) * (self.noise.relative * mean_abs);
+        let p = self.mean_terms;
+        let h = &self.basis[0];
+        let lam = &self.values;
+        // REML objective at s (and the GLS pieces).
+        let eval = |s: f32| -> (f32, f32, f32) {
+            // Returns (objective, beta, A = hᵀD⁻¹h).
+            let mut logdet = 0.0f32;
+            let (mut zz, mut hz, mut hh) = (0.0f32, 0.0f32, 0.0f32);
+            for j in 0..K {
+                let d = s * lam[j] + nu;
+                logdet += math::ln(d);
+                zz += z[j] * z[j] / d;
+                if p == 1 {
+                    hz += h[j] * z[j] / d;
+                    hh += h[j] * h[j] / d;
+                }
+            }
+            if p == 1 && hh > 0.0 {
+                let beta = hz / hh;
+                (-0.5 * (logdet + math::ln(hh) + zz - hz * beta), beta, hh)
+            } else {
+                (-0.5 * (logdet + zz), 0.0, hh)
+            }
+        };
+        let s = if nu == 0.0 {
+            // Closed form: s = r̃ᵀΛ⁻¹r̃/(K − p).
+            let (mut zz, mut hz, mut hh) = (0.0f32, 0.0f32, 0.0f32);
+            for j in 0..K {
+                zz += z[j] * z[j] / lam[j];
+                if p == 1 {
+                    hz += h[j] * z[j] / lam[j];
+                    hh += h[j] * h[j] / lam[j];
+                }
+            }
+            let q = if p == 1 && hh > 0.0 { zz - hz * hz / hh } else { zz };
+            (q / (K - p) as f32).max(0.0)
+        } else {
+            // Golden-section search over ln s.
+            let spread = z.iter().map(|v| v * v).sum::<f32>() / lam.iter().sum::<f32>();
+            let centre = math::ln(spread.max(nu * 1e-6).max(1e-30));
+            let (mut lo, mut hi) = (centre - 14.0, centre + 6.0);
+            const G: f32 = 0.618_034;
+            let (mut a, mut b) = (hi - G * (hi - lo), lo + G * (hi - lo));
+            let (mut fa, mut fb) = (eval(math::exp(a)).0, eval(math::exp(b)).0);
+            for _ in 0..40 {
+                if fa > fb {
+                    hi = b;
+                    b = a;
+                    fb = fa;
+                    a = hi - G * (hi - lo);
+                    fa = eval(math::exp(a)).0;
+                } else {
+                    lo = a;
+                    a = b;
+                    fa = fb;
+                    b = lo + G * (hi - lo);
+                    fb = eval(math::exp(b)).0;
+                }
+            }
+            math::exp(0.5 * (lo + hi))
+        };
+        let d: [f32; K] = core::array::from_fn(|j| s * lam[j] + nu);
+        let (_, beta, hh) = if s > 0.0 || nu > 0.0 {
+            eval(s)
+        } else {
+            (0.0, if p == 1 && h.iter().any(|&v| v != 0.0) { gls_exact(h, &z) } else { 0.0 }, 0.0)
+        };
+        // r̃ = z − H̃ᵀβ; α (sensor space) = s·W·V·D⁻¹r̃.
+        let r: [f32; K] = core::array::from_fn(|j| {
+            let rj = z[j] - if p == 1 { h[j] * beta } else { 0.0 };
+            if d[j] > 0.0 {
+                rj / d[j]
+            } else {
+                0.0
+            }
+        });
+        let mut alpha = [0.0f32; K];
+        for i in 0..K {
+            let mut acc = 0.0f32;
+            for j in 0..K {
+                acc += self.vectors[i][j] * r[j];
+            }
+            alpha[i] = s * self.whitening[i] * acc * unit;
+        }
+        // Direction-averaged variance: s·V̄ − s²·Σ M̃_jj/d_j + avg[RᵀA⁻¹R].
+        let mut average = s * self.prior_variance;
+        for j in 0..K {
+            if d[j] > 0.0 {
+                average -= s * s * self.average_zz[j][j] / d[j];
+            }
+        }
+        if p == 1 && hh > 0.0 {
+            let hzq = &self.average_hz[0];
+            let mut cross = 0.0f32;
+            let mut quad = 0.0f32;
+            for j in 0..K {
+                if d[j] > 0.0 {
+                    cross += h[j] * hzq[j] / d[j];
+                    let mut row = 0.0f32;
+                    for k in 0..K {
+                        if d[k] > 0.0 {
+                            row += self.average_zz[j][k] * h[k] / d[k];
+                        }
+                    }
+                    quad += h[j] / d[j] * row;
+                }
+            }
+            average += (self.average_hh[0][0] - 2.0 * s * cross + s * s * quad) / hh;
+        }
+        Fit {
+            alpha,
+            beta: beta * unit,
+            scale: s * unit * unit,
+            nugget: nu * unit * unit,
+            average_variance: average.max(0.0) * unit * unit,
+        }
+    }
+
+    /// `Cov(Yᵢ, E(n))` at unit scale for every sensor (table lookups).
+    fn query_covariances(&self, n: Vec3) -> [f32; K] {
+        core::array::from_fn(|i| {
+            let t = self.directions[i].dot(n).clamp(-1.0, 1.0);
+            let table = &self.tables[self.class[i] as usize];
+            let x = (t + 1.0) * 0.5 * (NODES - 1) as f32;
+            // Quadratic through the three nearest nodes.
+            let k = (x + 0.5) as usize;
+            let k = k.clamp(1, NODES - 2);
+            let u = x - k as f32;
+            let (a, b, c) = (table[k - 1], table[k], table[k + 1]);
+            b + 0.5 * u * (c - a) + 0.5 * u * u * (a - 2.0 * b + c)
+        })
+    }
+
+    /// The mean basis's irradiance at `n`.
+    fn mean_query(&self, n: Vec3) -> f32 {
+        if self.mean_terms == 0 {
+            return 0.0;
+        }
+        let mut coef = [0.0f32; DEGREES];
+        coef[..9].copy_from_slice(&self.basis_query[0]);
+        legendre_sum(&coef, n.z)
+    }
+
+    /// Irradiance `E(n) = ∫ L(x)·max(0, n·x) dx` with the direction-averaged posterior
+    /// variance (O(K)). [`Error::InvalidDirection`] for a zero or non-finite normal; before
+    /// the first update, zero with zero variance.
+    pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
+        let n = unit(normal)?;
+        let z = self.query_covariances(n);
+        let h = self.mean_query(n);
+        let mut value = self.beta[0].scale(h);
+        for i in 0..K {
+            value = value.mul_add(self.alpha[i], z[i]);
+        }
+        Ok(Estimate { value, variance: self.average_variance, unit_variance: 1.0 })
+    }
+
+    /// The exact posterior variance of [`LayoutProbe::irradiance`] at `normal`, O(K²).
+    pub fn irradiance_variance(&self, normal: Vec3) -> Result<T, Error> {
+        let n = unit(normal)?;
+        let z = self.query_covariances(n);
+        let zw: [f32; K] = core::array::from_fn(|i| z[i] * self.whitening[i]);
+        let zt = project(&self.vectors, &zw);
+        let h = self.mean_query(n);
+        Ok(from_channels(|ch| {
+            let s = self.scale.channel(ch);
+            let nu = self.nugget.channel(ch);
+            let mut v = s * self.prior_variance;
+            let (mut hz, mut hh) = (0.0f32, 0.0f32);
+            for j in 0..K {
+                let d = s * self.values[j] + nu;
+                if d > 0.0 {
+                    v -= s * s * zt[j] * zt[j] / d;
+                    if self.mean_terms == 1 {
+                        hz += self.basis[0][j] * zt[j] / d;
+                        hh += self.basis[0][j] * self.basis[0][j] / d;
+                    }
+                }
+            }
+            if self.mean_terms == 1 && hh > 0.0 {
+                let r = h - s * hz;
+                v += r * r / hh;
+            }
+            v.max(0.0)
+        }))
+    }
+
+    /// Whether the probe has had an update.
+    #[must_use]
+    pub const fn is_updated(&self) -> bool {
+        self.updated
+    }
+}
+
+struct Fit<const K: usize> {
+    alpha: [f32; K],
+    beta: f32,
+    scale: f32,
+    nugget: f32,
+    average_variance: f32,
+}
+
+/// β by least squares when `s = ν = 0` (all readings equal to the mean): `hᵀz/hᵀh`.
+fn gls_exact<const K: usize>(h: &[f32; K], z: &[f32; K]) -> f32 {
+    let hh: f32 = h.iter().map(|v| v * v).sum();
+    let hz: f32 = h.iter().zip(z).map(|(a, b)| a * b).sum();
+    if hh > 0.0 {
+        hz / hh
+    } else {
+        0.0
+    }
+}
+
+fn unit(v: Vec3) -> Result<Vec3, Error> {
+    if !v.is_finite() {
+        return Err(Error::InvalidDirection);
+    }
+    v.try_normalize().ok_or(Error::InvalidDirection)
+}
+
+/// `Vᵀx` for the eigenvector columns `V`.
+fn project<const K: usize>(v: &[[f32; K]; K], x: &[f32; K]) -> [f32; K] {
+    let mut out = [0.0f32; K];
+    for (i, xi) in x.iter().enumerate() {
+        for (o, vij) in out.iter_mut().zip(&v[i]) {
+            *o += vij * xi;
+        }
+    }
+    out
+}
+
+/// `VᵀAV`.
+fn congruence<const K: usize>(v: &[[f32; K]; K], a: &[[f32; K]; K]) -> [[f32; K]; K] {
+    // AV first, then Vᵀ(AV).
+    let mut av = [[0.0f32; K]; K];
+    for i in 0..K {
+        for k in 0..K {
+            let aik = a[i][k];
+            for j in 0..K {
+                av[i][j] += aik * v[k][j];
+            }
+        }
+    }
+    let mut out = [[0.0f32; K]; K];
+    for i in 0..K {
+        for a_ in 0..K {
+            let via = v[i][a_];
+            for b in 0..K {
+                out[a_][b] += via * av[i][b];
+            }
+        }
+    }
+    out
+}
+
+/// Eigenvalues and eigenvectors (columns) of a symmetric matrix by cyclic Jacobi rotations.
+fn jacobi_eigen<const K: usize>(mut a: [[f32; K]; K]) -> ([f32; K], [[f32; K]; K]) {
+    let mut v = [[0.0f32; K]; K];
+    for (i, row) in v.iter_mut().enumerate() {
+        row[i] = 1.0;
+    }
+    for _sweep in 0..30 {
+        let mut off = 0.0f32;
+        let mut diag = 0.0f32;
+        for i in 0..K {
+            diag += a[i][i] * a[i][i];
+            for j in 0..i {
+                off += a[i][j] * a[i][j];
+            }
+        }
+        if off <= 1e-14 * diag {
+            break;
+        }
+        for p in 0..K {
+            for q in p + 1..K {
+                let apq = a[p][q];
+                if apq == 0.0 || apq.abs() <= 1e-12 * (a[p][p].abs() + a[q][q].abs()) {
+                    continue;
+                }
+                let theta = (a[q][q] - a[p][p]) / (2.0 * apq);
+                let t =
+                    math::copysign(1.0, theta) / (theta.abs() + math::sqrt(theta * theta + 1.0));
+                let c = 1.0 / math::sqrt(t * t + 1.0);
+                let s = t * c;
+                for k in 0..K {
+                    let (akp, akq) = (a[k][p], a[k][q]);
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for k in 0..K {
+                    let (apk, aqk) = (a[p][k], a[q][k]);
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+                for row in v.iter_mut() {
+                    let (vp, vq) = (row[p], row[q]);
+                    row[p] = c * vp - s * vq;
+                    row[q] = s * vp + c * vq;
+                }
+            }
+        }
+    }
+    (core::array::from_fn(|i| a[i][i]), v)
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use std::vec::Vec;
+
+    fn cube() -> [Sensor; 6] {
+        [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z].map(Sensor::cosine)
+    }
+
+    fn dome() -> [Sensor; 5] {
+        let h = core::f32::consts::FRAC_1_SQRT_2;
+        [
+            Vec3::Z,
+            Vec3::new(h, 0.0, h),
+            Vec3::new(0.0, h, h),
+            Vec3::new(-h, 0.0, h),
+            Vec3::new(0.0, -h, h),
+        ]
+        .map(Sensor::cosine)
+    }
+
+    /// The posterior mean and variance from the textbook formulas in f64: the covariance by
+    /// direct Legendre sums, a dense Cholesky factor, GLS for the mean and `s` in closed
+    /// form (no noise).
+    fn reference(
+        dirs: &[[f64; 3]],
+        gains: &[f64],
+        spectrum: &[f32],
+        profile: Option<&[f64]>,
+        y: &[f64],
+        n: [f64; 3],
+    ) -> (f64, f64) {
+        let k = dirs.len();
+        let legendre = |l: usize, t: f64| {
+            let (mut p0, mut p1) = (1.0, t);
+            if l == 0 {
+                return 1.0;
+            }
+            for m in 2..=l {
+                let p2 = ((2 * m - 1) as f64 * t * p1 - (m - 1) as f64 * p0) / m as f64;
+                p0 = p1;
+                p1 = p2;
+            }
+            p1
+        };
+        let c: Vec<f64> = (0..DEGREES)
+            .map(|l| {
+                // c_l = 2π∫₀¹ t P_l(t) dt by a fine midpoint rule.
+                let m = 20000;
+                (0..m)
+                    .map(|i| {
+                        let t = (i as f64 + 0.5) / m as f64;
+                        t * legendre(l, t)
+                    })
+                    .sum::<f64>()
+                    * 2.0
+                    * core::f64::consts::PI
+                    / m as f64
+            })
+            .collect();
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let w = |l: usize| (2 * l + 1) as f64 / (4.0 * core::f64::consts::PI);
+        let sp = |l: usize| f64::from(spectrum[l]);
+        let cov = |i: usize, j: usize| {
+            (0..DEGREES)
+                .map(|l| sp(l) * gains[l] * gains[l] * w(l) * legendre(l, dot(dirs[i], dirs[j])))
+                .sum::<f64>()
+        };
+        let zq: Vec<f64> = (0..k)
+            .map(|i| {
+                (0..DEGREES)
+                    .map(|l| sp(l) * gains[l] * c[l] * w(l) * legendre(l, dot(dirs[i], n)))
+                    .sum()
+            })
+            .collect();
+        let mut a: Vec<f64> = (0..k * k).map(|x| cov(x / k, x % k)).collect();
+        // Cholesky.
+        for j in 0..k {
+            for i in j..k {
+                let mut s = a[i * k + j];
+                for m in 0..j {
+                    s -= a[i * k + m] * a[j * k + m];
+                }
+                a[i * k + j] = if i == j { s.sqrt() } else { s / a[j * k + j] };
+            }
+        }
+        let solve = |b: &[f64]| {
+            let mut x = b.to_vec();
+            for i in 0..k {
+                for m in 0..i {
+                    x[i] -= a[i * k + m] * x[m];
+                }
+                x[i] /= a[i * k + i];
+            }
+            for i in (0..k).rev() {
+                for m in i + 1..k {
+                    x[i] -= a[m * k + i] * x[m];
+                }
+                x[i] /= a[i * k + i];
+            }
+            x
+        };
+        let ip = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(p, q)| p * q).sum::<f64>();
+        let (h, hq): (Vec<f64>, f64) = match profile {
+            None => (std::vec![0.0; k], 0.0),
+            Some(p) => (
+                (0..k)
+                    .map(|i| (0..p.len()).map(|l| p[l] * gains[l] * legendre(l, dirs[i][2])).sum())
+                    .collect(),
+                (0..p.len()).map(|l| p[l] * c[l] * legendre(l, n[2])).sum(),
+            ),
+        };
+        let qy = solve(y);
+        let qh = solve(&h);
+        let qz = solve(&zq);
+        let (beta, hqh) =
+            if profile.is_some() { (ip(&h, &qy) / ip(&h, &qh), ip(&h, &qh)) } else { (0.0, 0.0) };
+        let r: Vec<f64> = (0..k).map(|i| y[i] - beta * h[i]).collect();
+        let qr = solve(&r);
+        let p = usize::from(profile.is_some());
+        let s = ip(&r, &qr) / (k - p) as f64;
+        let value = beta * hq + ip(&zq, &qr);
+        let vbar: f64 = (0..DEGREES).map(|l| sp(l) * c[l] * c[l] * w(l)).sum();
+        let mut var = vbar - ip(&zq, &qz);
+        if profile.is_some() {
+            let rr = hq - ip(&h, &qz);
+            var += rr * rr / hqh;
+        }
+        (value, s * var)
+    }
+
+    fn to64(v: Vec3) -> [f64; 3] {
+        [f64::from(v.x), f64::from(v.y), f64::from(v.z)]
+    }
+
+    /// Against the f64 reference: a cube (zero mean) and a dome (zonal mean), arbitrary
+    /// readings, twenty normals.
+    #[test]
+    fn agrees_with_an_f64_reference() {
+        let gains: Vec<f64> =
+            Response::CosinePower(1.0).gains().unwrap().iter().map(|&g| f64::from(g)).collect();
+        let se = Prior::squared_exponential(4.0).unwrap();
+        let mut profile = [0.0f32; 9];
+        profile[0] = 1.0;
+        profile[1] = 0.9;
+        profile[2] = 0.4;
+        let normals: Vec<Vec3> = (0..20)
+            .map(|i| {
+                let t = i as f32 * 0.7;
+                Vec3::new(libm::cosf(t), libm::sinf(1.3 * t), 0.2 + 0.05 * i as f32)
+            })
+            .collect();
+        let mut worst = (0.0f64, 0.0f64);
+        // Cube, zero mean.
+        let sensors = cube();
+        let y = [1.3f32, 0.4, 0.9, 0.7, 2.1, 0.2];
+        let mut probe =
+            LayoutProbe::<6>::new(&sensors, se.with_mean(Mean::Zero), Noise::NONE).unwrap();
+        probe.update(&y).unwrap();
+        let dirs: Vec<[f64; 3]> = sensors.iter().map(|s| to64(s.direction)).collect();
+        let y64: Vec<f64> = y.iter().map(|&v| f64::from(v)).collect();
+        for &n in &normals {
+            let (v, var) = reference(
+                &dirs,
+                &gains,
+                &se.spectrum,
+                None,
+                &y64,
+                to64(n.try_normalize().unwrap()),
+            );
+            let e = probe.irradiance(n).unwrap();
+            let ev = probe.irradiance_variance(n).unwrap();
+            worst.0 = worst.0.max((f64::from(e.value) - v).abs() / 2.1);
+            worst.1 = worst.1.max((f64::from(ev) - var).abs() / var.max(1e-3));
+        }
+        // Dome, zonal mean.
+        let sensors = dome();
+        let y = [2.0f32, 1.2, 1.5, 0.8, 1.1];
+        let prior = se.with_mean(Mean::Zonal(profile));
+        let mut probe = LayoutProbe::<5>::new(&sensors, prior, Noise::NONE).unwrap();
+        probe.update(&y).unwrap();
+        let dirs: Vec<[f64; 3]> =
+            sensors.iter().map(|s| to64(s.direction.try_normalize().unwrap())).collect();
+        let y64: Vec<f64> = y.iter().map(|&v| f64::from(v)).collect();
+        let p64: Vec<f64> = profile.iter().map(|&v| f64::from(v)).collect();
+        for &n in &normals {
+            let (v, var) = reference(
+                &dirs,
+                &gains,
+                &se.spectrum,
+                Some(&p64),
+                &y64,
+                to64(n.try_normalize().unwrap()),
+            );
+            let e = probe.irradiance(n).unwrap();
+            let ev = probe.irradiance_variance(n).unwrap();
+            worst.0 = worst.0.max((f64::from(e.value) - v).abs() / 2.0);
+            worst.1 = worst.1.max((f64::from(ev) - var).abs() / var.max(1e-3));
+        }
+        assert!(worst.0 < 1e-5 && worst.1 < 5e-4, "value {:e}, variance {:e}", worst.0, worst.1);
+    }
+
+    /// The O(1) variance is the direction average of the exact one.
+    #[test]
+    fn average_variance_is_the_mean_of_the_exact_ones() {
+        let mut profile = [0.0f32; 9];
+        profile[0] = 1.0;
+        profile[1] = 0.8;
+        for (prior, noise) in [
+            (Prior::squared_exponential(3.0).unwrap().with_mean(Mean::Zero), Noise::NONE),
+            (
+                Prior::squared_exponential(3.0).unwrap().with_mean(Mean::Zonal(profile)),
+                Noise { absolute: 0.05, relative: 0.02 },
+            ),
+        ] {
+            let mut probe = LayoutProbe::<5, [f32; 3]>::new(&dome(), prior, noise).unwrap();
+            probe
+                .update(&[
+                    [2.0, 1.0, 0.5],
+                    [1.2, 0.9, 0.4],
+                    [1.5, 1.1, 0.6],
+                    [0.8, 1.0, 0.5],
+                    [1.1, 0.7, 0.3],
+                ])
+                .unwrap();
+            let n = 4000;
+            let mut sum = [0.0f64; 3];
+            for i in 0..n {
+                // A spherical Fibonacci set.
+                let z = 1.0 - (2 * i + 1) as f32 / n as f32;
+                let r = libm::sqrtf(1.0 - z * z);
+                let phi = i as f32 * 2.399_963;
+                let v = probe
+                    .irradiance_variance(Vec3::new(r * libm::cosf(phi), r * libm::sinf(phi), z))
+                    .unwrap();
+                for c in 0..3 {
+                    sum[c] += f64::from(v[c]) / n as f64;
+                }
+            }
+            let average = probe.irradiance(Vec3::Z).unwrap().variance;
+            for c in 0..3 {
+                let rel = (f64::from(average[c]) - sum[c]).abs() / sum[c];
+                assert!(rel < 1e-2, "channel {c}: {} vs {}", average[c], sum[c]);
+            }
+        }
+    }
+
+    #[test]
+    fn bad_input_is_an_error_and_keeps_the_state() {
+        let prior = Prior::squared_exponential(2.0).unwrap();
+        let mut probe = LayoutProbe::<6>::new(&cube(), prior, Noise::NONE).unwrap();
+        probe.update(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]).unwrap();
+        let before = probe.irradiance(Vec3::Z).unwrap();
+        assert_eq!(probe.update(&[1.0, f32::NAN, 3.0, 4.0, 5.0, 6.0]), Err(Error::InvalidRadiance));
+        assert_eq!(
+            probe.update(&[1.0, 2.0, f32::INFINITY, 4.0, 5.0, 6.0]),
+            Err(Error::InvalidRadiance)
+        );
+        assert_eq!(probe.irradiance(Vec3::Z).unwrap(), before);
+        assert_eq!(probe.irradiance(Vec3::ZERO), Err(Error::InvalidDirection));
+        assert_eq!(probe.irradiance(Vec3::new(f32::NAN, 0.0, 1.0)), Err(Error::InvalidDirection));
+        let mut s = cube();
+        s[2].direction = Vec3::new(f32::NAN, 0.0, 0.0);
+        assert_eq!(
+            LayoutProbe::<6>::new(&s, prior, Noise::NONE).err(),
+            Some(Error::InvalidDirection)
+        );
+        let mut s = cube();
+        s[2].noise_scale = 0.0;
+        assert_eq!(
+            LayoutProbe::<6>::new(&s, prior, Noise::NONE).err(),
+            Some(Error::InvalidParameter)
+        );
+        let mut s = cube();
+        s[2].response = Response::CosinePower(f32::NAN);
+        assert_eq!(
+            LayoutProbe::<6>::new(&s, prior, Noise::NONE).err(),
+            Some(Error::InvalidParameter)
+        );
+        let bad_noise = Noise { absolute: -1.0, relative: 0.0 };
+        assert_eq!(
+            LayoutProbe::<6>::new(&cube(), prior, bad_noise).err(),
+            Some(Error::InvalidParameter)
+        );
+        // Five distinct responses, one more than MAX_RESPONSES.
+        let mut s = cube();
+        for (i, sensor) in s.iter_mut().enumerate().take(5) {
+            sensor.response = Response::CosinePower(1.0 + i as f32);
+        }
+        assert_eq!(
+            LayoutProbe::<6>::new(&s, prior, Noise::NONE).err(),
+            Some(Error::InvalidParameter)
+        );
+        // More than MAX_SENSORS.
+        let many = [Sensor::cosine(Vec3::Z); MAX_SENSORS + 1];
+        assert_eq!(
+            LayoutProbe::<{ MAX_SENSORS + 1 }>::new(&many, prior, Noise::NONE).err(),
+            Some(Error::InvalidSize)
+        );
+        // One sensor cannot fit a constant mean.
+        assert_eq!(
+            LayoutProbe::<1>::new(&[Sensor::cosine(Vec3::Z)], prior, Noise::NONE).err(),
+            Some(Error::InvalidSize)
+        );
+    }
+
+    /// Duplicate sensors and antipodal cosine pairs make the system singular; the model's
+    /// least noise keeps it solvable, with and without a noise of the layout.
+    #[test]
+    fn dependent_readings_are_solvable() {
+        let prior = Prior::squared_exponential(4.0).unwrap();
+        let mut s = cube();
+        s[1] = s[0];
+        for noise in [Noise::NONE, Noise { absolute: 0.01, relative: 0.0 }] {
+            let mut probe = LayoutProbe::<6>::new(&s, prior, noise).unwrap();
+            // Consistent duplicate readings.
+            probe.update(&[1.5, 1.5, 0.9, 0.7, 2.1, 0.2]).unwrap();
+            let e = probe.irradiance(Vec3::X).unwrap();
+            assert!(e.value.is_finite() && e.variance >= 0.0 && e.variance.is_finite());
+            // The duplicate pair reads 1.5 each; the estimate near +x is near π·1.5.
+            assert!((e.value / core::f32::consts::PI - 1.5).abs() < 0.3, "{}", e.value);
+        }
+    }
+
+    /// Readings scaled by a power of two scale the answers exactly.
+    #[test]
+    fn scale_invariance() {
+        let prior = Prior::squared_exponential(4.0).unwrap();
+        let y = [1.3f32, 0.4, 0.9, 0.7, 2.1, 0.2];
+        let mut a =
+            LayoutProbe::<6>::new(&cube(), prior, Noise { absolute: 0.0, relative: 0.05 }).unwrap();
+        let mut b = a.clone();
+        a.update(&y).unwrap();
+        b.update(&y.map(|v| v * 1024.0)).unwrap();
+        let (ea, eb) = (a.irradiance(Vec3::Z).unwrap(), b.irradiance(Vec3::Z).unwrap());
+        assert_eq!(ea.value * 1024.0, eb.value);
+        assert_eq!(ea.variance * 1024.0 * 1024.0, eb.variance);
+    }
+}
