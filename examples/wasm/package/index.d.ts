@@ -180,7 +180,11 @@ export interface TemporalProbeOptions {
 
 /** The log Bayes factors of a change at the last update. */
 export interface ChangeEvidence {
-  /** From the rotated samples (the innovation of their degrees ≤ 2 against the state). */
+  /**
+   * From the rotated samples (the innovation of their degrees ≤ 2 against the state); never
+   * positive, since aliasing can fake a change there: it can only weaken the sentinels'
+   * evidence.
+   */
   rotated: number;
   /** From the sentinels (evidence for a change only: never negative). */
   sentinels: number;
