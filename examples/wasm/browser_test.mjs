@@ -1,7 +1,8 @@
 // Headless browser test of examples/wasm/index.html: serves the repository root on localhost,
 // opens the page in Chromium (Debian `chromium`, through playwright-core), waits for the page's
-// own numeric check, prints its numbers, saves a screenshot (target/wasm_probe.png) and exits
-// non-zero when the check fails.
+// own numeric check (the probes against the reference, the JS package, and the temporal probe
+// against DDGI's blend across a switch of the light), prints its numbers, saves a screenshot
+// (target/wasm_probe.png) and exits non-zero when the check fails.
 //
 //   (cd examples/wasm && npm ci && cargo build --release --target wasm32-unknown-unknown)
 //   examples/wasm/package/build.sh      # the JS package's modules (the page's BMC probe)
@@ -84,6 +85,15 @@ try {
     );
   }
   console.log(`JS package: ${r.packageIdentical} values equal to bmc_shade bit for bit; errors ${r.packageErrors}`);
+  const fig = (m) =>
+    `temporal ${pct(m.t1)} after 1 update, ${pct(m.tStatic)} after 32 static (DDGI ${pct(m.dStatic)}); ` +
+    `switch: ${pct(m.tSwitch)}, +4 ${pct(m.tLag)} (DDGI ${pct(m.dLag)}), +32 ${pct(m.tEnd)} (DDGI ${pct(m.dEnd)}, ` +
+    `running mean ${pct(m.mEnd)}); reset at the switch ${pct(m.detected)}, static resets ${m.falseResets}`;
+  for (const m of JSON.parse(r.temporalPerMap ?? "[]")) console.log(`  ${m.name.padEnd(19)} ${fig(m)}`);
+  // The temporal figures must be there (the page's verdicts use them).
+  const t = JSON.parse(r.temporal ?? "null");
+  if (t === null || !Number.isFinite(t.tStatic)) throw new Error("the page reported no temporal figures");
+  console.log(`temporal, mean over maps: ${fig(t)}`);
   console.log(`timing: ${stats}`);
   console.log(`screenshot: ${SHOT}`);
   for (const l of logs) console.log(l);

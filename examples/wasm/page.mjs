@@ -3,11 +3,13 @@
 // glossy, N selectable), from point samples and from footprint samples (the module filters
 // the map with a spherical Gaussian of sharpness N/8 about each direction), next to the
 // weighted averages of the same samples, QMC with N samples per pixel, and a brute-force
-// reference over every map pixel, and runs the page's own numeric check (see CHECK).
+// reference over every map pixel; a temporal probe updated again and again on the same map
+// and then on another (a switch of the light) next to DDGI's blend of the same rays; and runs
+// the page's own numeric check (see CHECK and TEMPORAL).
 // Served from the repository root (examples/wasm/browser_test.mjs does that), so the map is at
 // ../envmaps/<name>.hdr and the module at target/… relative to this page.
 
-import { Probe, ProbeError } from "./package/index.js";
+import { Probe, ProbeError, TemporalProbe } from "./package/index.js";
 
 const WASM = "target/wasm32-unknown-unknown/release/sphere_quadrature_wasm.wasm";
 const MAPS = ["apartment", "bridge", "city", "dawn", "forest", "hall", "lab", "lobby", "night", "park"];
@@ -31,6 +33,28 @@ const CHECK = {
   map: "apartment", lighting: "clamp", n: 64, e: 20, diffuseMax: 0.2, glossyMax: 0.6,
   footprintRatio: 0.1, pyramidMax: 0.01,
 };
+/**
+ * The temporal view and its check: a `TemporalProbe` (point samples, through the package) and
+ * DDGI v1.3.7's blend (`ddgiBlend`) get the same N rays per update, `static` updates of a map
+ * and then `after` updates of the next map in MAPS (cyclically), each map scaled to a mean
+ * irradiance of 1 (DDGI's thresholds are absolute, as in eval/src/bin/temporal.rs). The error
+ * is the page's relative RMSE of luminance over the sphere's normals, per update. The check
+ * runs every map at clamp, N = `n`, for each seed of `seeds`, and requires (means over maps
+ * and seeds):
+ * - every curve finite;
+ * - on static light: the temporal probe's error after `static` updates at most `converged`
+ *   times its error after one (pooling: the running mean of the samples' cosine-weighted
+ *   averages falls like 1/√k, 0.18× from 1 to 32 updates), below DDGI's there, and no reset;
+ * - after the switch: the temporal probe reports a reset within two updates in at least
+ *   `detected` of the runs, its error `lag` updates after the switch is below DDGI's (whose
+ *   hysteresis and brightness limit make it lag), and its error after `after` updates is at
+ *   most `converged` times its error at the switch.
+ */
+const TEMPORAL = {
+  n: 64, static: 32, after: 32, seeds: [1, 2], converged: 0.5, detected: 0.8, lag: 4,
+  thresholds: [0.25, 0.1],
+};
+
 /** `map_footprint_samples` samplers: exact (every pixel) and the mip pyramid (approximate). */
 const SAMPLERS = { exact: 0, pyramid: 1 };
 /** Rotation seeds of the BMC probe (`bmc_shade`); figures are means over them. */
@@ -345,6 +369,273 @@ function shadeAndAverage(cells, n, e, dirs, ys, shaded) {
   return { dp, gp, da, ga };
 }
 
+// ---------------------------------------------------------------------------------------------
+// Temporal accumulation: the package's TemporalProbe against DDGI's blend on the same rays.
+
+/**
+ * DDGI v1.3.7's blend of one texel (RGB irradiance `prev` with the update's `next`), as
+ * eval/src/bin/temporal.rs implements it (`ddgi_blend`): in gamma-5 encoded space,
+ * hysteresis 0.97, lowered by 0.75 when the largest component of (mean − new) exceeds the
+ * irradiance threshold, the change times 0.25 when the luminance of (new − mean) exceeds the
+ * brightness threshold, a darkening moving at least 1/1024 per update.
+ */
+function ddgiBlend(prev, next, [irradianceThreshold, brightnessThreshold]) {
+  const enc = (x) => x.map((c) => Math.max(c, 0) ** 0.2);
+  const p = enc(prev), r = enc(next);
+  const max3 = (x) => Math.max(x[0], x[1], x[2]);
+  let hysteresis = 0.97;
+  if (max3([p[0] - r[0], p[1] - r[1], p[2] - r[2]]) > irradianceThreshold) hysteresis = Math.max(hysteresis - 0.75, 0);
+  let delta = [r[0] - p[0], r[1] - p[1], r[2] - p[2]];
+  if (lum(delta[0], delta[1], delta[2]) > brightnessThreshold) delta = delta.map((d) => d * 0.25);
+  let step = delta.map((d) => (1 - hysteresis) * d);
+  if (max3(r) < max3(p)) {
+    step = step.map((st, c) => Math.sign(st) * Math.min(Math.max(Math.abs(st), 1 / 1024), Math.abs(delta[c])));
+  }
+  return [0, 1, 2].map((c) => (p[c] + step[c]) ** 5);
+}
+
+/** The factor that scales `map` to a mean irradiance of 1 (luminance). */
+function unitIrradianceScale(map) {
+  let sum = 0;
+  for (let i = 0; i < map.wr.length; i++) sum += lum(map.wr[i], map.wg[i], map.wb[i]);
+  return 1 / (Math.PI * (sum / (4 * Math.PI)));
+}
+
+/**
+ * One run of the temporal view: `lights` (each `{ map, ref, scale }`: the map, its diffuse
+ * reference, the factor to mean irradiance 1) for `counts` updates each, N rays per update.
+ * The temporal probe samples its N − S rotated directions and S sentinels; DDGI (per sphere
+ * normal) and the running mean of the cosine-weighted averages, restarted at the switch,
+ * average the same N rays. Per update: the relative RMSE of each, the mean luminance of each
+ * over the sphere (and of the truth), what the temporal probe did and its probability of a
+ * change; the pictures `picture` updates after the switch.
+ */
+async function temporalRun(lights, counts, n, seed, picture) {
+  const probe = await TemporalProbe.create({ n, seed });
+  try {
+    const live = cells.filter((c) => c);
+    const sentinels = probe.sentinels();
+    const S = probe.sentinelCount;
+    let ddgi = null;
+    let mean = null;
+    const out = {
+      error: { temporal: [], ddgi: [], mean: [] }, level: { truth: [], temporal: [], ddgi: [], mean: [] },
+      change: [], probability: [], pictures: null,
+    };
+    for (const [li, { map, ref, scale }] of lights.entries()) {
+      for (let k = 0; k < counts[li]; k++) {
+        const dirs = probe.directions();
+        const all = new Float32Array(3 * n);
+        all.set(dirs);
+        all.set(sentinels, dirs.length);
+        const ys = new Float32Array(3 * n);
+        for (let j = 0; j < n; j++) {
+          const i = pixelOf(map, all[3 * j], all[3 * j + 1], all[3 * j + 2]);
+          for (let ch = 0; ch < 3; ch++) ys[3 * j + ch] = map.rgb[i + ch] * scale;
+        }
+        out.change.push(probe.update(ys.subarray(0, 3 * (n - S)), ys.subarray(3 * (n - S))));
+        out.probability.push(probe.lastChangeProbability);
+        // The cosine-weighted average of the N rays about each normal (irradiance units).
+        const cos = live.map((c) => {
+          let w = 0;
+          const e = [0, 0, 0];
+          for (let j = 0; j < n; j++) {
+            const t = Math.max(0, c.n[0] * all[3 * j] + c.n[1] * all[3 * j + 1] + c.n[2] * all[3 * j + 2]);
+            w += t;
+            for (let ch = 0; ch < 3; ch++) e[ch] += t * ys[3 * j + ch];
+          }
+          return e.map((v) => (w > 0 ? (Math.PI * v) / w : 0));
+        });
+        ddgi = ddgi === null ? cos : ddgi.map((d, q) => ddgiBlend(d, cos[q], TEMPORAL.thresholds));
+        mean = k === 0 ? cos.map((e) => e.slice()) : mean.map((o, q) => o.map((v, ch) => v + (cos[q][ch] - v) / (k + 1)));
+        // Pictures and errors in the page's units (irradiance / π).
+        const img = {};
+        for (const m of ["temporal", "ddgi", "mean", "truth"]) img[m] = new Float32Array(3 * G * G).fill(NaN);
+        live.forEach((c, q) => {
+          const t = probe.irradiance(c.n).value;
+          for (let ch = 0; ch < 3; ch++) {
+            img.temporal[3 * c.k + ch] = t[ch] / Math.PI;
+            img.ddgi[3 * c.k + ch] = ddgi[q][ch] / Math.PI;
+            img.mean[3 * c.k + ch] = mean[q][ch] / Math.PI;
+            img.truth[3 * c.k + ch] = ref[3 * c.k + ch] * scale;
+          }
+        });
+        for (const m of ["temporal", "ddgi", "mean"]) {
+          out.error[m].push(relRmse(img[m], img.truth));
+          out.level[m].push(meanLum(img[m]));
+        }
+        out.level.truth.push(meanLum(img.truth));
+        if (li === 1 && k + 1 === picture) out.pictures = img;
+      }
+    }
+    return out;
+  } finally {
+    probe.dispose();
+  }
+}
+
+/** The two lights of the temporal view for map `name`: it, then the next map of MAPS. */
+async function temporalLights(name, lighting) {
+  const next = MAPS[(MAPS.indexOf(name) + 1) % MAPS.length];
+  const lights = [];
+  for (const m of [name, next]) {
+    const map = await getMap(m, lighting);
+    map.lighting = lighting;
+    lights.push({ name: m, map, ref: getRef(m, map, null), scale: unitIrradianceScale(map) });
+  }
+  return lights;
+}
+
+/** A line plot of `series` (`{ label, color, values, dash }`) against the update, 1-based. */
+function plot(canvas, series, { title, ylog = false, switchAt, marks = [] }) {
+  const W = 560, H = 260, L = 56, R = 10, T = 24, B = 34;
+  canvas.width = W;
+  canvas.height = H;
+  const ctx = canvas.getContext("2d");
+  ctx.fillStyle = "#fff";
+  ctx.fillRect(0, 0, W, H);
+  const count = Math.max(...series.map((s) => s.values.length));
+  const all = series.flatMap((s) => s.values).filter((v) => Number.isFinite(v) && (!ylog || v > 0));
+  let lo = Math.min(...all), hi = Math.max(...all);
+  if (ylog) {
+    lo = 10 ** Math.floor(Math.log10(lo));
+    hi = 10 ** Math.ceil(Math.log10(hi));
+  } else {
+    lo = Math.min(0, lo);
+    hi *= 1.05;
+  }
+  const f = (v) => (ylog ? Math.log10(v) : v);
+  const x = (k) => L + ((k - 1) / Math.max(1, count - 1)) * (W - L - R);
+  const y = (v) => T + (1 - (f(v) - f(lo)) / (f(hi) - f(lo))) * (H - T - B);
+  ctx.strokeStyle = "#ddd";
+  ctx.fillStyle = "#333";
+  ctx.font = "11px system-ui, sans-serif";
+  ctx.lineWidth = 1;
+  const ticks = ylog
+    ? Array.from({ length: Math.round(Math.log10(hi / lo)) + 1 }, (_, i) => lo * 10 ** i)
+    : Array.from({ length: 5 }, (_, i) => lo + ((hi - lo) * i) / 4);
+  for (const v of ticks) {
+    ctx.beginPath();
+    ctx.moveTo(L, y(v));
+    ctx.lineTo(W - R, y(v));
+    ctx.stroke();
+    ctx.fillText(ylog ? `${+(100 * v).toPrecision(2)} %` : v.toFixed(2), 4, y(v) + 4);
+  }
+  for (let k = 1; k <= count; k += count > 40 ? 8 : 4) ctx.fillText(String(k), x(k) - 4, H - B + 14);
+  ctx.fillText("update", W / 2 - 16, H - 6);
+  ctx.font = "600 12px system-ui, sans-serif";
+  ctx.fillText(title, 4, 15);
+  ctx.font = "11px system-ui, sans-serif";
+  if (switchAt) {
+    ctx.strokeStyle = "#999";
+    ctx.setLineDash([4, 3]);
+    ctx.beginPath();
+    ctx.moveTo(x(switchAt), T);
+    ctx.lineTo(x(switchAt), H - B);
+    ctx.stroke();
+    ctx.setLineDash([]);
+    ctx.fillStyle = "#666";
+    ctx.fillText("switch", x(switchAt) + 3, H - B - 10);
+  }
+  ctx.fillStyle = "#c00";
+  for (const k of marks) ctx.fillRect(x(k) - 2, H - B - 6, 4, 6);
+  series.forEach((s, i) => {
+    ctx.strokeStyle = s.color;
+    ctx.lineWidth = 2;
+    ctx.setLineDash(s.dash ?? []);
+    ctx.beginPath();
+    s.values.forEach((v, k) => (k === 0 ? ctx.moveTo(x(k + 1), y(v)) : ctx.lineTo(x(k + 1), y(v))));
+    ctx.stroke();
+    ctx.setLineDash([]);
+    ctx.fillStyle = s.color;
+    ctx.fillText(s.label, W - R - 210, T + 12 + 13 * i);
+  });
+}
+
+/** The temporal view for the selected map, lighting and N; its time per update (ms). */
+async function temporalView(name, lighting, n) {
+  const lights = await temporalLights(name, lighting);
+  const counts = [TEMPORAL.static, TEMPORAL.after];
+  const t0 = performance.now();
+  const r = await temporalRun(lights, counts, n, TEMPORAL.seeds[0], TEMPORAL.lag);
+  const ms = (performance.now() - t0) / (counts[0] + counts[1]);
+  const switchAt = counts[0] + 1;
+  const resets = r.change.flatMap((c, k) => (c === "reset" ? [k + 1] : []));
+  $("temporal-maps").textContent = `${lights[0].name} → ${lights[1].name}`;
+  plot($("temporal-error"), [
+    { label: "temporal probe (JS package)", color: "#06c", values: r.error.temporal },
+    { label: "DDGI blend (same rays)", color: "#d60", values: r.error.ddgi },
+    { label: "running mean, restarted at switch", color: "#888", values: r.error.mean, dash: [5, 4] },
+  ], { title: `diffuse relRMSE, N = ${n} (red ticks: resets)`, ylog: true, switchAt, marks: resets });
+  plot($("temporal-level"), [
+    { label: "truth", color: "#000", values: r.level.truth },
+    { label: "temporal probe", color: "#06c", values: r.level.temporal },
+    { label: "DDGI blend", color: "#d60", values: r.level.ddgi },
+  ], { title: "mean luminance of irradiance / π over the sphere", switchAt, marks: resets });
+  const sd = 0.5 / meanLum(r.pictures.truth);
+  draw($("temporal-probe"), r.pictures.temporal, sd);
+  draw($("temporal-ddgi"), r.pictures.ddgi, sd);
+  draw($("temporal-ref"), r.pictures.truth, sd);
+  const at = (k) => `<td>${pct(r.error.temporal[k - 1])}</td><td>${pct(r.error.ddgi[k - 1])}</td><td>${pct(r.error.mean[k - 1])}</td>`;
+  const rows = [
+    [1, "1"], [4, "4"], [counts[0], `${counts[0]} (static)`], [switchAt, `${switchAt} (the switch)`],
+    [switchAt + TEMPORAL.lag - 1, `${switchAt + TEMPORAL.lag - 1} (${TEMPORAL.lag} after the switch)`],
+    [counts[0] + counts[1], `${counts[0] + counts[1]} (${counts[1]} after the switch)`],
+  ];
+  $("temporal-stats").innerHTML =
+    "<tr><th>update</th><th>temporal probe</th><th>DDGI blend</th><th>running mean</th><th>temporal probe: update, P(change)</th></tr>" +
+    rows.map(([k, what]) => `<tr><td>${what}</td>${at(k)}<td>${r.change[k - 1]}, ${r.probability[k - 1].toPrecision(2)}</td></tr>`).join("");
+  return ms;
+}
+
+/** The temporal check over every map (see TEMPORAL): its verdicts, runs and means. */
+async function temporalCheck(lighting) {
+  const counts = [TEMPORAL.static, TEMPORAL.after];
+  const k0 = counts[0], k1 = counts[0] + counts[1], lag = TEMPORAL.lag;
+  const runs = [];
+  for (const name of MAPS) {
+    $("check").textContent = `check: running (temporal, ${name})…`;
+    const lights = await temporalLights(name, lighting);
+    for (const seed of TEMPORAL.seeds) {
+      const r = await temporalRun(lights, counts, TEMPORAL.n, seed, lag);
+      const e = r.error;
+      runs.push({
+        name: `${name} → ${lights[1].name}`, seed,
+        t1: e.temporal[0], tStatic: e.temporal[k0 - 1], dStatic: e.ddgi[k0 - 1], tSwitch: e.temporal[k0],
+        tLag: e.temporal[k0 + lag - 1], dLag: e.ddgi[k0 + lag - 1], tEnd: e.temporal[k1 - 1], dEnd: e.ddgi[k1 - 1],
+        mEnd: e.mean[k1 - 1],
+        falseResets: r.change.slice(1, k0).filter((c) => c === "reset").length,
+        detected: r.change.slice(k0, k0 + 2).includes("reset"),
+        finite: [e.temporal, e.ddgi, e.mean].every((c) => c.length === k1 && c.every(Number.isFinite)),
+      });
+    }
+  }
+  const keys = ["t1", "tStatic", "dStatic", "tSwitch", "tLag", "dLag", "tEnd", "dEnd", "mEnd"];
+  // Means over a set of runs: the figures, the static resets and the share of detections.
+  const summary = (rs) => ({
+    ...Object.fromEntries(keys.map((k) => [k, rs.reduce((a, r) => a + r[k], 0) / rs.length])),
+    falseResets: rs.reduce((a, r) => a + r.falseResets, 0),
+    detected: rs.filter((r) => r.detected).length / rs.length,
+  });
+  const m = summary(runs);
+  const perMap = MAPS.map((name) => ({ name: runs.find((r) => r.name.startsWith(`${name} `)).name, ...summary(runs.filter((r) => r.name.startsWith(`${name} `))) }));
+  const C = TEMPORAL;
+  const verdicts = [
+    [runs.length === MAPS.length * C.seeds.length && runs.every((r) => r.finite),
+      `temporal view: every curve finite (${runs.length} runs of ${k1} updates)`],
+    [m.tStatic <= C.converged * m.t1,
+      `temporal probe converges on static light: ${pct(m.t1)} after 1 update, ${pct(m.tStatic)} after ${k0} (at most ${C.converged}×)`],
+    [m.tStatic < m.dStatic, `temporal probe below DDGI's blend after ${k0} static updates (${pct(m.tStatic)} vs ${pct(m.dStatic)})`],
+    [m.falseResets === 0, `temporal probe: no reset on static light (${m.falseResets})`],
+    [m.detected >= C.detected,
+      `temporal probe resets within 2 updates of the switch in ${pct(m.detected)} of the runs (at least ${pct(C.detected)})`],
+    [m.tLag < m.dLag, `${lag} updates after the switch the temporal probe is below DDGI's blend (${pct(m.tLag)} vs ${pct(m.dLag)})`],
+    [m.tEnd <= C.converged * m.tSwitch,
+      `temporal probe converges after the switch: ${pct(m.tSwitch)} at the switch, ${pct(m.tEnd)} ${counts[1]} updates later (at most ${C.converged}×)`],
+  ];
+  return { verdicts, runs, perMap, m };
+}
+
 /** RMSE of luminance over the sphere's cells / mean |reference luminance|. */
 function relRmse(est, ref) {
   let se = 0, sa = 0, m = 0;
@@ -536,10 +827,11 @@ async function show(wasm) {
   $("stats").innerHTML = r.rows
     .map(([what, d, g]) => `<tr><td>${what}</td><td>${name} (${lighting})</td><td>${n}</td><td>${e}</td><td>${pct(d)}</td><td>${pct(g)}</td></tr>`)
     .join("");
+  const temporalMs = await temporalView(name, lighting, n);
   $("status").textContent =
     `reference ${r.refMs.toFixed(0)} ms (cached after first use); per orientation: point probe (JS package) ${r.ms.point.toFixed(0)} ms, ` +
     `footprint probe ${r.ms.footprint.toFixed(0)} ms (of which ${sampler} sampling ${r.ms.samples[0].toFixed(0)} ms); ` +
-    `QMC per pixel ${r.qmcMs.toFixed(0)} ms`;
+    `QMC per pixel ${r.qmcMs.toFixed(0)} ms; temporal view ${temporalMs.toFixed(1)} ms per update`;
 }
 
 /** The package's exceptions in the browser: each `[ok, what]`. */
@@ -587,6 +879,7 @@ async function check(wasm) {
     identical.same += r.identical.same;
     identical.total += r.identical.total;
   }
+  const temporal = await temporalCheck(CHECK.lighting);
   const keys = ["bd", "bg", "ad", "ag", "fd", "fg", "pd", "pg", "fad", "fag"];
   const m = Object.fromEntries(keys.map((k) => [k, rows.reduce((s, r) => s + r[k], 0) / rows.length]));
   m.dev = Math.max(...rows.map((r) => r.dev));
@@ -604,6 +897,7 @@ async function check(wasm) {
       `JS package's probe equals the module's bmc_shade bit for bit (${identical.same} of ${identical.total} values, first rotation of each map)`],
     [errors.every(([ok]) => ok), `JS package throws ProbeError (${errors.map(([ok, what]) => `${what}${ok ? "" : " ✗"}`).join(", ")})`],
     [m.dev <= CHECK.pyramidMax, `pyramid samples within ${pct(CHECK.pyramidMax)} of the exact ones (worst ${(100 * m.dev).toFixed(3)} %)`],
+    ...temporal.verdicts,
   ];
   const pass = verdicts.every(([ok]) => ok);
   const ratio = (a, b) => (a / b).toFixed(3);
@@ -633,6 +927,19 @@ async function check(wasm) {
   el.dataset.packageErrors = JSON.stringify(errors);
   el.dataset.samplingMs = JSON.stringify({ exact: ms[0], pyramid: ms[1] });
   el.dataset.perMap = JSON.stringify(rows);
+  el.dataset.temporal = JSON.stringify(temporal.m);
+  el.dataset.temporalPerMap = JSON.stringify(temporal.perMap);
+  const t = temporal.m;
+  const keysT = ["t1", "tStatic", "dStatic", "tSwitch", "tLag", "dLag", "tEnd", "dEnd", "mEnd"];
+  $("temporal-check-table").innerHTML =
+    `<tr><th>map → next<br>(${TEMPORAL.seeds.length} runs each)</th><th>temporal,<br>1 update</th><th>temporal,<br>${TEMPORAL.static} static</th>` +
+    `<th>DDGI,<br>${TEMPORAL.static} static</th><th>temporal,<br>at switch</th><th>temporal,<br>+${TEMPORAL.lag}</th>` +
+    `<th>DDGI,<br>+${TEMPORAL.lag}</th><th>temporal,<br>+${TEMPORAL.after}</th><th>DDGI,<br>+${TEMPORAL.after}</th>` +
+    `<th>running mean,<br>+${TEMPORAL.after}</th><th>reset at<br>switch</th><th>static<br>resets</th></tr>` +
+    [...temporal.perMap, { name: "mean", ...t }]
+      .map((r) => `<tr><td>${r.name}</td>${keysT.map((k) => `<td>${pct(r[k])}</td>`).join("")}` +
+        `<td>${pct(r.detected)}</td><td>${r.falseResets}</td></tr>`)
+      .join("");
   el.dataset.pass = String(pass);
   el.textContent =
     `check ${pass ? "PASSED" : "FAILED"} (all ${rows.length} maps, ${CHECK.lighting}, N = ${CHECK.n}, ` +
@@ -640,7 +947,10 @@ async function check(wasm) {
     `mean relRMSE diffuse / glossy): point probe ${pct(m.bd)} / ${pct(m.bg)}, weighted averages of the point samples ` +
     `${pct(m.ad)} / ${pct(m.ag)}; footprint probe ${pct(m.fd)} / ${pct(m.fg)} (pyramid samples ${pct(m.pd)} / ${pct(m.pg)}), ` +
     `weighted averages of the footprint samples ${pct(m.fad)} / ${pct(m.fag)}; sampling ${ms[0].toFixed(0)} ms exact, ` +
-    `${ms[1].toFixed(0)} ms pyramid per probe. ` +
+    `${ms[1].toFixed(0)} ms pyramid per probe. Temporal (N = ${TEMPORAL.n}, ${TEMPORAL.static} updates of each map, ` +
+    `then ${TEMPORAL.after} of the next, ${TEMPORAL.seeds.length} runs each): ${pct(t.t1)} after 1 update, ${pct(t.tStatic)} ` +
+    `after ${TEMPORAL.static} (DDGI ${pct(t.dStatic)}); ${TEMPORAL.lag} after the switch ${pct(t.tLag)} (DDGI ${pct(t.dLag)}), ` +
+    `${TEMPORAL.after} after ${pct(t.tEnd)} (DDGI ${pct(t.dEnd)}). ` +
     verdicts.map(([ok, what]) => `${ok ? "✓" : "✗"} ${what}`).join("; ");
 }
 

@@ -1,5 +1,5 @@
-// Types of sphere-quadrature (index.js): RGB Bayesian Monte Carlo lighting probes in
-// WebAssembly.
+// Types of sphere-quadrature (index.js): RGB Bayesian Monte Carlo lighting probes and
+// temporal probes in WebAssembly.
 
 /** The baked probe sizes N; each has its own module, `wasm/probe-N.wasm`. */
 export declare const SIZES: readonly [16, 32, 64, 128, 256];
@@ -131,6 +131,159 @@ export declare class Probe {
   radianceSh(): Float32Array;
 
   /** The posterior variance of each of `radianceSh()`'s 27 numbers. */
+  radianceShVariance(): Float32Array;
+
+  /** Frees the probe; later calls throw `ProbeError` `InvalidHandle`. Idempotent. */
+  dispose(): void;
+}
+
+/** The samples' footprint of a `TemporalProbe`. */
+export type Footprint = "point" | "gaussian";
+
+/** What `TemporalProbe.update` did with the old evidence. */
+export type Change =
+  /** The first update: the state is this update. */
+  | "first"
+  /** The probability of a change was below one half: pooled with the old evidence. */
+  | "blended"
+  /** The probability of a change was at least one half: the state restarted. */
+  | "reset";
+
+export interface TemporalProbeOptions {
+  /**
+   * Rays per update: 16, 32, 64 (default), 128 or 256, of which `sentinelCount` (1, 1, 2,
+   * 3, 4) are fixed sentinels and the rest rotated samples. Anything else throws
+   * `InvalidSize`.
+   */
+  n?: number;
+  /**
+   * Seed of the rotation sequence, an integer in [0, 2³²): the k-th update samples the
+   * spherical Fibonacci set rotated by the k-th rotation of the crate's
+   * `RotationSequence` for this seed.
+   */
+  seed?: number;
+  /**
+   * `"point"` (default): each sample is the radiance in its direction. `"gaussian"`: each
+   * sample (and sentinel reading) is the radiance filtered by the normalised spherical
+   * Gaussian `exp(S(t − 1))` of sharpness S = n/8 about its direction (a mip level, a cone,
+   * a sensor); the probe answers for the unfiltered light.
+   */
+  footprint?: Footprint;
+  /**
+   * Prior probability that the light changes at an update, in (0, 1); default 1/64. Higher
+   * resets sooner on weak evidence, lower needs stronger evidence.
+   */
+  hazard?: number;
+  /** The module for size `n`, as in `ProbeOptions.wasm`. */
+  wasm?: WasmSource;
+}
+
+/** The log Bayes factors of a change at the last update. */
+export interface ChangeEvidence {
+  /**
+   * From the rotated samples (the innovation of their degrees ≤ 2 against the state); never
+   * positive, since aliasing can fake a change there: it can only weaken the sentinels'
+   * evidence.
+   */
+  rotated: number;
+  /** From the sentinels (evidence for a change only: never negative). */
+  sentinels: number;
+}
+
+/**
+ * An RGB temporal probe (`TemporalProbe<N − S, [f32; 3], F, S>` of the Rust crate): updated
+ * again and again, each time with radiance in the N − S directions of a freshly rotated
+ * spherical Fibonacci set and in S fixed sentinel directions. It pools the evidence of every
+ * update (the running sum of the samples' spherical-harmonic projections, shrunk per degree
+ * against the measured aliasing noise), so its error keeps falling with the updates, and
+ * forgets old evidence by the posterior probability that the light changed (the sentinels
+ * repeat exactly on static light, so aliasing cannot fake a change there). Lives in
+ * WebAssembly memory: `dispose()` frees it. Errors throw `ProbeError`.
+ *
+ * ```js
+ * import { TemporalProbe } from "sphere-quadrature";
+ * const probe = await TemporalProbe.create({ n: 64, seed: 1 });
+ * const sentinels = probe.sentinels(); // 3S floats, fixed
+ * for (;;) { // every frame
+ *   const dirs = probe.directions(); // 3(N − S) floats, new every update
+ *   probe.update(trace(dirs), trace(sentinels)); // r, g, b per direction
+ *   const { value, variance } = probe.irradiance([0, 0, 1]);
+ * }
+ * ```
+ */
+export declare class TemporalProbe {
+  private constructor();
+
+  /**
+   * A temporal probe without data (every query answers 0 until the first update).
+   * @throws {ProbeError} `InvalidSize` for an unbaked `n` or a module of another size,
+   *   `InvalidParameter` for a bad seed, footprint or hazard, or a module that is not the
+   *   package's.
+   */
+  static create(options?: TemporalProbeOptions): Promise<TemporalProbe>;
+
+  /** Rays per update N: `sampleCount` rotated samples and `sentinelCount` sentinels. */
+  readonly n: ProbeSize;
+  /** The rotation seed. */
+  readonly seed: number;
+  /** The samples' footprint. */
+  readonly footprint: Footprint;
+  /** The sharpness N/8 of the Gaussian footprint; 0 for point samples. */
+  readonly sharpness: number;
+  /** The prior probability of a change per update. */
+  readonly hazard: number;
+  /** The number S of sentinels: 1, 1, 2, 3, 4 for N = 16, 32, 64, 128, 256. */
+  readonly sentinelCount: number;
+  /** The number N − S of rotated samples per update. */
+  readonly sampleCount: number;
+  /** The spherical-harmonic degree L of the state: round(log₂(N − S)) in [2, 8]. */
+  readonly degree: number;
+  /** Updates taken since the first (soft resets do not change it). */
+  readonly updates: number;
+  /**
+   * The weight of the pooled evidence in updates: the updates since the last full reset
+   * when nothing was forgotten in between, less after partial resets.
+   */
+  readonly effectiveUpdates: number;
+  /** The posterior probability of a change at the last update (0 for the first). */
+  readonly lastChangeProbability: number;
+  /** The log Bayes factors of a change at the last update (0 for the first). */
+  readonly lastEvidence: ChangeEvidence;
+
+  /**
+   * This update's N − S unit directions, x, y, z each (3(N − S) floats), in the order
+   * `update` expects; a new rotation after every successful update.
+   */
+  directions(): Float32Array;
+
+  /** The S fixed sentinel directions, x, y, z each (3S floats), never rotated. */
+  sentinels(): Float32Array;
+
+  /**
+   * Takes this update's RGB samples in `directions()` (3(N − S) numbers) and RGB readings
+   * in `sentinels()` (3S numbers), taken the same way (for a single channel repeat it three
+   * times), weighs the evidence of a change, pools the samples and rotates the directions.
+   * @throws {ProbeError} `LengthMismatch` for other lengths, `InvalidRadiance` for a NaN or
+   *   infinite value; the probe then keeps its state and its directions.
+   */
+  update(samples: ArrayLike<number>, sentinels: ArrayLike<number>): Change;
+
+  /**
+   * Accumulated irradiance E(n) = ∫ L(x)·max(0, n·x) dx about `normal` with its variance (the
+   * aliasing noise left after pooling; the same for every normal), RGB each.
+   * @throws {ProbeError} `InvalidDirection` for a zero or non-finite normal, `LengthMismatch`
+   *   unless it has 3 components.
+   */
+  irradiance(normal: Direction): Estimate;
+
+  /**
+   * The accumulated spherical-harmonic coefficients of degree ≤ 2 of the radiance (for a
+   * footprint probe, of the unfiltered radiance): 27 floats in the order of
+   * `Probe.radianceSh()`.
+   */
+  radianceSh(): Float32Array;
+
+  /** The variance of each of `radianceSh()`'s 27 numbers. */
   radianceShVariance(): Float32Array;
 
   /** Frees the probe; later calls throw `ProbeError` `InvalidHandle`. Idempotent. */

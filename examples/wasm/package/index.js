@@ -1,7 +1,7 @@
 // sphere-quadrature: RGB Bayesian Monte Carlo lighting probes in WebAssembly (see README.md
 // and index.d.ts). One small module per baked probe size N, wasm/probe-N.wasm, without
-// imports; this file wraps its exports in the `Probe` class and turns its error codes into
-// `ProbeError` exceptions. Runs in browsers and in Node ≥ 18 (ES module).
+// imports; this file wraps its exports in the `Probe` and `TemporalProbe` classes and turns
+// its error codes into `ProbeError` exceptions. Runs in browsers and in Node ≥ 18 (ES module).
 
 /** The baked probe sizes: one module each. */
 export const SIZES = Object.freeze([16, 32, 64, 128, 256]);
@@ -43,6 +43,9 @@ function check(status, what) {
 const EXPORTS = [
   "memory", "probe_size", "io_ptr", "io_len", "probe_new", "probe_free", "probe_directions",
   "probe_update", "probe_irradiance", "probe_glossy", "probe_radiance_sh", "probe_radiance_sh_variance",
+  "temporal_sentinel_count", "temporal_sharpness", "temporal_new", "temporal_free", "temporal_directions",
+  "temporal_sentinels", "temporal_update", "temporal_irradiance", "temporal_radiance_sh",
+  "temporal_radiance_sh_variance", "temporal_state",
 ];
 
 /** Bytes of the module for size `n` from `source` (see `ProbeOptions.wasm`), or the module. */
@@ -86,11 +89,38 @@ async function instantiate(n, source) {
   return exports;
 }
 
+/** The checked exports of the module for size `n`: the shared default one, or `wasm`'s. */
+async function exportsFor(n, wasm, what) {
+  if (!SIZES.includes(n)) throw new ProbeError("InvalidSize", `${what}: no baked probe of size ${n} (sizes ${SIZES.join(", ")})`);
+  if (wasm !== undefined) return instantiate(n, wasm);
+  if (!instances.has(n)) instances.set(n, instantiate(n));
+  try {
+    return await instances.get(n);
+  } catch (e) {
+    instances.delete(n);
+    throw e;
+  }
+}
+
+/** `seed` if it is an integer in [0, 2³²), else an `InvalidParameter` error. */
+function checkedSeed(seed, what) {
+  if (!Number.isInteger(seed) || seed < 0 || seed > 0xffffffff) {
+    throw new ProbeError("InvalidParameter", `${what}: seed must be an integer in [0, 2^32): ${seed}`);
+  }
+  return seed >>> 0;
+}
+
 /** Frees the module's probe when a `Probe` is collected without `dispose()`. */
 const collected =
   typeof FinalizationRegistry === "undefined"
     ? null
     : new FinalizationRegistry(({ exports, handle }) => exports.probe_free(handle));
+
+/** Frees the module's temporal probe when a `TemporalProbe` is collected without `dispose()`. */
+const collectedTemporal =
+  typeof FinalizationRegistry === "undefined"
+    ? null
+    : new FinalizationRegistry(({ exports, handle }) => exports.temporal_free(handle));
 
 /** `v` (three numbers) as three numbers, or a LengthMismatch error. */
 function vector(v, what) {
@@ -127,21 +157,8 @@ export class Probe {
    */
   static async create({ n = 64, seed = 0, wasm } = {}) {
     if (!SIZES.includes(n)) throw new ProbeError("InvalidSize", `no baked probe of size ${n} (sizes ${SIZES.join(", ")})`);
-    if (!Number.isInteger(seed) || seed < 0 || seed > 0xffffffff) {
-      throw new ProbeError("InvalidParameter", `seed must be an integer in [0, 2^32): ${seed}`);
-    }
-    let exports;
-    if (wasm === undefined) {
-      if (!instances.has(n)) instances.set(n, instantiate(n));
-      try {
-        exports = await instances.get(n);
-      } catch (e) {
-        instances.delete(n);
-        throw e;
-      }
-    } else {
-      exports = await instantiate(n, wasm);
-    }
+    checkedSeed(seed, "Probe.create");
+    const exports = await exportsFor(n, wasm, "Probe.create");
     const handle = exports.probe_new(seed >>> 0);
     if (handle < 0) check(-handle, "Probe.create");
     return new Probe(exports, handle, n, seed);
@@ -249,5 +266,230 @@ export class Probe {
     const h = this.#handle;
     this.#handle = -1;
     check(this.#exports.probe_free(h), "dispose");
+  }
+}
+
+/** The footprints of `TemporalProbe`: the module's code for each. */
+const FOOTPRINTS = { point: 0, gaussian: 1 };
+
+/** What `TemporalProbe.update` did with the old evidence, by the module's code. */
+const CHANGES = { 1: "first", 2: "blended", 3: "reset" };
+
+/**
+ * An RGB temporal probe of N rays per update (`TemporalProbe<N − S, [f32; 3], F, S>` of the
+ * Rust crate): every update takes radiance in N − S directions of a freshly rotated spherical
+ * Fibonacci set and in S fixed sentinel directions, pools the evidence of all updates, and
+ * forgets it by the posterior probability that the light changed. `F` is point samples or
+ * the normalised spherical Gaussian of sharpness N/8 (`footprint: "gaussian"`).
+ */
+export class TemporalProbe {
+  #exports;
+  #handle;
+  #n;
+  #seed;
+  #footprint;
+  #hazard;
+  #sentinels;
+
+  /** Use `TemporalProbe.create`. */
+  constructor(exports, handle, n, seed, footprint, hazard) {
+    if (typeof exports?.temporal_new !== "function") throw new TypeError("use TemporalProbe.create()");
+    this.#exports = exports;
+    this.#handle = handle;
+    this.#n = n;
+    this.#seed = seed;
+    this.#footprint = footprint;
+    this.#hazard = hazard;
+    this.#sentinels = exports.temporal_sentinel_count();
+    collectedTemporal?.register(this, { exports, handle }, this);
+  }
+
+  /**
+   * A temporal probe of `n` rays per update without data: its rotations from `seed`, point
+   * or Gaussian footprint samples, prior probability `hazard` that the light changes at an
+   * update.
+   * @param {{ n?: number, seed?: number, footprint?: "point" | "gaussian", hazard?: number, wasm?: any }} [options]
+   * @returns {Promise<TemporalProbe>}
+   */
+  static async create({ n = 64, seed = 0, footprint = "point", hazard = 1 / 64, wasm } = {}) {
+    const what = "TemporalProbe.create";
+    if (!SIZES.includes(n)) throw new ProbeError("InvalidSize", `${what}: no baked probe of size ${n} (sizes ${SIZES.join(", ")})`);
+    checkedSeed(seed, what);
+    if (!Object.hasOwn(FOOTPRINTS, footprint)) {
+      throw new ProbeError("InvalidParameter", `${what}: footprint must be "point" or "gaussian": ${footprint}`);
+    }
+    if (typeof hazard !== "number" || !(hazard > 0 && hazard < 1)) {
+      throw new ProbeError("InvalidParameter", `${what}: hazard must be a number in (0, 1): ${hazard}`);
+    }
+    const exports = await exportsFor(n, wasm, what);
+    const handle = exports.temporal_new(seed >>> 0, FOOTPRINTS[footprint], hazard);
+    if (handle < 0) check(-handle, what);
+    return new TemporalProbe(exports, handle, n, seed, footprint, hazard);
+  }
+
+  /** The rays per update N: `N − S` rotated samples and `S` sentinel readings. */
+  get n() {
+    return this.#n;
+  }
+
+  /** The rotation seed. */
+  get seed() {
+    return this.#seed;
+  }
+
+  /** The samples' footprint: `"point"` or `"gaussian"`. */
+  get footprint() {
+    return this.#footprint;
+  }
+
+  /** The sharpness N/8 of the Gaussian footprint (0 for point samples). */
+  get sharpness() {
+    return this.#footprint === "gaussian" ? this.#exports.temporal_sharpness() : 0;
+  }
+
+  /** The prior probability of a change per update. */
+  get hazard() {
+    return this.#hazard;
+  }
+
+  /** The number of sentinels S. */
+  get sentinelCount() {
+    return this.#sentinels;
+  }
+
+  /** The number of rotated samples per update, N − S. */
+  get sampleCount() {
+    return this.#n - this.#sentinels;
+  }
+
+  #io(length) {
+    const x = this.#exports;
+    return new Float32Array(x.memory.buffer, x.io_ptr(), length);
+  }
+
+  #live(what) {
+    if (this.#handle < 0) throw new ProbeError("InvalidHandle", `${what}: the probe was disposed`);
+    return this.#handle;
+  }
+
+  /**
+   * The N − S unit directions of this update's samples, x, y, z each: a new rotation after
+   * every successful update.
+   * @returns {Float32Array}
+   */
+  directions() {
+    check(this.#exports.temporal_directions(this.#live("directions")), "directions");
+    return this.#io(3 * this.sampleCount).slice();
+  }
+
+  /**
+   * The S fixed sentinel directions, x, y, z each (never rotated).
+   * @returns {Float32Array}
+   */
+  sentinels() {
+    check(this.#exports.temporal_sentinels(this.#live("sentinels")), "sentinels");
+    return this.#io(3 * this.#sentinels).slice();
+  }
+
+  /**
+   * Takes this update's RGB samples in `directions()` (3(N − S) numbers) and RGB sentinel
+   * readings in `sentinels()` (3S numbers), weighs the evidence of a change and pools the
+   * samples. Returns what it did with the old evidence: `"first"`, `"blended"` or `"reset"`.
+   * On error the probe keeps its state and its directions.
+   * @param {ArrayLike<number>} samples
+   * @param {ArrayLike<number>} sentinels
+   * @returns {"first" | "blended" | "reset"}
+   */
+  update(samples, sentinels) {
+    const h = this.#live("update");
+    const m = this.sampleCount, s = this.#sentinels;
+    if (samples == null || samples.length !== 3 * m) {
+      throw new ProbeError("LengthMismatch", `update: expected ${3 * m} sample floats (r, g, b for each of ${m} directions), got ${samples?.length}`);
+    }
+    if (sentinels == null || sentinels.length !== 3 * s) {
+      throw new ProbeError("LengthMismatch", `update: expected ${3 * s} sentinel floats (r, g, b for each of ${s} sentinels), got ${sentinels?.length}`);
+    }
+    const io = this.#io(3 * this.#n);
+    io.set(samples);
+    io.set(sentinels, 3 * m);
+    check(this.#exports.temporal_update(h), "update");
+    return CHANGES[new Uint32Array(this.#exports.memory.buffer, this.#exports.io_ptr(), 1)[0]];
+  }
+
+  /**
+   * Accumulated irradiance about `normal` (need not be unit) and its variance, RGB each (the
+   * variance is the same for every normal). Zero before the first update.
+   * @param {ArrayLike<number>} normal
+   */
+  irradiance(normal) {
+    const h = this.#live("irradiance");
+    const [x, y, z] = vector(normal, "irradiance");
+    check(this.#exports.temporal_irradiance(h, x, y, z), "irradiance");
+    const io = this.#io(6);
+    return { value: io.slice(0, 3), variance: io.slice(3, 6) };
+  }
+
+  /**
+   * The 9 accumulated RGB spherical-harmonic coefficients of the radiance (degree ≤ 2, as
+   * `Probe.radianceSh`): 27 floats.
+   * @returns {Float32Array}
+   */
+  radianceSh() {
+    check(this.#exports.temporal_radiance_sh(this.#live("radianceSh")), "radianceSh");
+    return this.#io(27).slice();
+  }
+
+  /**
+   * The variance of each of `radianceSh()`'s 27 numbers.
+   * @returns {Float32Array}
+   */
+  radianceShVariance() {
+    check(this.#exports.temporal_radiance_sh_variance(this.#live("radianceShVariance")), "radianceShVariance");
+    return this.#io(27).slice();
+  }
+
+  #state(what) {
+    check(this.#exports.temporal_state(this.#live(what)), what);
+    const x = this.#exports;
+    return { words: new Uint32Array(x.memory.buffer, x.io_ptr(), 2).slice(), floats: this.#io(6).slice(2, 6) };
+  }
+
+  /** Updates taken since the first (soft resets do not change it). */
+  get updates() {
+    return this.#state("updates").words[0];
+  }
+
+  /** The spherical-harmonic degree L of the state: round(log₂(N − S)) in [2, 8]. */
+  get degree() {
+    return this.#state("degree").words[1];
+  }
+
+  /** The weight of the pooled evidence in updates (less than the count after a reset). */
+  get effectiveUpdates() {
+    return this.#state("effectiveUpdates").floats[0];
+  }
+
+  /** The posterior probability of a change at the last update (0 for the first). */
+  get lastChangeProbability() {
+    return this.#state("lastChangeProbability").floats[1];
+  }
+
+  /**
+   * The log Bayes factors of a change at the last update: from the rotated samples and
+   * from the sentinels (0 for the first).
+   * @returns {{ rotated: number, sentinels: number }}
+   */
+  get lastEvidence() {
+    const f = this.#state("lastEvidence").floats;
+    return { rotated: f[2], sentinels: f[3] };
+  }
+
+  /** Frees the probe in the module; any later call throws `ProbeError` `InvalidHandle`. */
+  dispose() {
+    if (this.#handle < 0) return;
+    collectedTemporal?.unregister(this);
+    const h = this.#handle;
+    this.#handle = -1;
+    check(this.#exports.temporal_free(h), "dispose");
   }
 }

@@ -1,6 +1,9 @@
 // Type check of the package's index.d.ts from a consumer (tsc --noEmit, test/run.sh): the
 // README's usage compiles, misuse does not (each @ts-expect-error must meet an error).
-import { Probe, ProbeError, SIZES, type Estimate, type ProbeErrorCode, type ProbeSize } from "sphere-quadrature";
+import {
+  Probe, ProbeError, SIZES, TemporalProbe, type Change, type ChangeEvidence, type Estimate, type Footprint,
+  type ProbeErrorCode, type ProbeSize,
+} from "sphere-quadrature";
 
 export async function shade(radiance: (x: number, y: number, z: number) => [number, number, number]): Promise<number> {
   const probe: Probe = await Probe.create({ n: 64, seed: 1 });
@@ -24,6 +27,27 @@ export async function shade(radiance: (x: number, y: number, z: number) => [numb
   return e.value[0] + e.variance[0] + g.value[1] + sh[0] + shVar[0] + first + (code === "InvalidDirection" ? 1 : 0);
 }
 
+export async function accumulate(trace: (dirs: Float32Array) => Float32Array): Promise<number> {
+  const probe: TemporalProbe = await TemporalProbe.create({ n: 64, seed: 1, footprint: "gaussian", hazard: 0.01 });
+  const sentinels: Float32Array = probe.sentinels();
+  let resets = 0;
+  for (let frame = 0; frame < 8; frame++) {
+    const change: Change = probe.update(trace(probe.directions()), trace(sentinels));
+    if (change === "reset") resets++;
+  }
+  const e: Estimate = probe.irradiance([0, 0, 1]);
+  const evidence: ChangeEvidence = probe.lastEvidence;
+  const footprint: Footprint = probe.footprint;
+  const counts: number = probe.sampleCount + probe.sentinelCount + probe.degree + probe.sharpness + probe.hazard;
+  const state: number = probe.updates + probe.effectiveUpdates + probe.lastChangeProbability;
+  const sh: Float32Array = probe.radianceSh();
+  const shVar: Float32Array = probe.radianceShVariance();
+  const n: ProbeSize = probe.n;
+  probe.dispose();
+  return e.value[0] + evidence.rotated + evidence.sentinels + (footprint === "point" ? 1 : 0) + counts + state + sh[0] +
+    shVar[0] + n + resets;
+}
+
 export async function misuse(): Promise<void> {
   // @ts-expect-error: n is a number
   await Probe.create({ n: "64" });
@@ -41,4 +65,16 @@ export async function misuse(): Promise<void> {
   // @ts-expect-error: not a ProbeErrorCode
   const c: ProbeErrorCode = "NotACode";
   void c;
+  // @ts-expect-error: no such footprint
+  await TemporalProbe.create({ footprint: "cone" });
+  // @ts-expect-error: the constructor is private; use TemporalProbe.create
+  new TemporalProbe();
+  const t = await TemporalProbe.create();
+  // @ts-expect-error: update needs the sentinel readings
+  t.update(new Float32Array(3 * t.sampleCount));
+  // @ts-expect-error: an update's answer is a Change, not a boolean
+  const reset: boolean = t.update(new Float32Array(186), new Float32Array(6));
+  void reset;
+  // @ts-expect-error: effectiveUpdates is read-only
+  t.effectiveUpdates = 4;
 }
