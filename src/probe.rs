@@ -618,7 +618,7 @@ where
     /// `examples/cortex-m4`, whose output CI checks these lines against):
     /// - `m4:probe_update N=16`: 2 714 instructions (four-member selection)
     /// - `m4:probe_update N=32`: 33 964 instructions (four-member selection)
-    /// - `m4:probe_update N=64`: 88 800 instructions (four-member selection)
+    /// - `m4:probe_update N=64`: 88 790 instructions (four-member selection)
     /// - `m4:probe_update N=256`: 790 440 instructions (four-member selection)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
@@ -642,7 +642,7 @@ where
     /// `examples/cortex-m4`, whose output CI checks these lines against):
     /// - `m4:probe_update_one_member N=16`: 1 274 instructions (one member)
     /// - `m4:probe_update_one_member N=32`: 11 872 instructions (one member)
-    /// - `m4:probe_update_one_member N=64`: 31 060 instructions (one member)
+    /// - `m4:probe_update_one_member N=64`: 31 070 instructions (one member)
     /// - `m4:probe_update_one_member N=256`: 274 880 instructions (one member)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
@@ -782,10 +782,10 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
     /// - `m4:probe_irradiance N=16`: 828 instructions
-    /// - `m4:probe_irradiance N=32`: 1 550 instructions
+    /// - `m4:probe_irradiance N=32`: 1 551 instructions
     /// - `m4:probe_irradiance N=64`: 2 916 instructions
-    /// - `m4:probe_irradiance N=256`: 11 639 instructions
-    /// - `m4:gaussian8_probe_irradiance N=64`: 2 932 instructions (`Gaussian<8>` footprint)
+    /// - `m4:probe_irradiance N=256`: 11 640 instructions
+    /// - `m4:gaussian8_probe_irradiance N=64`: 2 933 instructions (`Gaussian<8>` footprint)
     /// - `m4:photodiode_probe_irradiance N=16`: 827 instructions (`CosinePower<1>`)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
@@ -952,10 +952,10 @@ where
     /// `examples/cortex-m4`, whose output CI checks these lines against):
     /// - `m4:probe_glossy N=16`: 2 666 instructions (SG lobe of Phong e = 20)
     /// - `m4:probe_glossy N=32`: 4 898 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=64`: 9 266 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=64`: 9 267 instructions (SG lobe of Phong e = 20)
     /// - `m4:probe_glossy N=256`: 38 175 instructions (SG lobe of Phong e = 20)
-    /// - `m4:gaussian8_probe_glossy N=64`: 9 386 instructions (`Gaussian<8>`)
-    /// - `m4:photodiode_probe_glossy N=16`: 11 533 instructions (photodiodes)
+    /// - `m4:gaussian8_probe_glossy N=64`: 9 389 instructions (`Gaussian<8>`)
+    /// - `m4:photodiode_probe_glossy N=16`: 11 544 instructions (photodiodes)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
     /// these lines against):
@@ -1112,10 +1112,10 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_phong N=16`: 9 417 instructions (e = 20)
-    /// - `m4:probe_phong N=32`: 13 399 instructions (e = 20)
-    /// - `m4:probe_phong N=64`: 21 307 instructions (e = 20)
-    /// - `m4:probe_phong N=256`: 66 521 instructions (e = 20)
+    /// - `m4:probe_phong N=16`: 9 438 instructions (e = 20)
+    /// - `m4:probe_phong N=32`: 13 435 instructions (e = 20)
+    /// - `m4:probe_phong N=64`: 21 308 instructions (e = 20)
+    /// - `m4:probe_phong N=256`: 66 520 instructions (e = 20)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
     /// these lines against):
@@ -1173,7 +1173,7 @@ where
     /// `examples/cortex-m4`, whose output CI checks these lines against):
     /// - `m4:probe_phong_variance N=16`: 422 712 instructions (e = 20)
     /// - `m4:probe_phong_variance N=32`: 778 064 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=64`: 1 568 660 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=64`: 1 568 680 instructions (e = 20)
     /// - `m4:probe_phong_variance N=256`: 8 657 080 instructions (e = 20)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
@@ -1802,8 +1802,8 @@ fn legendre_sum_f32(h: &[f32], rec: &[(f32, f32)], t: f32) -> f32 {
 /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
 /// `examples/cortex-m4`, whose output CI checks these lines against):
 /// - `m4:cosine_weighted_average N=16`: 515 instructions
-/// - `m4:cosine_weighted_average N=32`: 896 instructions
-/// - `m4:cosine_weighted_average N=64`: 1 652 instructions
+/// - `m4:cosine_weighted_average N=32`: 895 instructions
+/// - `m4:cosine_weighted_average N=64`: 1 653 instructions
 /// - `m4:cosine_weighted_average N=256`: 6 190 instructions
 ///
 /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks

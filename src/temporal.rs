@@ -61,9 +61,12 @@
 //!   `(1 − π)·w`, with `π` at most the hazard.
 //! - **A flickering sentinel** (a source that changes while the rotated samples show no
 //!   change) learns its own repeat noise: when a sentinel's evidence alone would reset the
-//!   state but the innovation says the light is the same, the sentinel's noise variance
-//!   becomes at least its latest squared change. A flicker of one amplitude costs at most one
-//!   reset; after that the sentinel reports only larger changes.
+//!   state but the innovation says the light is the same, the sentinel becomes suspect; if it
+//!   returns to its reading from before that change within 32 updates, again unseen by the
+//!   innovation, its noise variance becomes at least its latest squared change and that
+//!   update is not a reset. A flicker of one amplitude costs at most one reset; after that
+//!   the sentinel reports only larger changes. A change that stays (one only the sentinels
+//!   see) is never learned as flicker, so the changes after it stay visible.
 //! - **The price**: sentinels are rays that add nothing to the estimate. Measured
 //!   (`eval/src/bin/temporal.rs`, `docs/temporal.md`), 1–4 sentinels of 16–256 rays detect
 //!   most changes of the light within an update, where the innovation alone misses most
@@ -116,6 +119,9 @@ pub const MAX_DEGREE: usize = 8;
 
 /// The degrees of freedom of the Student t of the change test's innovation.
 const TAIL: f32 = 3.0;
+/// Updates within which a sentinel's return to its reading from before a change the rotated
+/// samples did not see counts as flicker.
+const FLICKER_WINDOW: u16 = 32;
 
 /// Coefficients of degrees `0..=MAX_DEGREE`.
 const COEFFICIENTS: usize = (MAX_DEGREE + 1) * (MAX_DEGREE + 1);
@@ -318,6 +324,10 @@ pub struct TemporalProbe<
     sentinel_mean: [T; S],
     /// The sentinels' repeat noise variance (learned from flicker).
     sentinel_noise: [T; S],
+    /// Each sentinel's mean before its last change the innovation did not see.
+    sentinel_before: [T; S],
+    /// Updates left in which a return to `sentinel_before` counts as flicker.
+    sentinel_suspect: [u16; S],
     /// The queries' coefficients `A_l·s_l·p̄_lm/g_l` (0 for the degrees without `A_l`).
     irradiance_coefficients: [T; COEFFICIENTS],
     /// The variance of an irradiance query.
@@ -366,6 +376,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             noise_prior_test: T::ZERO,
             sentinel_mean: [T::ZERO; S],
             sentinel_noise: [T::ZERO; S],
+            sentinel_before: [T::ZERO; S],
+            sentinel_suspect: [0; S],
             irradiance_coefficients: [T::ZERO; COEFFICIENTS],
             irradiance_variance: T::ZERO,
             sh: ShL2::ZERO,
@@ -441,10 +453,10 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against), one channel, a budget
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
-    /// - `m4:temporal_update_S1 N=16`: 24 116 instructions (15 rotated, 1 sentinel)
-    /// - `m4:temporal_update_S2 N=64`: 102 800 instructions (62 rotated, 2 sentinels)
+    /// - `m4:temporal_update_S1 N=16`: 24 128 instructions (15 rotated, 1 sentinel)
+    /// - `m4:temporal_update_S2 N=64`: 102 840 instructions (62 rotated, 2 sentinels)
     /// - `m4:temporal_update_S0 N=64`: 105 090 instructions (64 rotated)
-    /// - `m4:temporal_update_S4 N=256`: 571 320 instructions (252 rotated, 4 sentinels)
+    /// - `m4:temporal_update_S4 N=256`: 570 960 instructions (252 rotated, 4 sentinels)
     ///
     /// # Examples
     /// ```
@@ -537,32 +549,54 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             // times the state's relative irradiance error.
             let second_moment = sum_squares(samples).scale(1.0 / N as f32);
             let mean_irradiance = self.sum[0].scale(PI / (w * math::sqrt(4.0 * PI)));
-            for (j, (&y, (&mean, &noise))) in sentinels
-                .iter()
-                .zip(self.sentinel_mean.iter().zip(&self.sentinel_noise))
-                .enumerate()
-            {
-                let r = y.add(mean.scale(-1.0));
-                let mut bf = 0.0f32;
-                for ch in 0..T::CHANNELS {
-                    let (m, e) = (mean.channel(ch), mean_irradiance.channel(ch));
-                    let error = self.irradiance_variance.channel(ch);
-                    let tolerance =
-                        if e != 0.0 { error / (e * e) * m * m } else { error / (PI * PI) };
-                    // Rounding is not a change.
-                    let tiny = 1e-5 * m.abs();
-                    let s0 = noise.channel(ch) * (1.0 + 1.0 / w) + tolerance + tiny * tiny;
-                    let psi = 2.0 * (second_moment.channel(ch) + m * m);
-                    bf += gaussian_log_bf(r.channel(ch) * r.channel(ch), 1.0, s0, psi).max(0.0);
-                }
-                sentinel_bf[j] = bf;
-                log_bf_sentinel += bf;
+            for (j, bf) in sentinel_bf.iter_mut().enumerate() {
+                *bf = self.sentinel_evidence(
+                    sentinels[j],
+                    self.sentinel_mean[j],
+                    self.sentinel_noise[j],
+                    second_moment,
+                    mean_irradiance,
+                );
             }
+            // A sentinel that alone would reset while the innovation finds the light
+            // unchanged is suspect. If it comes back to its reading from before that change
+            // within FLICKER_WINDOW updates (again unseen by the innovation), it flickers:
+            // its repeat noise becomes at least its latest squared change, and this update's
+            // evidence is taken again with it. A change that stays is never learned as
+            // flicker, so later changes stay visible.
+            let unchanged = logistic(self.prior_log_odds + log_bf_rotated) < 0.5;
+            for j in 0..S {
+                let (y, mean) = (sentinels[j], self.sentinel_mean[j]);
+                if !unchanged || logistic(self.prior_log_odds + sentinel_bf[j]) < 0.5 {
+                    continue;
+                }
+                let r = y.add(mean.scale(-1.0));
+                let back = y.add(self.sentinel_before[j].scale(-1.0));
+                let total =
+                    |v: T| (0..T::CHANNELS).map(|c| v.channel(c) * v.channel(c)).sum::<f32>();
+                if self.sentinel_suspect[j] > 0 && 4.0 * total(back) < total(r) {
+                    self.sentinel_noise[j] = max_per_channel(self.sentinel_noise[j], r.mul(r));
+                    self.sentinel_suspect[j] = 0;
+                    sentinel_bf[j] = self.sentinel_evidence(
+                        y,
+                        mean,
+                        self.sentinel_noise[j],
+                        second_moment,
+                        mean_irradiance,
+                    );
+                } else {
+                    self.sentinel_before[j] = mean;
+                    self.sentinel_suspect[j] = FLICKER_WINDOW + 1;
+                }
+            }
+            log_bf_sentinel = sentinel_bf.iter().sum();
+        }
+        for count in &mut self.sentinel_suspect {
+            *count = count.saturating_sub(1);
         }
         // With sentinels the innovation alone does not forget: aliasing can fake it, and an
         // outlier that made the old evidence weigh less would weigh more itself. It adds to
         // the evidence of a change the sentinels see.
-        let rotated_alone = log_bf_rotated;
         if S > 0 {
             log_bf_rotated = log_bf_rotated.min(0.0);
         }
@@ -571,21 +605,6 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         } else {
             logistic(self.prior_log_odds + log_bf_rotated + log_bf_sentinel)
         };
-        // A sentinel that alone would reset while the innovation finds the light unchanged
-        // is flickering: its repeat noise becomes at least its latest squared change.
-        if !first && logistic(self.prior_log_odds + rotated_alone) < 0.5 {
-            for ((noise, (&y, &mean)), &bf) in self
-                .sentinel_noise
-                .iter_mut()
-                .zip(sentinels.iter().zip(&self.sentinel_mean))
-                .zip(&sentinel_bf)
-            {
-                if logistic(self.prior_log_odds + bf) >= 0.5 {
-                    let r = y.add(mean.scale(-1.0));
-                    *noise = max_per_channel(*noise, r.mul(r));
-                }
-            }
-        }
         // Forget the old evidence by the probability of a change, then pool the new update.
         // Evidence a sentinel confirms (or, without sentinels, the innovation's): the mixture
         // of "changed" (the new update alone) and "unchanged" (pooled with the old evidence)
@@ -631,6 +650,32 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         } else {
             Change::Blended
         })
+    }
+
+    /// The log Bayes factor (positive part) of a change at one sentinel reading `y` against
+    /// its mean and repeat noise.
+    fn sentinel_evidence(
+        &self,
+        y: T,
+        mean: T,
+        noise: T,
+        second_moment: T,
+        mean_irradiance: T,
+    ) -> f32 {
+        let w = self.weight;
+        let r = y.add(mean.scale(-1.0));
+        let mut bf = 0.0f32;
+        for ch in 0..T::CHANNELS {
+            let (m, e) = (mean.channel(ch), mean_irradiance.channel(ch));
+            let error = self.irradiance_variance.channel(ch);
+            let tolerance = if e != 0.0 { error / (e * e) * m * m } else { error / (PI * PI) };
+            // Rounding is not a change.
+            let tiny = 1e-5 * m.abs();
+            let s0 = noise.channel(ch) * (1.0 + 1.0 / w) + tolerance + tiny * tiny;
+            let psi = 2.0 * (second_moment.channel(ch) + m * m);
+            bf += gaussian_log_bf(r.channel(ch) * r.channel(ch), 1.0, s0, psi).max(0.0);
+        }
+        bf
     }
 
     /// The projection of this update's samples: `p₀₀ = √(4π)·Ȳ`,
@@ -754,9 +799,9 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// # Cost
     /// Cortex-M4F instructions per call (as [`TemporalProbe::update`]'s), one channel: the
     /// harmonics of degree `L` at the normal and a dot product.
-    /// - `m4:temporal_irradiance_S1 N=16`: 907 instructions (`L = 4`)
-    /// - `m4:temporal_irradiance_S2 N=64`: 1 468 instructions (`L = 6`)
-    /// - `m4:temporal_irradiance_S4 N=256`: 2 184 instructions (`L = 8`)
+    /// - `m4:temporal_irradiance_S1 N=16`: 904 instructions (`L = 4`)
+    /// - `m4:temporal_irradiance_S2 N=64`: 1 444 instructions (`L = 6`)
+    /// - `m4:temporal_irradiance_S4 N=256`: 2 132 instructions (`L = 8`)
     pub fn irradiance(&self, normal: Vec3) -> Result<Accumulated<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let mut y = [0.0f32; COEFFICIENTS];

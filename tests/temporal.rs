@@ -353,3 +353,26 @@ fn a_real_switch_does_not_teach_the_sentinels_flicker() {
     assert_eq!(changes[32], Change::Reset, "{changes:?}");
     assert!(p.last_change_probability() > 0.99, "{}", p.last_change_probability());
 }
+
+#[test]
+fn a_persistent_change_only_the_sentinels_see_is_not_flicker() {
+    // The light gains small bright spots at the sentinels: the rotated samples' low degrees
+    // barely see it, the sentinels do, and it stays. A sentinel learns flicker only from a
+    // change that reverts, so a brightening of the whole light 16 updates later is seen.
+    let mut p = TemporalProbe::<60, f32, sphere_quadrature::footprint::Point, 4>::new(13);
+    let spots = *p.sentinels();
+    let spotted = move |d: Vec3| {
+        sky(d) + spots.iter().map(|s| 2.0 * (400.0 * (d.dot(*s) - 1.0)).exp()).sum::<f32>()
+    };
+    let brighter = move |d: Vec3| 1.3 * spotted(d);
+    let mut changes = Vec::new();
+    let lights: [(&dyn Fn(Vec3) -> f32, usize); 3] = [(&sky, 16), (&spotted, 16), (&brighter, 2)];
+    for (light, updates) in lights {
+        for _ in 0..updates {
+            let (s, t) = (p.directions().map(light), p.sentinels().map(light));
+            changes.push(p.update(&s, &t).unwrap());
+        }
+    }
+    assert_eq!(changes[16], Change::Reset, "{changes:?}");
+    assert_eq!(changes[32], Change::Reset, "{changes:?}");
+}
