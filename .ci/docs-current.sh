@@ -32,7 +32,7 @@ check() {
     echo "ok: docs/$file is current (cargo eval $name${*:+ -- $*}: $((SECONDS - start)) s)"
 }
 
-all="precision temporal missing probe_trust accuracy glossy footprint footprint_raw renderer"
+all="precision temporal sensors missing probe_trust accuracy glossy footprint footprint_raw renderer"
 for b in ${*:-$all}; do
     case $b in
         footprint) check footprint footprint.md ;;

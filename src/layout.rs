@@ -53,6 +53,8 @@
 // Matrix code reads clearer with its indices.
 #![allow(clippy::needless_range_loop)]
 
+mod learned;
+
 use crate::error::Error;
 use crate::math;
 use crate::probe::Estimate;
@@ -352,6 +354,27 @@ pub struct Prior {
 }
 
 impl Prior {
+    /// Light in general, for layouts in any orientation: a zero mean and the mean angular
+    /// power spectrum of the luminance (over its mean) of four real environment maps, indoor
+    /// and outdoor, with pixels above 30 times the mean clamped (sun disks); computed in f64
+    /// from the maps and rounded once to f32.
+    pub const ENVIRONMENT: Prior =
+        Prior { spectrum: learned::ENVIRONMENT_SPECTRUM, mean: Mean::Zero };
+    /// As [`Prior::ENVIRONMENT`] for light without sharp features: the same maps convolved
+    /// with a spherical Gaussian of sharpness 10.
+    pub const SMOOTH_ENVIRONMENT: Prior =
+        Prior { spectrum: learned::SMOOTH_SPECTRUM, mean: Mean::Zero };
+    /// Layouts that look up (a dome, a ceiling fixture) with `+z` up: the same maps' mean
+    /// zonal luminance profile about their up axis as the mean (its multiple by generalised
+    /// least squares), and the spectrum of what is left as the covariance.
+    pub const SKY_ABOVE: Prior = Prior {
+        spectrum: learned::ENVIRONMENT_RESIDUAL,
+        mean: Mean::Zonal(learned::ENVIRONMENT_PROFILE),
+    };
+    /// As [`Prior::SKY_ABOVE`] for light without sharp features.
+    pub const SMOOTH_SKY_ABOVE: Prior =
+        Prior { spectrum: learned::SMOOTH_RESIDUAL, mean: Mean::Zonal(learned::SMOOTH_PROFILE) };
+
     /// The squared-exponential kernel `exp(λ(x·x′ − 1))`, `0 < λ ≤ 64`, with a constant
     /// mean: `K_l = 4π·e^{−λ}·i_l(λ)`, computed in f64.
     pub fn squared_exponential(lambda: f32) -> Result<Prior, Error> {
