@@ -59,6 +59,8 @@ use crate::error::Error;
 use crate::math;
 use crate::probe::Estimate;
 use crate::radiance::{from_channels, Radiance};
+use crate::sg::SphericalGaussian;
+use crate::sh::ShL2;
 use crate::vec3::Vec3;
 
 /// The most sensors a layout may have.
@@ -439,6 +441,12 @@ pub struct LayoutProbe<const K: usize, T: Radiance = f32> {
     whitening: [f32; K],
     /// Index of each sensor's response table.
     class: [u8; K],
+    /// The distinct responses' gains.
+    gains: [[f32; DEGREES]; MAX_RESPONSES],
+    /// The prior's spectrum.
+    spectrum: [f32; DEGREES],
+    /// The mean's zonal profile (zero for a zero mean).
+    profile: [f32; 9],
     /// Unit-scale `Cov(Yᵢ, E(n))` against `t = dᵢ·n` per distinct response.
     tables: [[f32; NODES]; MAX_RESPONSES],
     /// The whitened covariance `C̃ = WCW` (unit scale).
@@ -634,6 +642,9 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             directions,
             whitening,
             class,
+            gains: distinct,
+            spectrum,
+            profile: if mean_terms == 1 { profile } else { [0.0; 9] },
             tables,
             covariance,
             vectors,
@@ -914,13 +925,18 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     pub fn irradiance_variance(&self, normal: Vec3) -> Result<T, Error> {
         let n = unit(normal)?;
         let z = self.query_covariances(n);
+        Ok(self.exact_variance(&z, self.mean_query(n), self.prior_variance))
+    }
+
+    /// `s·V̄ − s²·z̃ᵀD⁻¹z̃ + RᵀA⁻¹R` per channel for unit-scale query covariances `z`, the
+    /// query's mean basis value `h` and unit prior variance `prior`.
+    fn exact_variance(&self, z: &[f32; K], h: f32, prior: f32) -> T {
         let zw: [f32; K] = core::array::from_fn(|i| z[i] * self.whitening[i]);
         let zt = project(&self.vectors, &zw);
-        let h = self.mean_query(n);
-        Ok(from_channels(|ch| {
+        from_channels(|ch| {
             let s = self.scale.channel(ch);
             let nu = self.nugget.channel(ch);
-            let mut v = s * self.prior_variance;
+            let mut v = s * prior;
             let (mut hz, mut hh) = (0.0f32, 0.0f32);
             for j in 0..K {
                 let d = s * self.values[j] + nu;
@@ -937,7 +953,139 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 v += r * r / hh;
             }
             v.max(0.0)
-        }))
+        })
+    }
+
+    /// The estimate of `∫ L(x)·f(axis·x) dx` for a zonal lobe `f` of Legendre coefficients
+    /// `q_l = 2π∫ f(t)·P_l(t) dt`, with its exact posterior variance: O(K·DEGREES + K²).
+    fn lobe(&self, axis: Vec3, q: &[f32; DEGREES]) -> Estimate<T> {
+        let weight = |l: usize| (2 * l + 1) as f32 / FOUR_PI;
+        let mut series = [[0.0f32; DEGREES]; MAX_RESPONSES];
+        for (c, g) in series.iter_mut().zip(&self.gains) {
+            for l in 0..DEGREES {
+                c[l] = self.spectrum[l] * g[l] * q[l] * weight(l);
+            }
+        }
+        let z: [f32; K] = core::array::from_fn(|i| {
+            legendre_sum(&series[self.class[i] as usize], self.directions[i].dot(axis))
+        });
+        let mut mean = [0.0f32; DEGREES];
+        for l in 0..9 {
+            mean[l] = self.profile[l] * q[l];
+        }
+        let h = if self.mean_terms == 1 { legendre_sum(&mean, axis.z) } else { 0.0 };
+        let prior = (0..DEGREES).map(|l| self.spectrum[l] * q[l] * q[l] * weight(l)).sum::<f32>();
+        let mut value = self.beta[0].scale(h);
+        for i in 0..K {
+            value = value.mul_add(self.alpha[i], z[i]);
+        }
+        let variance = self.exact_variance(&z, h, prior);
+        Estimate { value, variance, unit_variance: 1.0 }
+    }
+
+    /// The normalised Phong average `∫ L(x)·(e + 1)/(2π)·max(0, axis·x)ᵉ dx` (the glossy term
+    /// about a mirror direction), with its exact posterior variance, O(K·DEGREES + K²).
+    /// [`Error::InvalidDirection`] for a zero or non-finite axis, [`Error::InvalidExponent`]
+    /// for an exponent that is negative, not finite or above 4096.
+    ///
+    /// ```
+    /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
+    /// use sphere_quadrature::Vec3;
+    ///
+    /// let faces = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    /// let prior = Prior::squared_exponential(2.0)?;
+    /// let mut probe = LayoutProbe::<6>::new(&faces.map(Sensor::cosine), prior, Noise::NONE)?;
+    /// probe.update(&[1.0; 6])?;
+    /// // A constant radiance: every normalised lobe averages to it, with no variance.
+    /// let e = probe.phong(Vec3::new(0.2, 0.3, 0.9), 20.0)?;
+    /// assert!((e.value - 1.0).abs() < 1e-4 && e.variance < 1e-6);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
+    pub fn phong(&self, axis: Vec3, exponent: f32) -> Result<Estimate<T>, Error> {
+        let r = unit(axis)?;
+        let q = Response::CosinePower(exponent).gains().map_err(|_| Error::InvalidExponent)?;
+        Ok(self.lobe(r, &q))
+    }
+
+    /// `∫ L(x)·G(x) dx` for a spherical-Gaussian lobe `G` (sharpness at most 4096), with its
+    /// exact posterior variance, O(K·DEGREES + K²). [`Error::InvalidSharpness`] for a
+    /// sharpness above 4096 (or not finite, or negative), [`Error::InvalidParameter`] for a
+    /// non-finite amplitude, [`Error::InvalidDirection`] for a bad axis.
+    ///
+    /// ```
+    /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
+    /// use sphere_quadrature::sg::SphericalGaussian;
+    /// use sphere_quadrature::Vec3;
+    ///
+    /// let faces = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    /// let prior = Prior::squared_exponential(2.0)?;
+    /// let mut probe = LayoutProbe::<6>::new(&faces.map(Sensor::cosine), prior, Noise::NONE)?;
+    /// probe.update(&[2.0; 6])?;
+    /// let lobe = SphericalGaussian::new(Vec3::Z, 10.0, 1.0)?;
+    /// let e = probe.glossy(&lobe)?;
+    /// assert!((e.value - 2.0 * lobe.integral()).abs() < 1e-4 * e.value);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
+    pub fn glossy(&self, lobe: &SphericalGaussian) -> Result<Estimate<T>, Error> {
+        let r = unit(lobe.axis)?;
+        let mu = lobe.sharpness;
+        if !(mu.is_finite() && (0.0..=4096.0).contains(&mu)) {
+            return Err(Error::InvalidSharpness);
+        }
+        if !lobe.amplitude.is_finite() {
+            return Err(Error::InvalidParameter);
+        }
+        let mut q = [0.0f32; DEGREES];
+        q[0] = 1.0;
+        if mu > 0.0 {
+            q = Response::Gaussian(mu).gains().map_err(|_| Error::InvalidSharpness)?;
+        }
+        let total = lobe.integral();
+        Ok(self.lobe(r, &q.map(|v| v * total)))
+    }
+
+    /// The posterior mean of the radiance's spherical-harmonic coefficients of degree ≤ 2
+    /// (the 9 that renderers take; [`crate::sh`] evaluates, rotates and converts them):
+    /// `c_lm = β·a_l·√(4π/(2l + 1))·δ_m0 + Σᵢ αᵢ·K_l gᵢ_l·Y_lm(dᵢ)`, O(9K).
+    ///
+    /// ```
+    /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
+    /// use sphere_quadrature::Vec3;
+    ///
+    /// let faces = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    /// let prior = Prior::squared_exponential(2.0)?;
+    /// let mut probe = LayoutProbe::<6>::new(&faces.map(Sensor::cosine), prior, Noise::NONE)?;
+    /// probe.update(&[1.0; 6])?;
+    /// // A constant radiance of 1 has c₀₀ = √(4π), and nothing else.
+    /// let sh = probe.radiance_sh();
+    /// assert!((sh.coefficients[0] - (4.0 * core::f32::consts::PI).sqrt()).abs() < 1e-4);
+    /// assert!(sh.coefficients[1..].iter().all(|c| c.abs() < 1e-4));
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
+    #[must_use]
+    pub fn radiance_sh(&self) -> ShL2<T> {
+        let mut coefficients = [T::ZERO; 9];
+        if self.mean_terms == 1 {
+            for l in 0..3 {
+                let c = self.profile[l] * math::sqrt(FOUR_PI / (2 * l + 1) as f32);
+                coefficients[l * l + l] = self.beta[0].scale(c);
+            }
+        }
+        for i in 0..K {
+            let Ok(basis) = ShL2::<f32>::basis(self.directions[i]) else { continue };
+            let g = &self.gains[self.class[i] as usize];
+            for (k, c) in coefficients.iter_mut().enumerate() {
+                let l = if k == 0 {
+                    0
+                } else if k < 4 {
+                    1
+                } else {
+                    2
+                };
+                *c = c.mul_add(self.alpha[i], self.spectrum[l] * g[l] * basis[k]);
+            }
+        }
+        ShL2::new(coefficients)
     }
 
     /// The scale `s = σ_f²` of the covariance chosen at the last update, per channel (0 before
@@ -1145,6 +1293,7 @@ mod tests {
     /// The posterior mean and variance from the textbook formulas in f64: the covariance by
     /// direct Legendre sums, a dense Cholesky factor, GLS for the mean and `s` in closed
     /// form (no noise).
+    #[allow(clippy::too_many_arguments)]
     fn reference(
         dirs: &[[f64; 3]],
         gains: &[f64],
@@ -1153,6 +1302,7 @@ mod tests {
         y: &[f64],
         n: [f64; 3],
         noise: Option<(f64, &[f64])>,
+        lobe: Option<&[f64]>,
     ) -> (f64, f64) {
         let k = dirs.len();
         let legendre = |l: usize, t: f64| {
@@ -1182,6 +1332,7 @@ mod tests {
                     / m as f64
             })
             .collect();
+        let c: Vec<f64> = lobe.map_or(c, <[f64]>::to_vec);
         let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         let w = |l: usize| (2 * l + 1) as f64 / (4.0 * core::f64::consts::PI);
         let sp = |l: usize| f64::from(spectrum[l]);
@@ -1299,6 +1450,7 @@ mod tests {
                 &y64,
                 to64(n.try_normalize().unwrap()),
                 None,
+                None,
             );
             let e = probe.irradiance(n).unwrap();
             let ev = probe.irradiance_variance(n).unwrap();
@@ -1323,6 +1475,7 @@ mod tests {
                 Some(&p64),
                 &y64,
                 to64(n.try_normalize().unwrap()),
+                None,
                 None,
             );
             let e = probe.irradiance(n).unwrap();
@@ -1366,12 +1519,110 @@ mod tests {
                 &y64,
                 to64(n.try_normalize().unwrap()),
                 Some((s, &noise)),
+                None,
             );
             worst = worst.max((f64::from(probe.irradiance(n).unwrap().value) - v).abs() / 2.0);
         }
         // Measured 1.6·10⁻⁴: the f32 factor of a system of condition about 10⁴, whose weights
         // (up to 20 times the answer) cancel.
         assert!(s > 0.0 && worst < 5e-4, "s {s}, worst {worst:e}");
+    }
+
+    /// Phong and SG lobes against the f64 reference with the lobes' Legendre coefficients
+    /// by a midpoint rule.
+    #[test]
+    fn lobes_agree_with_the_f64_reference() {
+        let gains: Vec<f64> =
+            Response::CosinePower(1.0).gains().unwrap().iter().map(|&g| f64::from(g)).collect();
+        let se = Prior::squared_exponential(6.0).unwrap();
+        let mut profile = [0.0f32; 9];
+        profile[0] = 1.0;
+        profile[1] = 0.7;
+        let sensors = dome();
+        let y = [2.0f32, 1.2, 1.5, 0.8, 1.1];
+        let mut probe =
+            LayoutProbe::<5>::new(&sensors, se.with_mean(Mean::Zonal(profile)), Noise::NONE)
+                .unwrap();
+        probe.update(&y).unwrap();
+        let dirs: Vec<[f64; 3]> =
+            sensors.iter().map(|s| to64(s.direction.try_normalize().unwrap())).collect();
+        let y64: Vec<f64> = y.iter().map(|&v| f64::from(v)).collect();
+        let p64: Vec<f64> = profile.iter().map(|&v| f64::from(v)).collect();
+        // q_l = 2π∫ f(t)·P_l(t) dt by a midpoint rule in t.
+        let coefficients = |f: &dyn Fn(f64) -> f64| -> Vec<f64> {
+            let m = 200_000;
+            let mut q = std::vec![0.0f64; DEGREES];
+            for i in 0..m {
+                let t = -1.0 + 2.0 * (i as f64 + 0.5) / m as f64;
+                let (mut p0, mut p1) = (1.0, t);
+                let v = f(t) * 2.0 / m as f64 * 2.0 * core::f64::consts::PI;
+                q[0] += v;
+                q[1] += v * t;
+                for (l, ql) in q.iter_mut().enumerate().skip(2) {
+                    let p2 = ((2 * l - 1) as f64 * t * p1 - (l - 1) as f64 * p0) / l as f64;
+                    *ql += v * p2;
+                    p0 = p1;
+                    p1 = p2;
+                }
+            }
+            q
+        };
+        let e = 12.0f64;
+        let phong =
+            coefficients(&|t: f64| (e + 1.0) / (2.0 * core::f64::consts::PI) * t.max(0.0).powf(e));
+        let (mu, a) = (9.0f64, 1.7f64);
+        let sg = coefficients(&|t: f64| a * (mu * (t - 1.0)).exp());
+        let mut worst = (0.0f64, 0.0f64);
+        for axis in [Vec3::Z, Vec3::new(0.5, 0.2, 0.8), Vec3::new(-0.7, 0.1, 0.3)] {
+            let r = to64(axis.try_normalize().unwrap());
+            let (v, var) =
+                reference(&dirs, &gains, &se.spectrum, Some(&p64), &y64, r, None, Some(&phong));
+            let est = probe.phong(axis, e as f32).unwrap();
+            worst.0 = worst.0.max((f64::from(est.value) - v).abs() / v.abs());
+            worst.1 = worst.1.max((f64::from(est.variance) - var).abs() / var);
+            let lobe = SphericalGaussian::new(axis, mu as f32, a as f32).unwrap();
+            let (v, var) =
+                reference(&dirs, &gains, &se.spectrum, Some(&p64), &y64, r, None, Some(&sg));
+            let est = probe.glossy(&lobe).unwrap();
+            worst.0 = worst.0.max((f64::from(est.value) - v).abs() / v.abs());
+            worst.1 = worst.1.max((f64::from(est.variance) - var).abs() / var);
+        }
+        assert!(worst.0 < 2e-5 && worst.1 < 2e-5, "value {:e}, variance {:e}", worst.0, worst.1);
+        assert_eq!(probe.phong(Vec3::Z, -1.0).err(), Some(Error::InvalidExponent));
+        assert_eq!(probe.phong(Vec3::ZERO, 2.0).err(), Some(Error::InvalidDirection));
+        let sharp = SphericalGaussian { axis: Vec3::Z, sharpness: 5000.0, amplitude: 1.0 };
+        assert_eq!(probe.glossy(&sharp).err(), Some(Error::InvalidSharpness));
+    }
+
+    /// With a spectrum of degrees ≤ 2 only, the SH export holds the whole posterior mean: its
+    /// irradiance is the probe's.
+    #[test]
+    fn radiance_sh_holds_the_posterior_mean() {
+        let mut spectrum = [0.0f32; DEGREES];
+        spectrum[..3].copy_from_slice(&[12.0, 3.0, 1.5]);
+        for mean in [Mean::Zero, Mean::Constant] {
+            let mut probe =
+                LayoutProbe::<6, [f32; 3]>::new(&cube(), Prior { spectrum, mean }, Noise::NONE)
+                    .unwrap();
+            probe
+                .update(&[
+                    [1.3, 1.0, 0.2],
+                    [0.4, 1.1, 0.3],
+                    [0.9, 0.9, 0.4],
+                    [0.7, 1.0, 0.1],
+                    [2.1, 1.4, 0.6],
+                    [0.2, 0.5, 0.2],
+                ])
+                .unwrap();
+            let sh = probe.radiance_sh();
+            for n in [Vec3::Z, Vec3::new(0.3, -0.8, 0.1), Vec3::new(-1.0, 0.2, -0.4)] {
+                let a = probe.irradiance(n).unwrap().value;
+                let b = sh.irradiance(n).unwrap();
+                for c in 0..3 {
+                    assert!((a[c] - b[c]).abs() < 1e-4 * a[c].abs().max(1.0), "{a:?} {b:?}");
+                }
+            }
+        }
     }
 
     /// The O(1) variance is the direction average of the exact one.
