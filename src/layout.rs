@@ -61,6 +61,7 @@ use crate::probe::Estimate;
 use crate::radiance::{from_channels, Radiance};
 use crate::sg::SphericalGaussian;
 use crate::sh::ShL2;
+use crate::temporal::{gaussian_log_bf, log_odds, logistic, Change, DEFAULT_HAZARD};
 use crate::vec3::Vec3;
 
 /// The most sensors a layout may have.
@@ -482,6 +483,14 @@ pub struct LayoutProbe<const K: usize, T: Radiance = f32> {
     /// Direction-averaged posterior variance per channel.
     average_variance: T,
     updated: bool,
+    /// The stream's pooled mean readings.
+    stream_mean: [T; K],
+    /// Their weight (effective updates).
+    stream_weight: f32,
+    /// The log prior odds of a change per stream update.
+    prior_log_odds: f32,
+    /// The posterior probability of a change at the last stream update.
+    last_change: f32,
 }
 
 impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
@@ -663,6 +672,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             nugget: T::ZERO,
             average_variance: T::ZERO,
             updated: false,
+            stream_mean: [T::ZERO; K],
+            stream_weight: 0.0,
+            prior_log_odds: log_odds(DEFAULT_HAZARD),
+            last_change: 0.0,
         })
     }
 
@@ -675,13 +688,115 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// Takes one reading per sensor. [`Error::InvalidRadiance`] for a non-finite reading
     /// (the probe keeps its previous state).
     pub fn update(&mut self, readings: &[T; K]) -> Result<(), Error> {
-        for r in readings {
-            for ch in 0..T::CHANNELS {
-                if !r.channel(ch).is_finite() {
-                    return Err(Error::InvalidRadiance);
-                }
+        check_readings(readings)?;
+        self.stream_mean = *readings;
+        self.stream_weight = 1.0;
+        self.last_change = 0.0;
+        self.fit_all(readings, 1.0);
+        Ok(())
+    }
+
+    /// Pools these readings with the earlier ones of a stream of static light, forgetting
+    /// them by the posterior probability that the light changed (soft, partial resets).
+    ///
+    /// The state is each sensor's weighted mean reading and its weight `w` (the effective
+    /// number of updates). Under unchanged light the new readings differ from the means by
+    /// the noise, variance `nᵢ·(1 + 1/w)`; under a change by that plus `ψᵢ = 2·(mᵢ² + m̄²)`
+    /// (the mean's square and the mean square of all means, per channel). The Bayes factor
+    /// of all sensors and channels and the prior odds of a change `h/(1 − h)` (hazard `h`,
+    /// [`LayoutProbe::with_hazard`], default 1/64) give the probability `π`; the old means
+    /// keep the weight `(1 − π)·w/(1 + π·w)` (the mixture of "changed" and "unchanged"
+    /// collapsed with the same mean). The probe then fits the pooled means with noise
+    /// `nᵢ/w`: on static light the noise's share of the error falls like `1/√w`. Readings
+    /// without noise ([`Noise::NONE`]) repeat exactly on static light, and any change of
+    /// more than 10⁻⁵ of a reading resets.
+    ///
+    /// [`Error::InvalidRadiance`] for a non-finite reading (the state is kept).
+    ///
+    /// ```
+    /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
+    /// use sphere_quadrature::temporal::Change;
+    /// use sphere_quadrature::Vec3;
+    ///
+    /// let faces = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    /// let noise = Noise { absolute: 0.01, relative: 0.0 };
+    /// let mut probe = LayoutProbe::<6>::new(&faces.map(Sensor::cosine), Prior::ENVIRONMENT, noise)?;
+    /// let light = [1.0, 1.2, 0.9, 1.1, 2.0, 0.3];
+    /// assert_eq!(probe.accumulate(&light)?, Change::First);
+    /// assert_eq!(probe.accumulate(&light.map(|v| v + 0.004))?, Change::Blended);
+    /// assert!(probe.pooled_updates() > 1.9);
+    /// // The lamp goes off: every sensor reads half.
+    /// assert_eq!(probe.accumulate(&light.map(|v| 0.5 * v))?, Change::Reset);
+    /// assert!(probe.pooled_updates() < 1.1);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
+    pub fn accumulate(&mut self, readings: &[T; K]) -> Result<Change, Error> {
+        check_readings(readings)?;
+        let w = self.stream_weight;
+        if w <= 0.0 {
+            self.stream_mean = *readings;
+            self.stream_weight = 1.0;
+            self.last_change = 1.0;
+            self.fit_all(readings, 1.0);
+            return Ok(Change::First);
+        }
+        let mut log_bf = 0.0f32;
+        for ch in 0..T::CHANNELS {
+            let square_mean =
+                self.stream_mean.iter().map(|m| m.channel(ch) * m.channel(ch)).sum::<f32>()
+                    / K as f32;
+            for i in 0..K {
+                let m = self.stream_mean[i].channel(ch);
+                let r = readings[i].channel(ch) - m;
+                let scale = self.whitening[i];
+                let noise = self.noise.absolute * self.noise.absolute / (scale * scale)
+                    + self.noise.relative * self.noise.relative * m * m;
+                // Rounding is not a change.
+                let tiny = 1e-5 * m.abs();
+                let s0 = noise * (1.0 + 1.0 / w) + tiny * tiny;
+                let psi = 2.0 * (m * m + square_mean);
+                log_bf += gaussian_log_bf(r * r, 1.0, s0, psi);
             }
         }
+        let probability = logistic(self.prior_log_odds + log_bf);
+        let kept = (1.0 - probability) * w / (1.0 + probability * w);
+        let weight = kept + 1.0;
+        for (mean, &y) in self.stream_mean.iter_mut().zip(readings) {
+            *mean = mean.scale(kept / weight).add(y.scale(1.0 / weight));
+        }
+        self.stream_weight = weight;
+        self.last_change = probability;
+        let pooled = self.stream_mean;
+        self.fit_all(&pooled, weight);
+        Ok(if probability >= 0.5 { Change::Reset } else { Change::Blended })
+    }
+
+    /// The effective number of updates pooled by [`LayoutProbe::accumulate`] (1 after
+    /// [`LayoutProbe::update`], 0 before any).
+    #[must_use]
+    pub const fn pooled_updates(&self) -> f32 {
+        self.stream_weight
+    }
+
+    /// The posterior probability of a change at the last [`LayoutProbe::accumulate`].
+    #[must_use]
+    pub const fn last_change_probability(&self) -> f32 {
+        self.last_change
+    }
+
+    /// The same probe with hazard `h` (the prior probability of a change per update of
+    /// [`LayoutProbe::accumulate`]), `0 < h < 1`; [`Error::InvalidParameter`] otherwise.
+    pub fn with_hazard(mut self, h: f32) -> Result<Self, Error> {
+        if !(h > 0.0 && h < 1.0) {
+            return Err(Error::InvalidParameter);
+        }
+        self.prior_log_odds = log_odds(h);
+        Ok(self)
+    }
+
+    /// Fits every channel of these (pooled) readings, whose noise variance is the layout's
+    /// divided by `pooled`.
+    fn fit_all(&mut self, readings: &[T; K], pooled: f32) {
         let mut alpha = [[0.0f32; K]; MAX_CHANNELS];
         let mut beta = [0.0f32; MAX_CHANNELS];
         let mut scale = [0.0f32; MAX_CHANNELS];
@@ -689,7 +804,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let mut average = [0.0f32; MAX_CHANNELS];
         for ch in 0..T::CHANNELS.min(MAX_CHANNELS) {
             let y: [f32; K] = core::array::from_fn(|i| readings[i].channel(ch));
-            let fit = self.fit(&y);
+            let fit = self.fit(&y, pooled);
             alpha[ch] = fit.alpha;
             beta[ch] = fit.beta;
             scale[ch] = fit.scale;
@@ -703,11 +818,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         self.nugget = from_channels(|ch| nugget[ch.min(MAX_CHANNELS - 1)]);
         self.average_variance = from_channels(|ch| average[ch.min(MAX_CHANNELS - 1)]);
         self.updated = true;
-        Ok(())
     }
 
     /// One channel's fit.
-    fn fit(&self, y: &[f32; K]) -> Fit<K> {
+    fn fit(&self, y: &[f32; K], pooled: f32) -> Fit<K> {
         // Work relative to a power of two near the largest whitened reading.
         let top = (0..K).fold(0.0f32, |m, i| m.max((y[i] * self.whitening[i]).abs()));
         if top == 0.0 {
@@ -725,8 +839,8 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let z = project(&self.vectors, &yw);
         // Whitened noise variances ν_i = σ² + η²·(Y_i/w_i)², and their mean ν̄ for the scale
         // and the variances.
-        let absolute = (self.noise.absolute * inv) * (self.noise.absolute * inv);
-        let eta2 = self.noise.relative * self.noise.relative;
+        let absolute = (self.noise.absolute * inv) * (self.noise.absolute * inv) / pooled;
+        let eta2 = self.noise.relative * self.noise.relative / pooled;
         let nus: [f32; K] = core::array::from_fn(|i| absolute + eta2 * yw[i] * yw[i]);
         let nu = nus.iter().sum::<f32>() / K as f32;
         let p = self.mean_terms;
@@ -1132,6 +1246,17 @@ fn gls_exact<const K: usize>(h: &[f32; K], z: &[f32; K]) -> f32 {
     } else {
         0.0
     }
+}
+
+fn check_readings<T: Radiance, const K: usize>(readings: &[T; K]) -> Result<(), Error> {
+    for r in readings {
+        for ch in 0..T::CHANNELS {
+            if !r.channel(ch).is_finite() {
+                return Err(Error::InvalidRadiance);
+            }
+        }
+    }
+    Ok(())
 }
 
 fn unit(v: Vec3) -> Result<Vec3, Error> {
@@ -1622,6 +1747,79 @@ mod tests {
                     assert!((a[c] - b[c]).abs() < 1e-4 * a[c].abs().max(1.0), "{a:?} {b:?}");
                 }
             }
+        }
+    }
+
+    /// A stream of noisy readings of static light: pooling cuts the noise's error; a change
+    /// resets; a non-finite reading is refused with the state kept.
+    #[test]
+    fn a_stream_pools_static_light_and_resets_on_a_change() {
+        let eta = 0.05f32;
+        let noise = Noise { absolute: 0.0, relative: eta };
+        let mut probe = LayoutProbe::<6>::new(&cube(), Prior::ENVIRONMENT, noise).unwrap();
+        // A linear sky 1 + 0.6·z + 0.3·x: a cosine sensor reads 1 + (2/3)·(0.6·d_z + 0.3·d_x).
+        let light = |d: Vec3| 1.0 + 2.0 / 3.0 * (0.6 * d.z + 0.3 * d.x);
+        let exact = cube().map(|s| light(s.direction));
+        let truth = |n: Vec3| core::f32::consts::PI * (1.0 + 2.0 / 3.0 * (0.6 * n.z + 0.3 * n.x));
+        let normals = [Vec3::Z, Vec3::X, Vec3::new(0.3, -0.5, 0.6), Vec3::new(-0.2, 0.7, -0.5)];
+        let mut state = 12345u32;
+        let mut gaussian = move || {
+            // Sum of 12 uniforms minus 6: close to a standard normal.
+            (0..12)
+                .map(|_| {
+                    state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                    (state >> 8) as f32 / (1u32 << 24) as f32
+                })
+                .sum::<f32>()
+                - 6.0
+        };
+        // The deviation from the estimate of noise-free readings, which pooling approaches.
+        let mut clean = LayoutProbe::<6>::new(&cube(), Prior::ENVIRONMENT, Noise::NONE).unwrap();
+        clean.update(&exact).unwrap();
+        let error = |p: &LayoutProbe<6>| {
+            normals
+                .iter()
+                .map(|&n| {
+                    (p.irradiance(n).unwrap().value - clean.irradiance(n).unwrap().value).abs()
+                })
+                .sum::<f32>()
+        };
+        // The noise-free estimate is close to the truth.
+        for &n in &normals {
+            let e = clean.irradiance(n).unwrap().value;
+            assert!((e - truth(n)).abs() < 0.05 * truth(n).abs().max(1.0), "{e} {}", truth(n));
+        }
+        let (mut first, mut pooled) = (0.0f32, 0.0f32);
+        for trial in 0..16 {
+            let mut p = probe.clone();
+            for k in 0..64 {
+                let y = exact.map(|v| v * (1.0 + eta * gaussian()));
+                let change = p.accumulate(&y).unwrap();
+                if k == 0 {
+                    assert_eq!(change, Change::First);
+                    first += error(&p);
+                } else {
+                    assert_ne!(change, Change::Reset, "trial {trial}, update {k}");
+                }
+            }
+            assert!(p.pooled_updates() > 60.0, "{}", p.pooled_updates());
+            pooled += error(&p);
+        }
+        // Measured 0.15 (1/√64 = 0.125).
+        assert!(pooled < 0.25 * first, "pooled {pooled}, first {first}");
+        // The light dims to a half: a reset.
+        probe.accumulate(&exact).unwrap();
+        probe.accumulate(&exact).unwrap();
+        let before = probe.irradiance(Vec3::Z).unwrap();
+        assert_eq!(
+            probe.accumulate(&[1.0, f32::NAN, 1.0, 1.0, 1.0, 1.0]),
+            Err(Error::InvalidRadiance)
+        );
+        assert_eq!(probe.irradiance(Vec3::Z).unwrap(), before);
+        assert_eq!(probe.accumulate(&exact.map(|v| 0.5 * v)).unwrap(), Change::Reset);
+        assert!(probe.last_change_probability() > 0.99 && probe.pooled_updates() < 1.01);
+        for h in [0.0, 1.0, f32::NAN] {
+            assert!(probe.clone().with_hazard(h).is_err());
         }
     }
 

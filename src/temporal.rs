@@ -853,12 +853,12 @@ fn max_per_channel<T: Radiance>(a: T, b: T) -> T {
 }
 
 /// `ln(h/(1 − h))`.
-fn log_odds(h: f32) -> f32 {
+pub(crate) fn log_odds(h: f32) -> f32 {
     math::ln(h) - math::ln_1p(-h)
 }
 
 /// `1/(1 + e^(−x))`, 0 or 1 at the extremes (and for NaN evidence, 1: treated as a change).
-fn logistic(x: f32) -> f32 {
+pub(crate) fn logistic(x: f32) -> f32 {
     if x.is_nan() || x > 40.0 {
         1.0
     } else if x < -40.0 {
@@ -870,7 +870,7 @@ fn logistic(x: f32) -> f32 {
 
 /// The log Bayes factor of `q` independent zero-mean Gaussian values with sum of squares `ss`:
 /// variance `s0 + psi` (changed) against `s0` (unchanged).
-fn gaussian_log_bf(ss: f32, q: f32, s0: f32, psi: f32) -> f32 {
+pub(crate) fn gaussian_log_bf(ss: f32, q: f32, s0: f32, psi: f32) -> f32 {
     if s0 <= 0.0 {
         // No noise: any change is certain, an exact repeat rules one out.
         return if ss > 0.0 {
