@@ -880,29 +880,68 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             let q = if p == 1 && hh > 0.0 { zz - hz * hz / hh } else { zz };
             (q / (K - p) as f32).max(0.0)
         } else {
-            // Golden-section search over ln s.
+            // The root of the REML score in u = ln s by the Illinois variant of regula falsi:
+            // s·dℓ/ds = −½·s·Σ λ_j/d_j + ½·s·Q′-terms, no logarithms, O(K) per trial.
+            let score = |u: f32| -> f32 {
+                let s = math::exp(u);
+                let (mut tr, mut zz1, mut a, mut b, mut a1, mut b1) =
+                    (0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32);
+                for j in 0..K {
+                    let inv = 1.0 / (s * lam[j] + nu);
+                    let l_inv = lam[j] * inv;
+                    tr += l_inv;
+                    zz1 += z[j] * z[j] * l_inv * inv;
+                    if p == 1 {
+                        a += h[j] * h[j] * inv;
+                        b += h[j] * z[j] * inv;
+                        a1 += h[j] * h[j] * l_inv * inv;
+                        b1 += h[j] * z[j] * l_inv * inv;
+                    }
+                }
+                // dℓ/ds = −½·(Σ λ/d − A′/A·(−1)… ): with A′ = −a1, b′ = −b1,
+                // Q = Σ z²/d − b²/A, Q′ = −zz1 + (2b·b1·A − b²·a1)/A².
+                let mut g = -tr + zz1;
+                if p == 1 && a > 0.0 {
+                    g += a1 / a - (2.0 * b * b1 * a - b * b * a1) / (a * a);
+                }
+                0.5 * s * g
+            };
             let spread = z.iter().map(|v| v * v).sum::<f32>() / lam.iter().sum::<f32>();
             let centre = math::ln(spread.max(nu * 1e-6).max(1e-30));
             let (mut lo, mut hi) = (centre - 14.0, centre + 6.0);
-            const G: f32 = 0.618_034;
-            let (mut a, mut b) = (hi - G * (hi - lo), lo + G * (hi - lo));
-            let (mut fa, mut fb) = (eval(math::exp(a)).0, eval(math::exp(b)).0);
-            for _ in 0..40 {
-                if fa > fb {
-                    hi = b;
-                    b = a;
-                    fb = fa;
-                    a = hi - G * (hi - lo);
-                    fa = eval(math::exp(a)).0;
-                } else {
-                    lo = a;
-                    a = b;
-                    fa = fb;
-                    b = lo + G * (hi - lo);
-                    fb = eval(math::exp(b)).0;
+            let (mut f_lo, mut f_hi) = (score(lo), score(hi));
+            let u = if f_lo <= 0.0 {
+                lo
+            } else if f_hi >= 0.0 {
+                hi
+            } else {
+                let mut side = 0i8;
+                let mut u = 0.5 * (lo + hi);
+                for _ in 0..24 {
+                    u = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+                    let f = score(u);
+                    if f > 0.0 {
+                        lo = u;
+                        f_lo = f;
+                        if side == 1 {
+                            f_hi *= 0.5;
+                        }
+                        side = 1;
+                    } else {
+                        hi = u;
+                        f_hi = f;
+                        if side == -1 {
+                            f_lo *= 0.5;
+                        }
+                        side = -1;
+                    }
+                    if hi - lo < 1e-3 || f == 0.0 {
+                        break;
+                    }
                 }
-            }
-            math::exp(0.5 * (lo + hi))
+                u
+            };
+            math::exp(u)
         };
         let d: [f32; K] = core::array::from_fn(|j| s * lam[j] + nu);
         let (_, beta, hh) = if s > 0.0 || nu > 0.0 {
