@@ -7,9 +7,14 @@
 //! directions, samples and sentinel readings of each update, what it did with the old
 //! evidence, the state (updates, degree, effective updates, change probability, log Bayes
 //! factors), irradiance with variance at fixed normals, and the SH coefficients and variances
-//! at the end of each light. The package's Node test (`examples/wasm/package/test/test.mjs`)
-//! feeds the same samples to the WebAssembly modules through the package and requires every
-//! line to be equal.
+//! at the end of each light; then layout probes (a cube of six sensors of two responses, a
+//! dome of five with the sky-above prior, the cube under the other priors), as
+//! `l_key layout.step index value` lines: the sensors, the readings of each step, what each
+//! accumulation did, the state (sensor count, updated, pooled updates, change probability,
+//! signal variance), irradiance with its averaged and its exact variance at fixed normals,
+//! Phong averages with variances and SH coefficients, and the errors. The package's Node test
+//! (`examples/wasm/package/test/test.mjs`) feeds the same samples and readings to the
+//! WebAssembly modules through the package and requires every line to be equal.
 //!
 //! ```text
 //! cargo eval js_package_reference > reference.txt
@@ -18,6 +23,7 @@
 use clap::Parser;
 use sphere_quadrature::bmc::Size;
 use sphere_quadrature::footprint::{Footprint, Gaussian, Point};
+use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Response, Sensor};
 use sphere_quadrature::probe::{Probe, ProbeSize};
 use sphere_quadrature::sg::SphericalGaussian;
 use sphere_quadrature::temporal::TemporalProbe;
@@ -246,6 +252,233 @@ fn temporal<const N: usize, const R: usize, const S: usize, const G: u32>() {
     }
 }
 
+/// Normals of the layout probes' irradiance queries (not unit).
+const LAYOUT_NORMALS: [[f32; 3]; 5] =
+    [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [-0.5, 0.75, -0.25], [0.125, -1.0, 0.5], [0.0, 0.0, -1.0]];
+/// Axes and exponents of the layout probes' Phong queries.
+const LAYOUT_PHONG: [([f32; 3], f32); 4] = [
+    ([0.0, 0.0, 1.0], 20.0),
+    ([1.0, 0.5, 0.25], 5.0),
+    ([-0.25, -1.0, 0.5], 1.0),
+    ([0.0, 0.0, -1.0], 0.0),
+];
+/// Accumulations of a layout stream: of the first light, then of the second (a switch).
+const LAYOUT_STREAM: [usize; 2] = [6, 4];
+
+/// A deterministic noise in [−1, 1) from its indices.
+fn jitter(a: usize, b: usize, c: usize) -> f32 {
+    let mut x = (a as u32).wrapping_mul(0x9e37_79b9) ^ (b as u32).wrapping_mul(0x85eb_ca6b);
+    x ^= (c as u32).wrapping_mul(0xc2b2_ae35);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x2c1b_3c6d);
+    x ^= x >> 12;
+    (x >> 8) as f32 / (1u32 << 23) as f32 - 1.0
+}
+
+/// The readings of `light` (0 or 1: a switch to a dimmer, bluer light from the side) by
+/// sensors looking along `dirs`, with a noise of `amount` (`step` varies it).
+fn layout_readings<const K: usize>(
+    dirs: &[Vec3; K],
+    light: usize,
+    step: usize,
+    amount: f32,
+) -> [[f32; 3]; K] {
+    core::array::from_fn(|i| {
+        let d = dirs[i];
+        let clean = if light == 0 {
+            [1.5 + 0.75 * d.z + 0.25 * d.x, 1.25 + 0.5 * d.z, 0.75 + 0.5 * d.z - 0.125 * d.y]
+        } else {
+            [0.5 + 0.25 * d.x, 0.5 + 0.125 * d.y, 1.0 + 0.5 * d.x - 0.25 * d.z]
+        };
+        core::array::from_fn(|c| clean[c] + amount * jitter(step, i, c))
+    })
+}
+
+/// A layout probe's lines: its sensors and directions, an update, a stream of accumulations
+/// ([`LAYOUT_STREAM`]; `stream` false: the update only), then its errors. `noise_amount`:
+/// the readings' noise.
+fn layout_case<const K: usize>(
+    name: &str,
+    sensors: &[Sensor; K],
+    prior: Prior,
+    noise: Noise,
+    hazard: f32,
+    noise_amount: f32,
+    stream: bool,
+) {
+    let out = |key: &str, step: usize, vs: &mut dyn Iterator<Item = f32>| {
+        for (i, v) in vs.enumerate() {
+            println!("l_{key} {name}.{step} {i} {:08x}", v.to_bits());
+        }
+    };
+    // The sensors as the package takes them: directions, cosine powers, noise scales.
+    let power = |s: &Sensor| match s.response {
+        Response::CosinePower(p) => p,
+        _ => f32::NAN,
+    };
+    out(
+        "sensor",
+        0,
+        &mut sensors.iter().flat_map(|s| [s.direction.x, s.direction.y, s.direction.z]),
+    );
+    out("sensor", 1, &mut sensors.iter().map(power));
+    out("sensor", 2, &mut sensors.iter().map(|s| s.noise_scale));
+    let probe =
+        LayoutProbe::<K, [f32; 3]>::new(sensors, prior, noise).and_then(|p| p.with_hazard(hazard));
+    let mut probe = match probe {
+        Ok(p) => p,
+        Err(e) => {
+            println!("l_new {name}.0 0 {e:?}");
+            return;
+        }
+    };
+    println!("l_new {name}.0 0 ok");
+    let xyz = |ds: &[Vec3; K]| ds.iter().flat_map(|d| [d.x, d.y, d.z]).collect::<Vec<_>>();
+    out("dir", 0, &mut xyz(probe.directions()).into_iter());
+    let state = |step: usize, p: &LayoutProbe<K, [f32; 3]>| {
+        println!("l_state {name}.{step} 0 {K}");
+        println!("l_state {name}.{step} 1 {}", p.is_updated());
+        let [sr, sg, sb] = p.signal_variance();
+        let floats = [p.pooled_updates(), p.last_change_probability(), sr, sg, sb];
+        out("state", step, &mut floats.into_iter());
+    };
+    let queries = |step: usize, p: &LayoutProbe<K, [f32; 3]>| {
+        for (i, q) in LAYOUT_NORMALS.iter().enumerate() {
+            let n = Vec3::new(q[0], q[1], q[2]);
+            if let Ok(e) = p.irradiance(n) {
+                out(&format!("irr{i}"), step, &mut e.value.into_iter().chain(e.variance));
+            }
+            if let Ok(v) = p.irradiance_variance(n) {
+                out(&format!("irrvar{i}"), step, &mut v.into_iter());
+            }
+        }
+    };
+    let lobes = |step: usize, p: &LayoutProbe<K, [f32; 3]>| {
+        for (i, (a, e)) in LAYOUT_PHONG.iter().enumerate() {
+            if let Ok(est) = p.phong(Vec3::new(a[0], a[1], a[2]), *e) {
+                out(&format!("phong{i}"), step, &mut est.value.into_iter().chain(est.variance));
+            }
+        }
+        out("sh", step, &mut p.radiance_sh().coefficients.into_iter().flatten());
+    };
+    state(0, &probe);
+    queries(0, &probe);
+    out("sh", 0, &mut probe.radiance_sh().coefficients.into_iter().flatten());
+    // An update, then (`stream`) accumulations: of the first light, then of the second.
+    let dirs = *probe.directions();
+    let readings = layout_readings(&dirs, 0, 0, noise_amount);
+    out("reading", 1, &mut readings.iter().flatten().copied());
+    println!("l_update {name}.1 0 {:?}", probe.update(&readings).err());
+    state(1, &probe);
+    queries(1, &probe);
+    lobes(1, &probe);
+    let mut step = 1;
+    if stream {
+        for (light, &count) in LAYOUT_STREAM.iter().enumerate() {
+            for k in 0..count {
+                step += 1;
+                let readings = layout_readings(&dirs, light, step, noise_amount);
+                out("reading", step, &mut readings.iter().flatten().copied());
+                let change = match probe.accumulate(&readings) {
+                    Ok(c) => format!("{c:?}").to_lowercase(),
+                    Err(e) => format!("{e:?}"),
+                };
+                println!("l_change {name}.{step} 0 {change}");
+                state(step, &probe);
+                queries(step, &probe);
+                if k + 1 == count {
+                    lobes(step, &probe);
+                }
+            }
+        }
+    }
+    // Errors: a refused update or accumulation keeps the state.
+    let mut bad = layout_readings(&dirs, 0, step + 1, noise_amount);
+    bad[K / 2][1] = f32::NAN;
+    println!("l_err {name}.{step} 0 {:?}", probe.update(&bad).err());
+    bad[K / 2][1] = f32::INFINITY;
+    println!("l_err {name}.{step} 1 {:?}", probe.accumulate(&bad).err());
+    state(step + 1, &probe);
+    queries(step + 1, &probe);
+    println!("l_err {name}.{step} 2 {:?}", probe.irradiance(Vec3::ZERO).err());
+    println!(
+        "l_err {name}.{step} 3 {:?}",
+        probe.irradiance_variance(Vec3::new(f32::NAN, 0.0, 1.0)).err()
+    );
+    println!("l_err {name}.{step} 4 {:?}", probe.phong(Vec3::Z, -1.0).err());
+    println!("l_err {name}.{step} 5 {:?}", probe.phong(Vec3::ZERO, 2.0).err());
+}
+
+/// The layout probes of the package's layout module: a cube of six sensors (two responses,
+/// one noisier sensor) under the learned environment prior, a dome of five (the zenith and
+/// four at 45° elevation) under the sky-above prior, streams of both, the cube under the
+/// other priors, and refused layouts.
+fn layouts() {
+    let faces = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    let powers = [1.0, 1.0, 1.0, 1.0, 2.0, 2.0];
+    let scales = [1.0, 1.0, 1.0, 1.0, 1.0, 1.5];
+    let cube: [Sensor; 6] = core::array::from_fn(|i| {
+        Sensor::new(faces[i], Response::CosinePower(powers[i])).with_noise_scale(scales[i])
+    });
+    // Dyadic noise levels and hazards: the same f32 from a JavaScript number.
+    let cube_noise = Noise { absolute: 1.0 / 64.0, relative: 1.0 / 32.0 };
+    layout_case("cube6", &cube, Prior::ENVIRONMENT, cube_noise, 1.0 / 64.0, 0.01, true);
+    let dome_dirs = [
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::new(1.0, 0.0, 1.0),
+        Vec3::new(-1.0, 0.0, 1.0),
+        Vec3::new(0.0, 1.0, 1.0),
+        Vec3::new(0.0, -1.0, 1.0),
+    ];
+    let dome = dome_dirs.map(Sensor::cosine);
+    let dome_noise = Noise { absolute: 3.0 / 128.0, relative: 0.0 };
+    layout_case("dome5", &dome, Prior::SKY_ABOVE, dome_noise, 1.0 / 32.0, 0.02, true);
+    // The other priors: one update each.
+    let priors = [
+        ("smooth-environment", Prior::SMOOTH_ENVIRONMENT),
+        ("smooth-sky-above", Prior::SMOOTH_SKY_ABOVE),
+        ("se4", Prior::squared_exponential(4.0).unwrap_or(Prior::ENVIRONMENT)),
+    ];
+    for (prior_name, prior) in priors {
+        layout_case(
+            &format!("cube6-{prior_name}"),
+            &cube,
+            prior,
+            cube_noise,
+            1.0 / 64.0,
+            0.01,
+            false,
+        );
+    }
+    // Refused layouts: a zero direction, more sensors than a layout may have, five distinct
+    // responses, a bad noise, λ or hazard.
+    let mut zero = cube;
+    zero[2].direction = Vec3::ZERO;
+    let new = |sensors: &[Sensor; 6], prior: Prior, noise: Noise, hazard: f32| {
+        LayoutProbe::<6, [f32; 3]>::new(sensors, prior, noise)
+            .and_then(|p| p.with_hazard(hazard))
+            .err()
+    };
+    println!("l_bad zero 0 {:?}", new(&zero, Prior::ENVIRONMENT, cube_noise, 1.0 / 64.0));
+    let many = [Sensor::cosine(Vec3::Z); 65];
+    println!(
+        "l_bad k65 0 {:?}",
+        LayoutProbe::<65, [f32; 3]>::new(&many, Prior::ENVIRONMENT, cube_noise).err()
+    );
+    let mut five = cube;
+    for (i, s) in five.iter_mut().enumerate() {
+        s.response = Response::CosinePower(1.0 + i as f32);
+    }
+    println!("l_bad responses 0 {:?}", new(&five, Prior::ENVIRONMENT, cube_noise, 1.0 / 64.0));
+    let negative = Noise { absolute: -1.0, relative: 0.0 };
+    println!("l_bad noise 0 {:?}", new(&cube, Prior::ENVIRONMENT, negative, 1.0 / 64.0));
+    println!("l_bad lambda 0 {:?}", Prior::squared_exponential(0.0).err());
+    println!("l_bad hazard 0 {:?}", new(&cube, Prior::ENVIRONMENT, cube_noise, 1.0));
+    let mut scale = cube;
+    scale[0].noise_scale = 0.0;
+    println!("l_bad scale 0 {:?}", new(&scale, Prior::ENVIRONMENT, cube_noise, 1.0 / 64.0));
+}
+
 /// The host reference of the JavaScript package's Node test: every baked size, two rotation
 /// seeds, directions, queries with variances, SH coefficients and error names, one value per
 /// line on stdout (`cargo eval js_package_reference > reference.txt`).
@@ -265,4 +498,5 @@ fn main() {
     temporal::<64, 62, 2, 8>();
     temporal::<128, 125, 3, 16>();
     temporal::<256, 252, 4, 32>();
+    layouts();
 }

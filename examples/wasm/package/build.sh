@@ -1,18 +1,23 @@
 #!/usr/bin/env bash
-# Builds the package's WebAssembly modules, one per baked probe size, into wasm/:
-# wasm/probe-16.wasm … wasm/probe-256.wasm (from the crate in ../package-wasm), and prints
-# their sizes. Needs the Rust target wasm32-unknown-unknown.
+# Builds the package's WebAssembly modules, one per baked probe size and the layout probes'
+# one, into wasm/: wasm/probe-16.wasm … wasm/probe-256.wasm and wasm/layout.wasm (from the
+# crate in ../package-wasm), and prints their sizes. Needs the Rust target
+# wasm32-unknown-unknown.
 #
-#   examples/wasm/package/build.sh [N …]     # default: 16 32 64 128 256
+#   examples/wasm/package/build.sh [N | layout …]     # default: 16 32 64 128 256 layout
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 crate="$here/../package-wasm"
 sizes=("$@")
-[ "${#sizes[@]}" -gt 0 ] || sizes=(16 32 64 128 256)
+[ "${#sizes[@]}" -gt 0 ] || sizes=(16 32 64 128 256 layout)
 mkdir -p "$here/wasm"
 for n in "${sizes[@]}"; do
-    case "$n" in 16 | 32 | 64 | 128 | 256) ;; *) echo "no baked probe of size $n" >&2; exit 1 ;; esac
-    (cd "$crate" && cargo build --release --target wasm32-unknown-unknown --features "n$n")
-    cp "$crate/target/wasm32-unknown-unknown/release/sphere_quadrature_js.wasm" "$here/wasm/probe-$n.wasm"
-    echo "wasm/probe-$n.wasm $(wc -c < "$here/wasm/probe-$n.wasm") bytes"
+    case "$n" in
+        16 | 32 | 64 | 128 | 256) feature="n$n" module="probe-$n.wasm" ;;
+        layout) feature=layout module=layout.wasm ;;
+        *) echo "no baked probe of size $n" >&2; exit 1 ;;
+    esac
+    (cd "$crate" && cargo build --release --target wasm32-unknown-unknown --features "$feature")
+    cp "$crate/target/wasm32-unknown-unknown/release/sphere_quadrature_js.wasm" "$here/wasm/$module"
+    echo "wasm/$module $(wc -c < "$here/wasm/$module") bytes"
 done

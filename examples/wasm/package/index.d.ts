@@ -1,5 +1,5 @@
-// Types of sphere-quadrature (index.js): RGB Bayesian Monte Carlo lighting probes and
-// temporal probes in WebAssembly.
+// Types of sphere-quadrature (index.js): RGB Bayesian Monte Carlo lighting probes, temporal
+// probes and probes over sensor layouts in WebAssembly.
 
 /** The baked probe sizes N; each has its own module, `wasm/probe-N.wasm`. */
 export declare const SIZES: readonly [16, 32, 64, 128, 256];
@@ -42,7 +42,7 @@ export interface Estimate {
   variance: Float32Array;
 }
 
-/** Where the module for the probe's size comes from. */
+/** Where the module for the probe's size (or the layout module) comes from. */
 export type WasmSource = WebAssembly.Module | BufferSource | Response | URL | string;
 
 export interface ProbeOptions {
@@ -285,6 +285,153 @@ export declare class TemporalProbe {
 
   /** The variance of each of `radianceSh()`'s 27 numbers. */
   radianceShVariance(): Float32Array;
+
+  /** Frees the probe; later calls throw `ProbeError` `InvalidHandle`. Idempotent. */
+  dispose(): void;
+}
+
+/** The sensor counts K of `LayoutProbe`s: the module `wasm/layout.wasm` carries these. */
+export declare const LAYOUT_SIZES: readonly [4, 5, 6, 7, 8, 12, 16];
+
+/** A sensor count of `LAYOUT_SIZES`. */
+export type LayoutSize = 4 | 5 | 6 | 7 | 8 | 12 | 16;
+
+/**
+ * The prior of a `LayoutProbe`'s light: a learned one by name, or the squared-exponential
+ * kernel `exp(λ(x·x′ − 1))`, `0 < λ ≤ 64`, with a constant mean.
+ */
+export type LayoutPrior =
+  /** Light in general, for layouts in any orientation (the mean angular power spectrum of real environment maps, zero mean). */
+  | "environment"
+  /** As `"environment"` for light without sharp features. */
+  | "smooth-environment"
+  /** Layouts that look up (a dome, a ceiling fixture) with `+z` up: the mean sky profile as the mean. */
+  | "sky-above"
+  /** As `"sky-above"` for light without sharp features. */
+  | "smooth-sky-above"
+  | { squaredExponential: number };
+
+/** The read noise of a layout: sensor i has variance wᵢ²·absolute² + relative²·Yᵢ². */
+export interface LayoutNoise {
+  /** σ, in the readings' units; default 0. */
+  absolute?: number;
+  /** η, a fraction of the reading; default 0. */
+  relative?: number;
+}
+
+export interface LayoutProbeOptions {
+  /** The sensors' directions, x, y, z each (3K numbers, K in `LAYOUT_SIZES`; need not be unit). */
+  directions: ArrayLike<number>;
+  /**
+   * Each sensor's angular response `(P + 1)/(2π)·max(0, t)ᴾ`, as its power P in [0, 4096]
+   * (K numbers; default 1, a bare photodiode; larger: a lens or a diffuser; 0: a
+   * hemisphere). At most four distinct powers.
+   */
+  powers?: ArrayLike<number>;
+  /** Each sensor's absolute noise relative to `noise.absolute`, positive (K numbers; default 1). */
+  noiseScales?: ArrayLike<number>;
+  /** The read noise; default none (exact readings). */
+  noise?: LayoutNoise;
+  /** The prior of the light; default `"environment"`. */
+  prior?: LayoutPrior;
+  /** Prior probability that the light changes at an `accumulate`, in (0, 1); default 1/64. */
+  hazard?: number;
+  /** The layout module, when it is not at the default `wasm/layout.wasm` beside index.js. */
+  wasm?: WasmSource;
+}
+
+/**
+ * An RGB probe over the K sensors of a user's layout (`LayoutProbe<K, [f32; 3]>` of the Rust
+ * crate): photodiodes on the faces of a cube, a dome of five, a ring on a fixture, each with
+ * its own direction, angular response and noise. `update()` (or `accumulate()` for a stream
+ * of readings) with the readings, then query irradiance for any normal with an error bar,
+ * Phong averages and SH coefficients. Lives in WebAssembly memory: `dispose()` frees it.
+ * Errors throw `ProbeError`.
+ *
+ * ```js
+ * import { LayoutProbe } from "sphere-quadrature";
+ * const cube = [1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1];
+ * const probe = await LayoutProbe.create({ directions: cube, noise: { absolute: 0.01 } });
+ * probe.accumulate(readings); // r, g, b per sensor, 18 numbers
+ * const { value, variance } = probe.irradiance([0, 0, 1]);
+ * ```
+ */
+export declare class LayoutProbe {
+  private constructor();
+
+  /**
+   * A layout probe without data (every query answers 0 until the first update).
+   * @throws {ProbeError} `InvalidSize` for a sensor count not in `LAYOUT_SIZES` (or a layout
+   *   module for other counts), `LengthMismatch` for directions that are not 3K numbers or
+   *   powers or noise scales that are not K, `InvalidDirection` for a zero or non-finite
+   *   direction, `InvalidParameter` for a bad power, noise scale, noise, prior, λ or hazard,
+   *   more than four distinct powers, or a module that is not the layout module.
+   */
+  static create(options: LayoutProbeOptions): Promise<LayoutProbe>;
+
+  /** The number of sensors K. */
+  readonly k: LayoutSize;
+  /** The prior. */
+  readonly prior: LayoutPrior;
+  /** The prior probability of a change per `accumulate`. */
+  readonly hazard: number;
+  /** Whether the probe has had an update or an accumulation. */
+  readonly updated: boolean;
+  /**
+   * The effective number of readings pooled by `accumulate` (1 after `update`, 0 before any):
+   * the updates since the last full reset when nothing was forgotten in between.
+   */
+  readonly pooledUpdates: number;
+  /** The posterior probability of a change at the last `accumulate` (1 at the first, 0 after `update`). */
+  readonly lastChangeProbability: number;
+  /** The scale σ_f² of the prior covariance chosen at the last fit, RGB (0 before the first). */
+  readonly signalVariance: Float32Array;
+
+  /** The sensors' unit directions, x, y, z each (3K floats), in the order `update` expects. */
+  directions(): Float32Array;
+
+  /**
+   * Fits the sensors' RGB readings (3K numbers, r, g, b per sensor; a single channel: repeat
+   * it), forgetting earlier ones.
+   * @throws {ProbeError} `LengthMismatch` unless there are 3K numbers, `InvalidRadiance` for
+   *   a NaN or infinite reading; the probe then keeps its state.
+   */
+  update(readings: ArrayLike<number>): void;
+
+  /**
+   * Pools the sensors' RGB readings (3K numbers) with the earlier ones of a stream of static
+   * light, forgetting them by the posterior probability that the light changed, and fits the
+   * pooled means (on static light the noise's share of the error falls like 1/√updates).
+   * @throws {ProbeError} as `update`; the probe then keeps its state.
+   */
+  accumulate(readings: ArrayLike<number>): Change;
+
+  /**
+   * Irradiance E(n) = ∫ L(x)·max(0, n·x) dx about `normal` with the posterior variance
+   * averaged over all normals (the same for every normal; `irradianceVariance` is the exact
+   * one), RGB each.
+   * @throws {ProbeError} `InvalidDirection` for a zero or non-finite normal, `LengthMismatch`
+   *   unless it has 3 components.
+   */
+  irradiance(normal: Direction): Estimate;
+
+  /** The exact posterior variance of the irradiance about `normal`, RGB. Throws as `irradiance`. */
+  irradianceVariance(normal: Direction): Float32Array;
+
+  /**
+   * The normalised Phong average ∫ L(x)·(e + 1)/(2π)·max(0, axis·x)ᵉ dx about `axis` (the
+   * glossy term about a mirror direction) with its exact posterior variance, RGB each.
+   * @throws {ProbeError} `InvalidDirection` for a bad axis, `InvalidExponent` for an
+   *   exponent that is negative, not finite or above 4096, `LengthMismatch` unless the axis
+   *   has 3 components.
+   */
+  phong(axis: Direction, exponent: number): Estimate;
+
+  /**
+   * The spherical-harmonic coefficients of degree ≤ 2 of the posterior mean radiance: 27
+   * floats in the order of `Probe.radianceSh()`.
+   */
+  radianceSh(): Float32Array;
 
   /** Frees the probe; later calls throw `ProbeError` `InvalidHandle`. Idempotent. */
   dispose(): void;

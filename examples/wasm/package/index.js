@@ -1,7 +1,8 @@
 // sphere-quadrature: RGB Bayesian Monte Carlo lighting probes in WebAssembly (see README.md
-// and index.d.ts). One small module per baked probe size N, wasm/probe-N.wasm, without
-// imports; this file wraps its exports in the `Probe` and `TemporalProbe` classes and turns
-// its error codes into `ProbeError` exceptions. Runs in browsers and in Node ≥ 18 (ES module).
+// and index.d.ts). One small module per baked probe size N, wasm/probe-N.wasm, and one for
+// the layout probes, wasm/layout.wasm, without imports; this file wraps their exports in the
+// `Probe`, `TemporalProbe` and `LayoutProbe` classes and turns their error codes into
+// `ProbeError` exceptions. Runs in browsers and in Node ≥ 18 (ES module).
 
 /** The baked probe sizes: one module each. */
 export const SIZES = Object.freeze([16, 32, 64, 128, 256]);
@@ -48,12 +49,12 @@ const EXPORTS = [
   "temporal_radiance_sh_variance", "temporal_state",
 ];
 
-/** Bytes of the module for size `n` from `source` (see `ProbeOptions.wasm`), or the module. */
-async function moduleOf(n, source) {
+/** The module `wasm/<file>` beside index.js, or `source` (see `ProbeOptions.wasm`), compiled. */
+async function moduleOf(file, source) {
   if (source instanceof WebAssembly.Module) return source;
   if (source instanceof ArrayBuffer || ArrayBuffer.isView(source)) return WebAssembly.compile(source);
   if (typeof Response !== "undefined" && source instanceof Response) return compileResponse(source);
-  const url = source === undefined ? new URL(`./wasm/probe-${n}.wasm`, import.meta.url) : new URL(source, import.meta.url);
+  const url = source === undefined ? new URL(`./wasm/${file}`, import.meta.url) : new URL(source, import.meta.url);
   if (url.protocol === "file:") {
     const { readFile } = await import("node:fs/promises");
     return WebAssembly.compile(await readFile(url));
@@ -75,7 +76,7 @@ const instances = new Map();
 
 /** The exports of a module instance for size `n`, checked. */
 async function instantiate(n, source) {
-  const module = await moduleOf(n, source);
+  const module = await moduleOf(`probe-${n}.wasm`, source);
   if (WebAssembly.Module.imports(module).length !== 0) {
     throw new ProbeError("InvalidParameter", "the probe module must have no imports");
   }
@@ -491,5 +492,292 @@ export class TemporalProbe {
     const h = this.#handle;
     this.#handle = -1;
     check(this.#exports.temporal_free(h), "dispose");
+  }
+}
+
+/** The sensor counts K of `LayoutProbe`s: one instantiation each in wasm/layout.wasm. */
+export const LAYOUT_SIZES = Object.freeze([4, 5, 6, 7, 8, 12, 16]);
+
+/** The exports of the layout module (and all it has, with `memory`). */
+const LAYOUT_EXPORTS = [
+  "memory", "io_ptr", "io_len", "layout_capacities", "layout_new", "layout_free", "layout_directions",
+  "layout_update", "layout_accumulate", "layout_irradiance", "layout_irradiance_variance", "layout_phong",
+  "layout_radiance_sh", "layout_state",
+];
+
+/** The shared instance of the default layout module (a promise). */
+let layoutInstance = null;
+
+/** The exports of a layout module instance, checked. */
+async function instantiateLayout(source) {
+  const module = await moduleOf("layout.wasm", source);
+  if (WebAssembly.Module.imports(module).length !== 0) {
+    throw new ProbeError("InvalidParameter", "the layout module must have no imports");
+  }
+  const { exports } = await WebAssembly.instantiate(module, {});
+  for (const name of LAYOUT_EXPORTS) {
+    if (!(name in exports)) throw new ProbeError("InvalidParameter", `the layout module lacks the export ${name}`);
+  }
+  const count = exports.layout_capacities();
+  const sizes = Array.from(new Uint32Array(exports.memory.buffer, exports.io_ptr(), count));
+  if (sizes.join() !== LAYOUT_SIZES.join()) {
+    throw new ProbeError("InvalidSize", `the layout module is for K = ${sizes.join(", ")}, not ${LAYOUT_SIZES.join(", ")}`);
+  }
+  return exports;
+}
+
+/** The checked exports of the layout module: the shared default one, or `wasm`'s. */
+async function layoutExports(wasm) {
+  if (wasm !== undefined) return instantiateLayout(wasm);
+  layoutInstance ??= instantiateLayout();
+  try {
+    return await layoutInstance;
+  } catch (e) {
+    layoutInstance = null;
+    throw e;
+  }
+}
+
+/** Frees the module's layout probe when a `LayoutProbe` is collected without `dispose()`. */
+const collectedLayout =
+  typeof FinalizationRegistry === "undefined"
+    ? null
+    : new FinalizationRegistry(({ exports, handle }) => exports.layout_free(handle));
+
+/** The learned priors of `LayoutProbe`: the module's code for each. */
+const PRIORS = { "environment": 0, "smooth-environment": 1, "sky-above": 2, "smooth-sky-above": 3 };
+
+/** `values` (K numbers) or K copies of `fallback` when undefined, else a LengthMismatch error. */
+function perSensor(values, k, fallback, what) {
+  if (values === undefined) return new Float32Array(k).fill(fallback);
+  if (values == null || values.length !== k) {
+    throw new ProbeError("LengthMismatch", `${what}: expected ${k} numbers (one per sensor), got ${values?.length}`);
+  }
+  return values;
+}
+
+/**
+ * An RGB probe over the K sensors of a user's layout (`LayoutProbe<K, [f32; 3]>` of the Rust
+ * crate): sensors at arbitrary directions, each with a cosine-power angular response and a
+ * noise scale, a Gaussian-process prior of the light, read noise; `update` (or `accumulate`,
+ * for a stream) with the sensors' readings, then ask for irradiance, its variance, Phong
+ * averages and SH coefficients.
+ */
+export class LayoutProbe {
+  #exports;
+  #handle;
+  #k;
+  #prior;
+  #hazard;
+
+  /** Use `LayoutProbe.create`. */
+  constructor(exports, handle, k, prior, hazard) {
+    if (typeof exports?.layout_new !== "function") throw new TypeError("use LayoutProbe.create()");
+    this.#exports = exports;
+    this.#handle = handle;
+    this.#k = k;
+    this.#prior = prior;
+    this.#hazard = hazard;
+    collectedLayout?.register(this, { exports, handle }, this);
+  }
+
+  /**
+   * A layout probe without data over the sensors `directions` (3K numbers, x, y, z each; K in
+   * `LAYOUT_SIZES`), their cosine powers `powers` (K numbers, default 1: bare photodiodes),
+   * their noise scales `noiseScales` (K numbers, default 1), the read noise
+   * `noise = { absolute, relative }`, a prior (a learned one by name, or
+   * `{ squaredExponential: λ }`) and the hazard of `accumulate`.
+   * @param {{ directions: ArrayLike<number>, powers?: ArrayLike<number>, noiseScales?: ArrayLike<number>,
+   *   noise?: { absolute?: number, relative?: number }, prior?: string | { squaredExponential: number },
+   *   hazard?: number, wasm?: any }} options
+   * @returns {Promise<LayoutProbe>}
+   */
+  static async create({ directions, powers, noiseScales, noise = {}, prior = "environment", hazard = 1 / 64, wasm } = {}) {
+    const what = "LayoutProbe.create";
+    if (directions == null || typeof directions.length !== "number" || directions.length % 3 !== 0) {
+      throw new ProbeError("LengthMismatch", `${what}: directions must be 3K numbers (x, y, z per sensor), got ${directions?.length}`);
+    }
+    const k = directions.length / 3;
+    if (!LAYOUT_SIZES.includes(k)) {
+      throw new ProbeError("InvalidSize", `${what}: no layout probe of ${k} sensors (sensor counts ${LAYOUT_SIZES.join(", ")})`);
+    }
+    const p = perSensor(powers, k, 1, `${what}: powers`);
+    const w = perSensor(noiseScales, k, 1, `${what}: noiseScales`);
+    let code, lambda = 0;
+    if (typeof prior === "string" && Object.hasOwn(PRIORS, prior)) {
+      code = PRIORS[prior];
+    } else if (typeof prior === "object" && prior !== null && typeof prior.squaredExponential === "number") {
+      code = 4;
+      lambda = prior.squaredExponential;
+    } else {
+      throw new ProbeError("InvalidParameter", `${what}: prior must be "environment", "smooth-environment", "sky-above", "smooth-sky-above" or { squaredExponential: λ }: ${JSON.stringify(prior)}`);
+    }
+    const { absolute = 0, relative = 0 } = noise ?? {};
+    for (const [name, v] of [["noise.absolute", absolute], ["noise.relative", relative], ["hazard", hazard]]) {
+      if (typeof v !== "number") throw new ProbeError("InvalidParameter", `${what}: ${name} must be a number: ${v}`);
+    }
+    const exports = await layoutExports(wasm);
+    const io = new Float32Array(exports.memory.buffer, exports.io_ptr(), 5 * k);
+    io.set(directions);
+    io.set(p, 3 * k);
+    io.set(w, 4 * k);
+    const handle = exports.layout_new(k, code, lambda, absolute, relative, hazard);
+    if (handle < 0) check(-handle, what);
+    return new LayoutProbe(exports, handle, k, typeof prior === "string" ? prior : { squaredExponential: lambda }, hazard);
+  }
+
+  /** The number of sensors K. */
+  get k() {
+    return this.#k;
+  }
+
+  /** The prior: its name, or `{ squaredExponential: λ }`. */
+  get prior() {
+    return this.#prior;
+  }
+
+  /** The prior probability of a change per `accumulate`. */
+  get hazard() {
+    return this.#hazard;
+  }
+
+  #io(length) {
+    const x = this.#exports;
+    return new Float32Array(x.memory.buffer, x.io_ptr(), length);
+  }
+
+  #live(what) {
+    if (this.#handle < 0) throw new ProbeError("InvalidHandle", `${what}: the probe was disposed`);
+    return this.#handle;
+  }
+
+  /**
+   * The sensors' unit directions, x, y, z each (3K floats), in the order `update` expects.
+   * @returns {Float32Array}
+   */
+  directions() {
+    check(this.#exports.layout_directions(this.#live("directions")), "directions");
+    return this.#io(3 * this.#k).slice();
+  }
+
+  #readings(readings, what) {
+    const h = this.#live(what);
+    if (readings == null || readings.length !== 3 * this.#k) {
+      throw new ProbeError("LengthMismatch", `${what}: expected ${3 * this.#k} floats (r, g, b for each of ${this.#k} sensors), got ${readings?.length}`);
+    }
+    this.#io(3 * this.#k).set(readings);
+    return h;
+  }
+
+  /**
+   * Fits the sensors' RGB readings (3K numbers, r, g, b per sensor), forgetting earlier ones.
+   * On error the probe keeps its state.
+   * @param {ArrayLike<number>} readings
+   */
+  update(readings) {
+    check(this.#exports.layout_update(this.#readings(readings, "update")), "update");
+  }
+
+  /**
+   * Pools the sensors' RGB readings (3K numbers) with the earlier ones of a stream, forgetting
+   * them by the posterior probability that the light changed, and fits the pooled means.
+   * Returns what it did with the old readings: `"first"`, `"blended"` or `"reset"`. On error
+   * the probe keeps its state.
+   * @param {ArrayLike<number>} readings
+   * @returns {"first" | "blended" | "reset"}
+   */
+  accumulate(readings) {
+    check(this.#exports.layout_accumulate(this.#readings(readings, "accumulate")), "accumulate");
+    return CHANGES[new Uint32Array(this.#exports.memory.buffer, this.#exports.io_ptr(), 1)[0]];
+  }
+
+  #estimate() {
+    const io = this.#io(6);
+    return { value: io.slice(0, 3), variance: io.slice(3, 6) };
+  }
+
+  /**
+   * Irradiance about `normal` (need not be unit) with the direction-averaged posterior
+   * variance, RGB each. Zero before the first update.
+   * @param {ArrayLike<number>} normal
+   */
+  irradiance(normal) {
+    const h = this.#live("irradiance");
+    const [x, y, z] = vector(normal, "irradiance");
+    check(this.#exports.layout_irradiance(h, x, y, z), "irradiance");
+    return this.#estimate();
+  }
+
+  /**
+   * The exact posterior variance of the irradiance about `normal`, RGB.
+   * @param {ArrayLike<number>} normal
+   * @returns {Float32Array}
+   */
+  irradianceVariance(normal) {
+    const h = this.#live("irradianceVariance");
+    const [x, y, z] = vector(normal, "irradianceVariance");
+    check(this.#exports.layout_irradiance_variance(h, x, y, z), "irradianceVariance");
+    return this.#io(3).slice();
+  }
+
+  /**
+   * The normalised Phong average about `axis` with exponent `exponent` (the glossy term about
+   * a mirror direction) with its exact posterior variance, RGB each.
+   * @param {ArrayLike<number>} axis
+   * @param {number} exponent
+   */
+  phong(axis, exponent) {
+    const h = this.#live("phong");
+    const [x, y, z] = vector(axis, "phong");
+    check(this.#exports.layout_phong(h, x, y, z, exponent), "phong");
+    return this.#estimate();
+  }
+
+  /**
+   * The 9 RGB spherical-harmonic coefficients of the posterior mean radiance (the order of
+   * `Probe.radianceSh()`): 27 floats.
+   * @returns {Float32Array}
+   */
+  radianceSh() {
+    check(this.#exports.layout_radiance_sh(this.#live("radianceSh")), "radianceSh");
+    return this.#io(27).slice();
+  }
+
+  #state(what) {
+    check(this.#exports.layout_state(this.#live(what)), what);
+    const x = this.#exports;
+    return { words: new Uint32Array(x.memory.buffer, x.io_ptr(), 2).slice(), floats: this.#io(7).slice(2, 7) };
+  }
+
+  /** Whether the probe has had an update. */
+  get updated() {
+    return this.#state("updated").words[1] === 1;
+  }
+
+  /** The effective number of readings pooled by `accumulate` (1 after `update`, 0 before). */
+  get pooledUpdates() {
+    return this.#state("pooledUpdates").floats[0];
+  }
+
+  /** The posterior probability of a change at the last `accumulate` (0 after `update`). */
+  get lastChangeProbability() {
+    return this.#state("lastChangeProbability").floats[1];
+  }
+
+  /**
+   * The scale of the prior covariance chosen at the last update, RGB (0 before the first).
+   * @returns {Float32Array}
+   */
+  get signalVariance() {
+    return this.#state("signalVariance").floats.slice(2, 5);
+  }
+
+  /** Frees the probe in the module; any later call throws `ProbeError` `InvalidHandle`. */
+  dispose() {
+    if (this.#handle < 0) return;
+    collectedLayout?.unregister(this);
+    const h = this.#handle;
+    this.#handle = -1;
+    check(this.#exports.layout_free(h), "dispose");
   }
 }

@@ -1,13 +1,14 @@
-//! The WebAssembly modules of the `sphere-quadrature` npm package (`examples/wasm/package`):
-//! RGB Bayesian Monte Carlo probes `Probe<N, [f32; 3]>` of one baked size `N` per build
-//! (cargo feature `n16`, `n32`, `n64`, `n128` or `n256`) and RGB temporal probes of the same
-//! ray budget, `TemporalProbe<N − S, [f32; 3], F, S>` with `S` sentinels ([`SENTINELS`]) and
-//! the point (`F = Point`) or the Gaussian footprint of sharpness `N/8` ([`SHARPNESS`]),
+//! The WebAssembly modules of the `sphere-quadrature` npm package (`examples/wasm/package`),
 //! behind a handful of plain `extern "C"` exports that the package's `index.js` wraps in its
-//! `Probe` and `TemporalProbe` classes. Nothing else: no test or scenario exports, no
-//! imports.
+//! classes. Nothing else: no test or scenario exports, no imports. One build is one module:
+//! - with a size feature (`n16`, `n32`, `n64`, `n128` or `n256`), `probe-N.wasm`: RGB
+//!   Bayesian Monte Carlo probes `Probe<N, [f32; 3]>` of that baked size and RGB temporal
+//!   probes of the same ray budget ([`probes`]);
+//! - with the feature `layout` (alone), `layout.wasm`: RGB layout probes
+//!   `LayoutProbe<K, [f32; 3]>` over a user's sensors for a fixed set of sensor counts `K`
+//!   ([`layout`]).
 //!
-//! State without `unsafe`: the probes live in a `std::sync::Mutex<Vec<…>>` (on
+//! State without `unsafe`: the probes live in `std::sync::Mutex<Vec<…>>`s (on
 //! `wasm32-unknown-unknown` without threads std's lock is a plain flag and its allocator
 //! grows the memory with `memory.grow`, an instruction, not an import), addressed by
 //! integer handles. Arrays cross the boundary through one static buffer of atomics, `IO`,
@@ -16,12 +17,13 @@
 //! mutability without `unsafe`; without the `atomics` target feature they are plain loads
 //! and stores).
 //!
-//! Every export returns 0 or a positive error code ([`code`]); `probe_new` and
-//! `temporal_new` return a handle (≥ 0) or a negated code.
+//! Every export returns 0 or a positive error code ([`code`]); `probe_new`, `temporal_new`
+//! and `layout_new` return a handle (≥ 0) or a negated code.
 //!
 //! ```text
 //! cd examples/wasm/package-wasm
 //! cargo build --release --target wasm32-unknown-unknown --features n64
+//! cargo build --release --target wasm32-unknown-unknown --features layout
 //! ```
 // `#[no_mangle]` is the only construct the `unsafe_code` lint flags here (exports need their
 // symbol names); it is allowed on the `exports` module only. No `unsafe` blocks.
@@ -32,81 +34,39 @@ use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 use std::sync::Mutex;
 use std::vec::Vec;
 
-use sphere_quadrature::footprint::{Footprint, Gaussian, Point};
-use sphere_quadrature::probe::Probe;
-use sphere_quadrature::sg::SphericalGaussian;
-use sphere_quadrature::temporal::{Change, TemporalProbe};
-use sphere_quadrature::{Error, RotationSequence, Vec3};
+use sphere_quadrature::Error;
 
 #[cfg(not(any(
     feature = "n16",
     feature = "n32",
     feature = "n64",
     feature = "n128",
-    feature = "n256"
+    feature = "n256",
+    feature = "layout"
 )))]
-compile_error!("enable one size feature: n16, n32, n64, n128 or n256");
+compile_error!("enable one size feature (n16, n32, n64, n128 or n256) or layout");
 
-// More than one size feature defines `N` twice, which fails to compile too.
-/// The probe's sample count, fixed per build.
-#[cfg(feature = "n16")]
-const N: usize = 16;
-/// The probe's sample count, fixed per build.
-#[cfg(feature = "n32")]
-const N: usize = 32;
-/// The probe's sample count, fixed per build.
-#[cfg(feature = "n64")]
-const N: usize = 64;
-/// The probe's sample count, fixed per build.
-#[cfg(feature = "n128")]
-const N: usize = 128;
-/// The probe's sample count, fixed per build.
-#[cfg(feature = "n256")]
-const N: usize = 256;
+#[cfg(all(
+    feature = "layout",
+    any(feature = "n16", feature = "n32", feature = "n64", feature = "n128", feature = "n256")
+))]
+compile_error!("the layout module is built alone: no size feature with `layout`");
 
-/// The probe of this module: `N` RGB point samples.
-type RgbProbe = Probe<N, [f32; 3]>;
+#[cfg(not(feature = "layout"))]
+pub mod probes;
 
-/// The sentinels of the temporal probes among their `N` rays per update: `round(√N/4)`
-/// (1, 1, 2, 3, 4 for `N` = 16, 32, 64, 128, 256).
-const SENTINELS: usize = match N {
-    16 | 32 => 1,
-    64 => 2,
-    128 => 3,
-    _ => 4,
-};
+#[cfg(feature = "layout")]
+pub mod layout;
 
-/// The rotated directions of a temporal probe: the rest of the `N` rays.
-const ROTATED: usize = N - SENTINELS;
-
-/// The sharpness `N/8` of the footprint temporal probe's normalised spherical Gaussian.
-const SHARPNESS: u32 = (N / 8) as u32;
-
-/// The temporal probe of point samples.
-type PointTemporal = TemporalProbe<ROTATED, [f32; 3], Point, SENTINELS>;
-
-/// The temporal probe of footprint samples (the Gaussian of sharpness [`SHARPNESS`]).
-type FootprintTemporal = TemporalProbe<ROTATED, [f32; 3], Gaussian<SHARPNESS>, SENTINELS>;
-
-/// A temporal probe of either footprint.
-enum Temporal {
-    Point(PointTemporal),
-    Footprint(FootprintTemporal),
-}
-
-/// Floats of the [`IO`] buffer: `3·N` samples or directions (a temporal update: `3·(N − S)`
-/// samples, then `3·S` sentinel readings), 27 SH coefficients or variances, 6 query
-/// results.
-const IO_LEN: usize = if 3 * N > 27 { 3 * N } else { 27 };
+/// Floats of the [`IO`] buffer.
+#[cfg(not(feature = "layout"))]
+const IO_LEN: usize = probes::IO_LEN;
+/// Floats of the [`IO`] buffer.
+#[cfg(feature = "layout")]
+const IO_LEN: usize = layout::IO_LEN;
 
 /// The exchange buffer (f32 bits), at `io_ptr()`.
 static IO: [AtomicU32; IO_LEN] = [const { AtomicU32::new(0) }; IO_LEN];
-
-/// The live probes; `None` marks a freed handle (reused by the next `probe_new`).
-static PROBES: Mutex<Vec<Option<Box<RgbProbe>>>> = Mutex::new(Vec::new());
-
-/// The live temporal probes, as [`PROBES`] (handles of their own).
-static TEMPORAL: Mutex<Vec<Option<Box<Temporal>>>> = Mutex::new(Vec::new());
 
 /// Error code of a handle that names no live probe (never created, or freed).
 const INVALID_HANDLE: i32 = 100;
@@ -133,24 +93,6 @@ fn store(values: impl IntoIterator<Item = f32>) {
     for (v, a) in values.into_iter().zip(&IO) {
         a.store(v.to_bits(), Relaxed);
     }
-}
-
-/// Runs `f` on probe `handle`; 0, or the error code.
-fn with_probe(handle: u32, f: impl FnOnce(&mut RgbProbe) -> Result<(), Error>) -> i32 {
-    let Ok(mut probes) = PROBES.lock() else { return OTHER };
-    let Some(Some(p)) = probes.get_mut(handle as usize) else { return INVALID_HANDLE };
-    f(p).map_or_else(code, |()| 0)
-}
-
-/// A new probe (rotation `seed`); its handle, or a negated error code.
-fn new_probe(seed: u32) -> i32 {
-    let mut p = Box::new(RgbProbe::new());
-    if seed != 0 {
-        if let Err(e) = p.set_rotation(RotationSequence::new(u64::from(seed)).next_rotation()) {
-            return -code(e);
-        }
-    }
-    insert(&PROBES, p)
 }
 
 /// Stores `p` in the first free slot of `all`; its handle, or a negated error code.
@@ -182,330 +124,14 @@ fn free<P>(all: &Mutex<Vec<Option<Box<P>>>>, handle: u32) -> i32 {
     }
 }
 
-/// The probe's directions, x, y, z each, into [`IO`].
-fn directions(p: &mut RgbProbe) -> Result<(), Error> {
-    store(p.directions().iter().flat_map(|d| [d.x, d.y, d.z]));
-    Ok(())
-}
-
-/// Updates the probe with the `3·N` floats (r, g, b per direction) at the start of [`IO`].
-fn update(p: &mut RgbProbe) -> Result<(), Error> {
-    let mut ys = [[0.0f32; 3]; N];
-    for (y, a) in ys.iter_mut().zip(IO.chunks_exact(3)) {
-        for (c, v) in y.iter_mut().zip(a) {
-            *c = f32::from_bits(v.load(Relaxed));
-        }
-    }
-    p.update(&ys)
-}
-
 /// `[r, g, b, var_r, var_g, var_b]` into [`IO`].
 fn store_estimate([r, g, b]: [f32; 3], [vr, vg, vb]: [f32; 3]) {
     store([r, g, b, vr, vg, vb]);
-}
-
-/// Irradiance about `normal` with its variance into [`IO`].
-fn irradiance(p: &RgbProbe, normal: Vec3) -> Result<(), Error> {
-    let e = p.irradiance(normal)?;
-    store_estimate(e.value, e.variance);
-    Ok(())
-}
-
-/// Normalised Phong glossy radiance about `r` (exponent `e`, the lobe
-/// `SphericalGaussian::phong_moments`) with its exact variance into [`IO`].
-fn glossy(p: &RgbProbe, r: Vec3, e: f32) -> Result<(), Error> {
-    let lobe = SphericalGaussian::phong_moments(r, e)?;
-    let value = p.glossy(&lobe)?.value;
-    store_estimate(value, p.glossy_variance(&lobe)?);
-    Ok(())
-}
-
-/// The 9 RGB SH coefficients (r, g, b each) into [`IO`].
-fn radiance_sh(p: &RgbProbe) -> Result<(), Error> {
-    store(p.radiance_sh().coefficients.into_iter().flatten());
-    Ok(())
-}
-
-/// The 9 RGB SH coefficient variances (r, g, b each) into [`IO`].
-fn radiance_sh_variance(p: &RgbProbe) -> Result<(), Error> {
-    store(p.radiance_sh_variance().into_iter().flatten());
-    Ok(())
-}
-
-/// A new temporal probe (rotations from `seed`, point samples for `footprint` 0, Gaussian
-/// footprint samples for 1, prior change probability `hazard`); its handle, or a negated
-/// error code (5 for another `footprint` or a hazard outside (0, 1)).
-fn new_temporal(seed: u32, footprint: u32, hazard: f32) -> i32 {
-    let t = match footprint {
-        0 => PointTemporal::new(u64::from(seed)).with_hazard(hazard).map(Temporal::Point),
-        1 => FootprintTemporal::new(u64::from(seed)).with_hazard(hazard).map(Temporal::Footprint),
-        _ => Err(Error::InvalidParameter),
-    };
-    match t {
-        Ok(t) => insert(&TEMPORAL, Box::new(t)),
-        Err(e) => -code(e),
-    }
-}
-
-/// Runs `f` on temporal probe `handle`; 0, or the error code.
-fn with_temporal(handle: u32, f: impl FnOnce(&mut Temporal) -> Result<(), Error>) -> i32 {
-    let Ok(mut probes) = TEMPORAL.lock() else { return OTHER };
-    let Some(Some(t)) = probes.get_mut(handle as usize) else { return INVALID_HANDLE };
-    f(t).map_or_else(code, |()| 0)
-}
-
-/// `$body` with `$p` bound to the temporal probe of either footprint in `$t`.
-macro_rules! either {
-    ($t:expr, $p:ident => $body:expr) => {
-        match $t {
-            Temporal::Point($p) => $body,
-            Temporal::Footprint($p) => $body,
-        }
-    };
 }
 
 /// Stores `u32` values (as their bits) to the start of [`IO`].
 fn store_bits(values: impl IntoIterator<Item = u32>) {
     for (v, a) in values.into_iter().zip(&IO) {
         a.store(v, Relaxed);
-    }
-}
-
-/// The temporal probe's `S` sentinel directions, x, y, z each, into [`IO`].
-fn temporal_sentinels<F: Footprint>(
-    p: &TemporalProbe<ROTATED, [f32; 3], F, SENTINELS>,
-) -> Result<(), Error> {
-    store(p.sentinels().iter().flat_map(|d| [d.x, d.y, d.z]));
-    Ok(())
-}
-
-/// The temporal probe's `N − S` current directions, x, y, z each, into [`IO`].
-fn temporal_directions<F: Footprint>(
-    p: &TemporalProbe<ROTATED, [f32; 3], F, SENTINELS>,
-) -> Result<(), Error> {
-    store(p.directions().iter().flat_map(|d| [d.x, d.y, d.z]));
-    Ok(())
-}
-
-/// Updates the temporal probe with the `3·(N − S)` samples and then `3·S` sentinel readings
-/// at the start of [`IO`]; writes what it did with the old evidence (1 first, 2 blended,
-/// 3 reset, as u32) to `IO[0]`.
-fn temporal_update<F: Footprint>(
-    p: &mut TemporalProbe<ROTATED, [f32; 3], F, SENTINELS>,
-) -> Result<(), Error> {
-    let load = |i: usize| IO.get(i).map_or(0.0, |a| f32::from_bits(a.load(Relaxed)));
-    let samples: [[f32; 3]; ROTATED] = core::array::from_fn(|j| [0, 1, 2].map(|c| load(3 * j + c)));
-    let sentinels: [[f32; 3]; SENTINELS] =
-        core::array::from_fn(|j| [0, 1, 2].map(|c| load(3 * (ROTATED + j) + c)));
-    let change = p.update(&samples, &sentinels)?;
-    store_bits([match change {
-        Change::First => 1,
-        Change::Blended => 2,
-        Change::Reset => 3,
-    }]);
-    Ok(())
-}
-
-/// The temporal probe's irradiance about `normal` with its variance into [`IO`].
-fn temporal_irradiance<F: Footprint>(
-    p: &TemporalProbe<ROTATED, [f32; 3], F, SENTINELS>,
-    normal: Vec3,
-) -> Result<(), Error> {
-    let e = p.irradiance(normal)?;
-    store_estimate(e.value, e.variance);
-    Ok(())
-}
-
-/// The temporal probe's 9 RGB SH coefficients (`variance`: their variances) into [`IO`].
-fn temporal_sh<F: Footprint>(
-    p: &TemporalProbe<ROTATED, [f32; 3], F, SENTINELS>,
-    variance: bool,
-) -> Result<(), Error> {
-    if variance {
-        store(p.radiance_sh_variance().iter().flatten().copied());
-    } else {
-        store(p.radiance_sh().coefficients.iter().flatten().copied());
-    }
-    Ok(())
-}
-
-/// The temporal probe's state into [`IO`]: updates and degree (u32 bits), then the effective
-/// updates, the last change probability and its two log Bayes factors (f32).
-fn temporal_state<F: Footprint>(
-    p: &TemporalProbe<ROTATED, [f32; 3], F, SENTINELS>,
-) -> Result<(), Error> {
-    let (rotated, sentinels) = p.last_evidence();
-    let floats = [p.effective_updates(), p.last_change_probability(), rotated, sentinels];
-    let degree = u32::try_from(p.degree()).unwrap_or(u32::MAX);
-    store_bits([p.updates(), degree].into_iter().chain(floats.map(f32::to_bits)));
-    Ok(())
-}
-
-#[allow(unsafe_code)] // `#[no_mangle]` only; every body is one safe call.
-mod exports {
-    use super::{with_probe, with_temporal, Temporal, Vec3, IO, IO_LEN, N};
-    use super::{SENTINELS, SHARPNESS};
-
-    /// The module's probe size `N`.
-    #[no_mangle]
-    pub extern "C" fn probe_size() -> u32 {
-        N as u32
-    }
-
-    /// Address of the exchange buffer (`io_len()` f32) in the module's memory.
-    #[no_mangle]
-    pub extern "C" fn io_ptr() -> usize {
-        IO.as_ptr() as usize
-    }
-
-    /// Length of the exchange buffer in f32: `max(3·N, 27)`.
-    #[no_mangle]
-    pub extern "C" fn io_len() -> u32 {
-        IO_LEN as u32
-    }
-
-    /// A new probe without data, on the spherical Fibonacci set rotated by
-    /// `RotationSequence::new(seed).next_rotation()` (unrotated for `seed` = 0); its handle
-    /// (≥ 0), or a negated error code.
-    #[no_mangle]
-    pub extern "C" fn probe_new(seed: u32) -> i32 {
-        super::new_probe(seed)
-    }
-
-    /// Frees probe `handle`; 0, or 100 (no such probe).
-    #[no_mangle]
-    pub extern "C" fn probe_free(handle: u32) -> i32 {
-        super::free(&super::PROBES, handle)
-    }
-
-    /// Writes the probe's `N` unit directions (x, y, z each) to the exchange buffer; 0, or an
-    /// error code.
-    #[no_mangle]
-    pub extern "C" fn probe_directions(handle: u32) -> i32 {
-        with_probe(handle, super::directions)
-    }
-
-    /// Updates the probe with the `N` RGB samples (r, g, b each, in the order of the
-    /// directions) in the exchange buffer; 0, or an error code (7: a NaN or infinite sample;
-    /// the probe keeps its previous data).
-    #[no_mangle]
-    pub extern "C" fn probe_update(handle: u32) -> i32 {
-        with_probe(handle, super::update)
-    }
-
-    /// Writes `[r, g, b, var_r, var_g, var_b]`, the irradiance about `(nx, ny, nz)` and its
-    /// posterior variance, to the exchange buffer; 0, or an error code (1: a zero or
-    /// non-finite normal).
-    #[no_mangle]
-    pub extern "C" fn probe_irradiance(handle: u32, nx: f32, ny: f32, nz: f32) -> i32 {
-        with_probe(handle, |p| super::irradiance(p, Vec3::new(nx, ny, nz)))
-    }
-
-    /// Writes `[r, g, b, var_r, var_g, var_b]`, the normalised Phong glossy radiance about
-    /// `(rx, ry, rz)` with exponent `e` (lobe `SphericalGaussian::phong_moments`) and its
-    /// exact posterior variance, to the exchange buffer; 0, or an error code (1: a zero or
-    /// non-finite direction; 2: a negative or non-finite exponent).
-    #[no_mangle]
-    pub extern "C" fn probe_glossy(handle: u32, rx: f32, ry: f32, rz: f32, e: f32) -> i32 {
-        with_probe(handle, |p| super::glossy(p, Vec3::new(rx, ry, rz), e))
-    }
-
-    /// Writes the 9 RGB spherical-harmonic coefficients of the posterior mean radiance
-    /// (index `l(l + 1) + m`, r, g, b each) to the exchange buffer; 0, or an error code.
-    #[no_mangle]
-    pub extern "C" fn probe_radiance_sh(handle: u32) -> i32 {
-        with_probe(handle, |p| super::radiance_sh(p))
-    }
-
-    /// Writes the posterior variances of the 9 RGB coefficients to the exchange buffer; 0,
-    /// or an error code.
-    #[no_mangle]
-    pub extern "C" fn probe_radiance_sh_variance(handle: u32) -> i32 {
-        with_probe(handle, |p| super::radiance_sh_variance(p))
-    }
-
-    /// The sentinels `S` of the module's temporal probes (of `N` rays per update, `N − S`
-    /// rotated).
-    #[no_mangle]
-    pub extern "C" fn temporal_sentinel_count() -> u32 {
-        SENTINELS as u32
-    }
-
-    /// The sharpness `N/8` of the footprint temporal probe's normalised spherical Gaussian.
-    #[no_mangle]
-    pub extern "C" fn temporal_sharpness() -> u32 {
-        SHARPNESS
-    }
-
-    /// A new temporal probe without data, its rotations from `RotationSequence::new(seed)`:
-    /// point samples (`footprint` 0) or samples of the normalised spherical Gaussian of
-    /// sharpness `N/8` (`footprint` 1), prior probability `hazard` of a change per update;
-    /// its handle (≥ 0), or a negated error code (5: another `footprint`, a hazard outside
-    /// (0, 1)).
-    #[no_mangle]
-    pub extern "C" fn temporal_new(seed: u32, footprint: u32, hazard: f32) -> i32 {
-        super::new_temporal(seed, footprint, hazard)
-    }
-
-    /// Frees temporal probe `handle`; 0, or 100 (no such probe).
-    #[no_mangle]
-    pub extern "C" fn temporal_free(handle: u32) -> i32 {
-        super::free(&super::TEMPORAL, handle)
-    }
-
-    /// Writes the `N − S` directions of this update (x, y, z each) to the exchange buffer; 0,
-    /// or an error code.
-    #[no_mangle]
-    pub extern "C" fn temporal_directions(handle: u32) -> i32 {
-        with_temporal(handle, |t| either!(t, p => super::temporal_directions(p)))
-    }
-
-    /// Writes the `S` fixed sentinel directions (x, y, z each) to the exchange buffer; 0, or
-    /// an error code.
-    #[no_mangle]
-    pub extern "C" fn temporal_sentinels(handle: u32) -> i32 {
-        with_temporal(handle, |t| either!(t, p => super::temporal_sentinels(p)))
-    }
-
-    /// Updates the temporal probe with the `N − S` RGB samples (in the order of the
-    /// directions) followed by the `S` RGB sentinel readings in the exchange buffer and
-    /// writes what it did with the old evidence to its first word (u32: 1 first, 2 blended,
-    /// 3 reset); 0, or an error code (7: a NaN or infinite value; the probe keeps its state
-    /// and its directions).
-    #[no_mangle]
-    pub extern "C" fn temporal_update(handle: u32) -> i32 {
-        with_temporal(handle, |t| either!(t, p => super::temporal_update(p)))
-    }
-
-    /// Writes `[r, g, b, var_r, var_g, var_b]`, the accumulated irradiance about
-    /// `(nx, ny, nz)` and its variance, to the exchange buffer; 0, or an error code (1: a
-    /// zero or non-finite normal).
-    #[no_mangle]
-    pub extern "C" fn temporal_irradiance(handle: u32, nx: f32, ny: f32, nz: f32) -> i32 {
-        let normal = Vec3::new(nx, ny, nz);
-        with_temporal(handle, |t| either!(t, p => super::temporal_irradiance(p, normal)))
-    }
-
-    /// Writes the 9 accumulated RGB SH coefficients (r, g, b each) to the exchange buffer;
-    /// 0, or an error code.
-    #[no_mangle]
-    pub extern "C" fn temporal_radiance_sh(handle: u32) -> i32 {
-        with_temporal(handle, |t| either!(t, p => super::temporal_sh(p, false)))
-    }
-
-    /// Writes the variances of the 27 numbers of `temporal_radiance_sh` to the exchange
-    /// buffer; 0, or an error code.
-    #[no_mangle]
-    pub extern "C" fn temporal_radiance_sh_variance(handle: u32) -> i32 {
-        with_temporal(handle, |t| either!(t, p => super::temporal_sh(p, true)))
-    }
-
-    /// Writes the temporal probe's state to the exchange buffer: updates and SH degree
-    /// (u32), then effective updates, the last change probability and the last log Bayes
-    /// factors of a change from the rotated samples and from the sentinels (f32); 0, or an
-    /// error code.
-    #[no_mangle]
-    pub extern "C" fn temporal_state(handle: u32) -> i32 {
-        with_temporal(handle, |t| either!(t, p => super::temporal_state(p)))
     }
 }

@@ -9,16 +9,22 @@
 //    a stream of temporal updates (static light, a switch, a slight brightening) of a point
 //    and of a footprint TemporalProbe: directions, what each update did, the state (effective
 //    updates, change probability, evidence), irradiance with variance, SH and SH variances;
+//    and layout probes (a cube of six sensors, a dome of five under the sky-above prior, the
+//    cube under the other priors): an update and streams of accumulations (static light,
+//    then a switch), what each did, the state, irradiance with its averaged and exact
+//    variances, Phong averages, SH coefficients, and the errors of refused layouts and
+//    readings;
 // 3. the physics on fields with known answers (constant radiance: irradiance π·L, glossy L,
 //    SH c₀₀ = √(4π)·L; a linear field: irradiance π·(a + b·n_z·2/3)), independent of Rust;
 //    the temporal probe's irradiance of a constant and a linear field, point and footprint;
+//    the layout probe's answers for a constant field;
 // 4. the JS side: exceptions (type, code, message) for every kind of bad input, kept data
 //    after a refused update, independent probes, dispose, the `wasm` option.
 //
 //   node test.mjs REFERENCE
 import { readFileSync, statSync } from "node:fs";
 import { createRequire } from "node:module";
-import { Probe, ProbeError, SIZES, TemporalProbe } from "sphere-quadrature";
+import { LAYOUT_SIZES, LayoutProbe, Probe, ProbeError, SIZES, TemporalProbe } from "sphere-quadrature";
 
 let failures = 0;
 let checks = 0;
@@ -76,6 +82,22 @@ for (const n of SIZES) {
   console.log(`probe-${n}.wasm: ${statSync(file).size} bytes, ${imports.length} imports, ${exported.length} exports`);
 }
 ok(bytesOf[64].length <= 100 * 1024, `probe-64.wasm is ${bytesOf[64].length} bytes, above the 100 KB target`);
+ok(JSON.stringify(LAYOUT_SIZES) === "[4,5,6,7,8,12,16]", `LAYOUT_SIZES ${LAYOUT_SIZES}`);
+const LAYOUT_EXPORTS = [
+  "io_len", "io_ptr", "layout_accumulate", "layout_capacities", "layout_directions", "layout_free", "layout_irradiance",
+  "layout_irradiance_variance", "layout_new", "layout_phong", "layout_radiance_sh", "layout_state", "layout_update",
+  "memory",
+];
+const layoutFile = resolve("sphere-quadrature/wasm/layout.wasm");
+const layoutBytes = readFileSync(layoutFile);
+{
+  const module = new WebAssembly.Module(layoutBytes);
+  const imports = WebAssembly.Module.imports(module);
+  ok(imports.length === 0, `layout.wasm has ${imports.length} imports: ${JSON.stringify(imports)}`);
+  const exported = WebAssembly.Module.exports(module).filter((e) => e.kind !== "global").map((e) => e.name).sort();
+  ok(JSON.stringify(exported) === JSON.stringify(LAYOUT_EXPORTS), `layout.wasm exports ${exported.join(", ")}`);
+  console.log(`layout.wasm: ${layoutBytes.length} bytes, ${imports.length} imports, ${exported.length} exports`);
+}
 
 // 2. Against the host reference, bit for bit.
 const refPath = process.argv[2];
@@ -262,6 +284,158 @@ for (const n of SIZES) {
   }
 }
 
+// The layout probes (eval/src/bin/js_package_reference.rs, `layouts`): the host's sensors
+// and readings, fed to LayoutProbes of the package.
+/** Fewer layout lines in the reference mean that it lost some of what it is meant to hold. */
+const LAYOUT_MIN_LINES = 3000;
+const LAYOUT_NORMALS = [[0, 0, 1], [1, 0, 0], [-0.5, 0.75, -0.25], [0.125, -1, 0.5], [0, 0, -1]];
+const LAYOUT_PHONG = [[[0, 0, 1], 20], [[1, 0.5, 0.25], 5], [[-0.25, -1, 0.5], 1], [[0, 0, -1], 0]];
+/** Accumulations of a stream: of the first light, then of the second. */
+const LAYOUT_STREAM = [6, 4];
+const CUBE_NOISE = { absolute: 1 / 64, relative: 1 / 32 };
+const LAYOUT_CASES = [
+  { name: "cube6", prior: "environment", noise: CUBE_NOISE, hazard: undefined, stream: true },
+  { name: "dome5", prior: "sky-above", noise: { absolute: 3 / 128, relative: 0 }, hazard: 1 / 32, stream: true },
+  { name: "cube6-smooth-environment", prior: "smooth-environment", noise: CUBE_NOISE, hazard: 1 / 64, stream: false },
+  { name: "cube6-smooth-sky-above", prior: "smooth-sky-above", noise: CUBE_NOISE, hazard: 1 / 64, stream: false },
+  { name: "cube6-se4", prior: { squaredExponential: 4 }, noise: CUBE_NOISE, hazard: 1 / 64, stream: false },
+];
+const layoutInputs = new Map();
+for (const l of reference) {
+  const [key, at, , v] = l.split(" ");
+  if (key !== "l_sensor" && key !== "l_reading") continue;
+  const k = `${key} ${at}`;
+  if (!layoutInputs.has(k)) layoutInputs.set(k, []);
+  layoutInputs.get(k).push(fromBits(v));
+}
+const layoutInput = (key, name, step) => Float32Array.from(layoutInputs.get(`l_${key} ${name}.${step}`) ?? []);
+/** `None` or `Some(code)` of `f`, as the host prints `Option<Error>`. */
+const refusal = (f) => {
+  try {
+    f();
+  } catch (e) {
+    if (!(e instanceof ProbeError)) throw e;
+    return `Some(${e.code})`;
+  }
+  return "None";
+};
+const refusalAsync = async (promise) => {
+  try {
+    (await promise).dispose();
+  } catch (e) {
+    if (!(e instanceof ProbeError)) throw e;
+    return `Some(${e.code})`;
+  }
+  return "None";
+};
+const layoutChanges = [];
+for (const { name, prior, noise, hazard, stream } of LAYOUT_CASES) {
+  const out = (key, step, vs) => Array.from(vs).forEach((v, i) => lines.push(`l_${key} ${name}.${step} ${i} ${bits(v)}`));
+  const [directions, powers, noiseScales] = [0, 1, 2].map((i) => layoutInput("sensor", name, i));
+  [directions, powers, noiseScales].forEach((v, i) => out("sensor", i, v));
+  let p;
+  try {
+    p = await LayoutProbe.create({ directions, powers, noiseScales, noise, prior, ...(hazard === undefined ? {} : { hazard }) });
+    lines.push(`l_new ${name}.0 0 ok`);
+  } catch (e) {
+    if (!(e instanceof ProbeError)) throw e;
+    lines.push(`l_new ${name}.0 0 ${e.code}`);
+    continue;
+  }
+  ok(p.k === directions.length / 3 && p.hazard === (hazard ?? 1 / 64), `layout ${name}: k ${p.k}, hazard ${p.hazard}`);
+  out("dir", 0, p.directions());
+  const state = (step) => {
+    lines.push(`l_state ${name}.${step} 0 ${p.k}`, `l_state ${name}.${step} 1 ${p.updated}`);
+    out("state", step, [p.pooledUpdates, p.lastChangeProbability, ...p.signalVariance]);
+  };
+  const queries = (step) => LAYOUT_NORMALS.forEach((q, i) => {
+    const e = p.irradiance(q);
+    out(`irr${i}`, step, [...e.value, ...e.variance]);
+    out(`irrvar${i}`, step, p.irradianceVariance(q));
+  });
+  const lobes = (step) => {
+    LAYOUT_PHONG.forEach(([axis, e], i) => {
+      const est = p.phong(axis, e);
+      out(`phong${i}`, step, [...est.value, ...est.variance]);
+    });
+    out("sh", step, p.radianceSh());
+  };
+  state(0);
+  queries(0);
+  out("sh", 0, p.radianceSh());
+  const first = layoutInput("reading", name, 1);
+  out("reading", 1, first);
+  lines.push(`l_update ${name}.1 0 ${refusal(() => p.update(first))}`);
+  state(1);
+  queries(1);
+  lobes(1);
+  let step = 1;
+  if (stream) {
+    for (const count of LAYOUT_STREAM) {
+      for (let k = 0; k < count; k++) {
+        step++;
+        const readings = layoutInput("reading", name, step);
+        out("reading", step, readings);
+        let change;
+        try {
+          change = p.accumulate(readings);
+        } catch (e) {
+          if (!(e instanceof ProbeError)) throw e;
+          change = e.code;
+        }
+        lines.push(`l_change ${name}.${step} 0 ${change}`);
+        layoutChanges.push({ name, step, change });
+        state(step);
+        queries(step);
+        if (k + 1 === count) lobes(step);
+      }
+    }
+  }
+  // Refused readings keep the state (one reading NaN, then infinite).
+  const bad = Float32Array.from(first);
+  bad[3 * Math.floor(p.k / 2) + 1] = NaN;
+  lines.push(`l_err ${name}.${step} 0 ${refusal(() => p.update(bad))}`);
+  bad[3 * Math.floor(p.k / 2) + 1] = Infinity;
+  lines.push(`l_err ${name}.${step} 1 ${refusal(() => p.accumulate(bad))}`);
+  state(step + 1);
+  queries(step + 1);
+  lines.push(`l_err ${name}.${step} 2 ${refusal(() => p.irradiance([0, 0, 0]))}`);
+  lines.push(`l_err ${name}.${step} 3 ${refusal(() => p.irradianceVariance([NaN, 0, 1]))}`);
+  lines.push(`l_err ${name}.${step} 4 ${refusal(() => p.phong([0, 0, 1], -1))}`);
+  lines.push(`l_err ${name}.${step} 5 ${refusal(() => p.phong([0, 0, 0], 2))}`);
+  p.dispose();
+}
+// Refused layouts, as the host refuses them.
+{
+  const directions = layoutInput("sensor", "cube6", 0);
+  const powers = layoutInput("sensor", "cube6", 1);
+  const noiseScales = layoutInput("sensor", "cube6", 2);
+  const create = (options) => LayoutProbe.create({ directions, powers, noiseScales, noise: CUBE_NOISE, prior: "environment", ...options });
+  const zero = Float32Array.from(directions);
+  zero.fill(0, 6, 9);
+  lines.push(`l_bad zero 0 ${await refusalAsync(create({ directions: zero }))}`);
+  const many = new Float32Array(3 * 65).map((_, i) => (i % 3 === 2 ? 1 : 0));
+  lines.push(`l_bad k65 0 ${await refusalAsync(create({ directions: many, powers: undefined, noiseScales: undefined }))}`);
+  lines.push(`l_bad responses 0 ${await refusalAsync(create({ powers: [1, 2, 3, 4, 5, 6] }))}`);
+  lines.push(`l_bad noise 0 ${await refusalAsync(create({ noise: { absolute: -1, relative: 0 } }))}`);
+  lines.push(`l_bad lambda 0 ${await refusalAsync(create({ prior: { squaredExponential: 0 } }))}`);
+  lines.push(`l_bad hazard 0 ${await refusalAsync(create({ hazard: 1 }))}`);
+  const scale = Float32Array.from(noiseScales);
+  scale[0] = 0;
+  lines.push(`l_bad scale 0 ${await refusalAsync(create({ noiseScales: scale }))}`);
+}
+// The streams must hold what they are meant to compare: blended static light, a reset at
+// the switch.
+ok(layoutChanges.length === 2 * LAYOUT_STREAM.reduce((a, b) => a + b, 0), `${layoutChanges.length} layout accumulations`);
+ok(reference.filter((l) => l.startsWith("l_change ")).length === layoutChanges.length,
+  `the reference has ${reference.filter((l) => l.startsWith("l_change ")).length} layout accumulations, the package ${layoutChanges.length}`);
+for (const name of ["cube6", "dome5"]) {
+  const c = layoutChanges.filter((x) => x.name === name).map((x) => x.change);
+  const [a, b] = LAYOUT_STREAM;
+  ok(c.slice(0, a).every((x) => x === "blended") && c[a] === "reset" && c.slice(a + 1).every((x) => x === "blended"),
+    `layout ${name}: the stream gave ${c.join(" ")}`);
+}
+
 let differing = 0;
 for (let i = 0; i < Math.max(lines.length, reference.length); i++) {
   if (lines[i] !== reference[i]) {
@@ -270,11 +444,14 @@ for (let i = 0; i < Math.max(lines.length, reference.length); i++) {
   }
 }
 const temporalLines = reference.filter((l) => l.startsWith("t_")).length;
-ok(reference.length > 8000 && temporalLines > 100000 && differing === 0,
-  `${differing} of ${reference.length} reference lines differ (package printed ${lines.length}; ${temporalLines} temporal)`);
+const layoutLines = reference.filter((l) => l.startsWith("l_")).length;
+ok(reference.length > 8000 && temporalLines > 100000 && layoutLines > LAYOUT_MIN_LINES && differing === 0,
+  `${differing} of ${reference.length} reference lines differ (package printed ${lines.length}; ${temporalLines} temporal, ` +
+  `${layoutLines} layout)`);
 if (differing === 0) {
   console.log(`${lines.length} lines (every size, seeds ${SEEDS.join(" and ")}; ${temporalLines} of them from ` +
-    `${changes.length} temporal updates, point and footprint) identical to the host reference`);
+    `${changes.length} temporal updates, point and footprint; ${layoutLines} from ${LAYOUT_CASES.length} layout probes ` +
+    `and ${layoutChanges.length} accumulations) identical to the host reference`);
 }
 
 // 3. Fields with known answers.
@@ -473,6 +650,115 @@ await rejects(TemporalProbe.create({ n: 16, wasm: bytesOf[64] }), "InvalidSize",
     ok(false, "new TemporalProbe() must throw");
   } catch (e) {
     ok(e instanceof TypeError, `new TemporalProbe(): ${e}`);
+  }
+}
+
+// Layout probes: known answers, every sensor count, and the JS side.
+{
+  // A constant field L under a prior with a constant mean: irradiance π·L at every normal,
+  // every normalised Phong average L, c₀₀ = √(4π)·L, no variance (the crate's doc examples).
+  const faces = [1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1];
+  const L = [0.5, 2, 7];
+  const p = await LayoutProbe.create({ directions: faces, prior: { squaredExponential: 2 } });
+  ok(p.k === 6 && !p.updated && p.pooledUpdates === 0, `a fresh layout probe: k ${p.k}, updated ${p.updated}`);
+  const zero = p.irradiance([0, 0, 1]);
+  ok([...zero.value, ...zero.variance].every((v) => v === 0), "a layout probe answers zero before the first update");
+  ok(p.accumulate(Float32Array.from({ length: 18 }, (_, k) => L[k % 3])) === "first", "the first accumulation");
+  ok(p.updated && p.pooledUpdates === 1, `after the first accumulation: pooled ${p.pooledUpdates}`);
+  const irr = p.irradiance([0.3, -0.4, 0.5]);
+  const phong = p.phong([0.2, 0.3, 0.9], 20);
+  const sh = p.radianceSh();
+  const exact = p.irradianceVariance([0.3, -0.4, 0.5]);
+  for (let c = 0; c < 3; c++) {
+    ok(rel(irr.value[c], Math.PI * L[c]) < 1e-4, `layout, constant ${L[c]}: irradiance ${irr.value[c]}`);
+    ok(rel(phong.value[c], L[c]) < 1e-4, `layout, constant ${L[c]}: phong ${phong.value[c]}`);
+    ok(rel(sh[c], Math.sqrt(4 * Math.PI) * L[c]) < 1e-4, `layout, constant: c00 ${sh[c]}`);
+    ok(exact[c] >= 0 && exact[c] < 1e-4 * L[c] ** 2 && phong.variance[c] < 1e-4 * L[c] ** 2,
+      `layout, constant: variances ${exact[c]}, ${phong.variance[c]}`);
+  }
+  ok(sh.slice(3).every((v, i) => Math.abs(v) < 1e-4 * L[i % 3]), `layout, constant: higher SH ${sh.slice(3)}`);
+  // An update and a first accumulation of the same readings fit the same.
+  const q = await LayoutProbe.create({ directions: faces, prior: { squaredExponential: 2 } });
+  q.update(Float32Array.from({ length: 18 }, (_, k) => L[k % 3]));
+  ok(q.irradiance([0.3, -0.4, 0.5]).value.every((v, c) => v === irr.value[c]), "update and a first accumulation agree");
+  ok(q.lastChangeProbability === 0 && p.lastChangeProbability === 1, `change probabilities ${q.lastChangeProbability}, ${p.lastChangeProbability}`);
+
+  // Every sensor count of the module builds and answers (spherical Fibonacci layouts).
+  for (const k of LAYOUT_SIZES) {
+    const dirs = new Float32Array(3 * k);
+    for (let i = 0; i < k; i++) {
+      const z = 1 - (2 * i + 1) / k, r = Math.sqrt(1 - z * z), phi = 2.399963229728653 * i;
+      dirs.set([r * Math.cos(phi), r * Math.sin(phi), z], 3 * i);
+    }
+    const t = await LayoutProbe.create({ directions: dirs, noise: { absolute: 0.01, relative: 0.02 }, prior: "smooth-environment" });
+    t.update(Float32Array.from({ length: 3 * k }, (_, j) => 1 + 0.5 * dirs[3 * Math.floor(j / 3) + 2]));
+    const e = t.irradiance([0, 0, 1]);
+    ok(t.k === k && e.value.every((v) => v > 0 && Number.isFinite(v)) && e.variance.every((v) => v >= 0),
+      `layout K = ${k}: irradiance ${e.value}, variance ${e.variance}`);
+    t.dispose();
+  }
+
+  // Sensor counts the module does not carry, above and between its capacities.
+  await rejects(LayoutProbe.create({ directions: new Float32Array(3 * 17).fill(1) }), "InvalidSize", "layout of 17 sensors (above the capacities)");
+  await rejects(LayoutProbe.create({ directions: new Float32Array(3 * 9).fill(1) }), "InvalidSize", "layout of 9 sensors");
+  await rejects(LayoutProbe.create({ directions: new Float32Array(3 * 3).fill(1) }), "InvalidSize", "layout of 3 sensors");
+  {
+    // The module's own check, below index.js's.
+    const { exports } = await WebAssembly.instantiate(new WebAssembly.Module(layoutBytes), {});
+    const counts = new Uint32Array(exports.memory.buffer, exports.io_ptr(), exports.layout_capacities());
+    ok(Array.from(counts).join() === LAYOUT_SIZES.join(), `layout_capacities ${Array.from(counts)}`);
+    new Float32Array(exports.memory.buffer, exports.io_ptr(), exports.io_len()).fill(1);
+    ok(exports.layout_new(17, 0, 0, 0, 0, 1 / 64) === -4 && exports.layout_new(9, 0, 0, 0, 0, 1 / 64) === -4,
+      "the module refuses sensor counts it does not carry (-4)");
+    ok(exports.layout_new(6, 7, 0, 0, 0, 1 / 64) === -5, "the module refuses an unknown prior (-5)");
+    ok(exports.layout_free(0) === 100 && exports.layout_update(3) === 100, "the module refuses unknown handles (100)");
+  }
+  await rejects(LayoutProbe.create({ directions: faces.slice(1) }), "LengthMismatch", "layout directions not a multiple of 3");
+  await rejects(LayoutProbe.create({}), "LengthMismatch", "layout without directions");
+  await rejects(LayoutProbe.create({ directions: faces, powers: [1, 1, 1] }), "LengthMismatch", "layout with 3 powers for 6 sensors");
+  await rejects(LayoutProbe.create({ directions: faces, noiseScales: [1] }), "LengthMismatch", "layout with 1 noise scale for 6 sensors");
+  await rejects(LayoutProbe.create({ directions: faces, prior: "sky" }), "InvalidParameter", "layout with an unknown prior");
+  await rejects(LayoutProbe.create({ directions: faces, prior: { squaredExponential: 65 } }), "InvalidParameter", "layout prior λ = 65");
+  await rejects(LayoutProbe.create({ directions: faces, noise: { absolute: "1" } }), "InvalidParameter", "layout noise not a number");
+  await rejects(LayoutProbe.create({ directions: faces, noise: { relative: NaN } }), "InvalidParameter", "layout noise NaN");
+  await rejects(LayoutProbe.create({ directions: faces, hazard: 0 }), "InvalidParameter", "layout hazard 0");
+  await rejects(LayoutProbe.create({ directions: faces, powers: [1, 1, 1, 1, 1, -1] }), "InvalidParameter", "layout negative power");
+  const nan = faces.slice();
+  nan[4] = NaN;
+  await rejects(LayoutProbe.create({ directions: nan }), "InvalidDirection", "layout NaN direction");
+  // Readings: lengths, NaN, kept state.
+  const before = p.irradiance([0, 1, 0]);
+  throws(() => p.update(new Float32Array(17)), "LengthMismatch", "layout update with 3K − 1 readings");
+  throws(() => p.accumulate([1, 2, 3]), "LengthMismatch", "layout accumulate with 3 readings");
+  throws(() => p.update(null), "LengthMismatch", "layout update without readings");
+  const bad = Float32Array.from({ length: 18 }, (_, k) => L[k % 3]);
+  bad[7] = NaN;
+  throws(() => p.update(bad), "InvalidRadiance", "layout: NaN reading (update)");
+  throws(() => p.accumulate(bad), "InvalidRadiance", "layout: NaN reading (accumulate)");
+  const after = p.irradiance([0, 1, 0]);
+  ok(p.pooledUpdates === 1 && before.value.every((v, c) => v === after.value[c]), "a refused layout update keeps the state");
+  throws(() => p.irradiance([0, 1]), "LengthMismatch", "layout: a normal of 2 components");
+  throws(() => p.irradianceVariance([0, 0, 0]), "InvalidDirection", "layout: zero normal (exact variance)");
+  throws(() => p.phong([0, 0, 1], Infinity), "InvalidExponent", "layout: infinite exponent");
+  throws(() => p.phong([0, 0, 1], 5000), "InvalidExponent", "layout: exponent above 4096");
+  // The `wasm` option, independence, dispose.
+  const own = await LayoutProbe.create({ directions: faces, prior: { squaredExponential: 2 }, wasm: layoutBytes });
+  own.update(Float32Array.from({ length: 18 }, (_, k) => L[k % 3]));
+  ok(own.irradiance([0, 1, 0]).value.every((v, c) => v === before.value[c]), "the `wasm` option's layout probe answers as the default one");
+  await rejects(LayoutProbe.create({ directions: faces, wasm: bytesOf[16] }), "InvalidParameter", "a probe module as the layout module");
+  q.dispose();
+  ok(p.irradiance([0, 1, 0]).value.every((v, c) => v === before.value[c]), "freeing a layout probe leaves the others alone");
+  p.dispose();
+  p.dispose();
+  throws(() => p.directions(), "InvalidHandle", "layout directions after dispose");
+  throws(() => p.update(bad), "InvalidHandle", "layout update after dispose");
+  throws(() => p.pooledUpdates, "InvalidHandle", "layout state after dispose");
+  own.dispose();
+  try {
+    new LayoutProbe();
+    ok(false, "new LayoutProbe() must throw");
+  } catch (e) {
+    ok(e instanceof TypeError, `new LayoutProbe(): ${e}`);
   }
 }
 

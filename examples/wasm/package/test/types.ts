@@ -1,8 +1,8 @@
 // Type check of the package's index.d.ts from a consumer (tsc --noEmit, test/run.sh): the
 // README's usage compiles, misuse does not (each @ts-expect-error must meet an error).
 import {
-  Probe, ProbeError, SIZES, TemporalProbe, type Change, type ChangeEvidence, type Estimate, type Footprint,
-  type ProbeErrorCode, type ProbeSize,
+  LAYOUT_SIZES, LayoutProbe, Probe, ProbeError, SIZES, TemporalProbe, type Change, type ChangeEvidence, type Estimate,
+  type Footprint, type LayoutPrior, type LayoutSize, type ProbeErrorCode, type ProbeSize,
 } from "sphere-quadrature";
 
 export async function shade(radiance: (x: number, y: number, z: number) => [number, number, number]): Promise<number> {
@@ -48,6 +48,31 @@ export async function accumulate(trace: (dirs: Float32Array) => Float32Array): P
     shVar[0] + n + resets;
 }
 
+export async function sensors(read: () => Float32Array): Promise<number> {
+  const cube = [1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1];
+  const prior: LayoutPrior = { squaredExponential: 4 };
+  const probe: LayoutProbe = await LayoutProbe.create({
+    directions: cube, powers: [1, 1, 1, 1, 2, 2], noiseScales: new Float32Array(6).fill(1),
+    noise: { absolute: 0.01, relative: 0.02 }, prior, hazard: 1 / 32,
+  });
+  const dome = await LayoutProbe.create({ directions: new Float32Array(15), prior: "sky-above" });
+  probe.update(read());
+  const change: Change = probe.accumulate(read());
+  const e: Estimate = probe.irradiance([0, 0, 1]);
+  const exact: Float32Array = probe.irradianceVariance([0, 0, 1]);
+  const glossy: Estimate = probe.phong([0, 1, 0], 20);
+  const sh: Float32Array = probe.radianceSh();
+  const k: LayoutSize = probe.k;
+  const state: number = probe.pooledUpdates + probe.lastChangeProbability + probe.signalVariance[0] + probe.hazard;
+  const updated: boolean = probe.updated;
+  const first: 4 = LAYOUT_SIZES[0];
+  const dirs: Float32Array = dome.directions();
+  probe.dispose();
+  dome.dispose();
+  return e.value[0] + exact[0] + glossy.variance[0] + sh[0] + k + state + first + dirs[0] + (updated ? 1 : 0) +
+    (change === "reset" ? 1 : 0);
+}
+
 export async function misuse(): Promise<void> {
   // @ts-expect-error: n is a number
   await Probe.create({ n: "64" });
@@ -77,4 +102,18 @@ export async function misuse(): Promise<void> {
   void reset;
   // @ts-expect-error: effectiveUpdates is read-only
   t.effectiveUpdates = 4;
+  // @ts-expect-error: a layout probe needs its directions
+  await LayoutProbe.create({ prior: "environment" });
+  // @ts-expect-error: no such prior
+  await LayoutProbe.create({ directions: [0, 0, 1, 0, 0, -1, 1, 0, 0, -1, 0, 0], prior: "sky" });
+  // @ts-expect-error: the constructor is private; use LayoutProbe.create
+  new LayoutProbe();
+  const l = await LayoutProbe.create({ directions: new Float32Array(12) });
+  // @ts-expect-error: phong needs an exponent
+  l.phong([0, 0, 1]);
+  // @ts-expect-error: an accumulation's answer is a Change, not a boolean
+  const blended: boolean = l.accumulate(new Float32Array(12));
+  void blended;
+  // @ts-expect-error: pooledUpdates is read-only
+  l.pooledUpdates = 2;
 }
