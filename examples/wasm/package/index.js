@@ -612,7 +612,10 @@ export class LayoutProbe {
     } else {
       throw new ProbeError("InvalidParameter", `${what}: prior must be "environment", "smooth-environment", "sky-above", "smooth-sky-above" or { squaredExponential: λ }: ${JSON.stringify(prior)}`);
     }
-    const { absolute = 0, relative = 0 } = noise ?? {};
+    if (typeof noise !== "object" || noise === null) {
+      throw new ProbeError("InvalidParameter", `${what}: noise must be { absolute, relative }: ${noise}`);
+    }
+    const { absolute = 0, relative = 0 } = noise;
     for (const [name, v] of [["noise.absolute", absolute], ["noise.relative", relative], ["hazard", hazard]]) {
       if (typeof v !== "number") throw new ProbeError("InvalidParameter", `${what}: ${name} must be a number: ${v}`);
     }

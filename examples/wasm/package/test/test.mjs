@@ -721,6 +721,7 @@ await rejects(TemporalProbe.create({ n: 16, wasm: bytesOf[64] }), "InvalidSize",
   await rejects(LayoutProbe.create({ directions: faces, prior: { squaredExponential: 65 } }), "InvalidParameter", "layout prior λ = 65");
   await rejects(LayoutProbe.create({ directions: faces, noise: { absolute: "1" } }), "InvalidParameter", "layout noise not a number");
   await rejects(LayoutProbe.create({ directions: faces, noise: { relative: NaN } }), "InvalidParameter", "layout noise NaN");
+  await rejects(LayoutProbe.create({ directions: faces, noise: 0.01 }), "InvalidParameter", "layout noise a number");
   await rejects(LayoutProbe.create({ directions: faces, hazard: 0 }), "InvalidParameter", "layout hazard 0");
   await rejects(LayoutProbe.create({ directions: faces, powers: [1, 1, 1, 1, 1, -1] }), "InvalidParameter", "layout negative power");
   const nan = faces.slice();
