@@ -33,6 +33,51 @@
 //! of the posterior variance, computed once per update; [`LayoutProbe::irradiance_variance`]
 //! is the exact variance at one normal, O(K²).
 //!
+//! # Tables at compile time
+//! [`LayoutProbe::new`] is a `const fn`: a probe in a `static` or `const` has its tables
+//! computed by the compiler (in flash, no run-time cost), and a bad layout is a compile error
+//! at that line. The same code runs at run time for a layout learned at boot, with the same
+//! bits. Large layouts take the compiler a while: at `K = 64` its `long_running_const_eval`
+//! lint stops the build unless the `static` carries `#[allow(long_running_const_eval)]`, and
+//! the evaluation took 24 s (measured on a 2-core machine; `K = 16` needs no attribute).
+//! ```
+//! use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
+//! use sphere_quadrature::Vec3;
+//!
+//! const FACES: [Sensor; 6] = [
+//!     Sensor::cosine(Vec3::X),
+//!     Sensor::cosine(Vec3::new(-1.0, 0.0, 0.0)),
+//!     Sensor::cosine(Vec3::Y),
+//!     Sensor::cosine(Vec3::new(0.0, -1.0, 0.0)),
+//!     Sensor::cosine(Vec3::Z),
+//!     Sensor::cosine(Vec3::new(0.0, 0.0, -1.0)),
+//! ];
+//! const NOISE: Noise = Noise { absolute: 0.0, relative: 0.01 };
+//! static CUBE: LayoutProbe<6> = match LayoutProbe::new(&FACES, Prior::ENVIRONMENT, NOISE) {
+//!     Ok(probe) => probe,
+//!     Err(_) => panic!("bad sensor layout"),
+//! };
+//!
+//! let mut probe = CUBE.clone();
+//! probe.update(&[1.0, 1.2, 0.9, 1.1, 2.0, 0.3])?;
+//! let runtime = LayoutProbe::<6>::new(&FACES, Prior::ENVIRONMENT, NOISE)?;
+//! let mut twin = runtime.clone();
+//! twin.update(&[1.0, 1.2, 0.9, 1.1, 2.0, 0.3])?;
+//! assert_eq!(probe.irradiance(Vec3::Z)?, twin.irradiance(Vec3::Z)?);
+//! # Ok::<(), sphere_quadrature::Error>(())
+//! ```
+//! ```compile_fail,E0080
+//! use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
+//! use sphere_quadrature::Vec3;
+//!
+//! // A zero direction: the build fails here.
+//! const BAD: [Sensor; 2] = [Sensor::cosine(Vec3::ZERO), Sensor::cosine(Vec3::Z)];
+//! static PROBE: LayoutProbe<2> = match LayoutProbe::new(&BAD, Prior::ENVIRONMENT, Noise::NONE) {
+//!     Ok(probe) => probe,
+//!     Err(_) => panic!("bad sensor layout"),
+//! };
+//! ```
+//!
 //! # Example
 //! ```
 //! use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
@@ -115,24 +160,28 @@ impl Response {
     /// assert!(g[1] < 1.0 && g[2] < g[1]);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
-    pub fn gains(&self) -> Result<[f32; DEGREES], Error> {
+    pub const fn gains(&self) -> Result<[f32; DEGREES], Error> {
         let mut g = [0.0f64; DEGREES];
         match *self {
             Response::CosinePower(p) => {
-                if !(p.is_finite() && (0.0..=4096.0).contains(&p)) {
+                if !(p.is_finite() && p >= 0.0 && p <= 4096.0) {
                     return Err(Error::InvalidParameter);
                 }
                 // I_l = ∫₀¹ tᴾ P_l(t) dt: (P + l + 1)·I_l = (P − l + 2)·I_{l−2}.
-                let p = f64::from(p);
+                let p = p as f64;
                 let mut integral = [0.0f64; DEGREES];
                 integral[0] = 1.0 / (p + 1.0);
                 integral[1] = 1.0 / (p + 2.0);
-                for l in 2..DEGREES {
+                let mut l = 2;
+                while l < DEGREES {
                     let lf = l as f64;
                     integral[l] = (p - lf + 2.0) / (p + lf + 1.0) * integral[l - 2];
+                    l += 1;
                 }
-                for (gl, il) in g.iter_mut().zip(integral) {
-                    *gl = (p + 1.0) * il;
+                let mut l = 0;
+                while l < DEGREES {
+                    g[l] = (p + 1.0) * integral[l];
+                    l += 1;
                 }
             }
             Response::Gaussian(s) => {
@@ -141,31 +190,45 @@ impl Response {
                 }
                 // g_l = i_l(S)/i₀(S): ratios r_l = i_l/i_{l−1} by the backward recurrence
                 // r_l = 1/((2l + 1)/S + r_{l+1}), started far enough above DEGREES.
-                let s = f64::from(s);
-                let top = DEGREES + 40 + (2.0 * s) as usize;
+                let s = s as f64;
+                let mut l = DEGREES + 40 + (2.0 * s) as usize;
                 let mut r = 0.0f64;
                 let mut ratios = [0.0f64; DEGREES];
-                for l in (1..=top).rev() {
+                while l >= 1 {
                     r = 1.0 / ((2 * l + 1) as f64 / s + r);
                     if l < DEGREES {
                         ratios[l] = r;
                     }
+                    l -= 1;
                 }
                 g[0] = 1.0;
-                for l in 1..DEGREES {
+                let mut l = 1;
+                while l < DEGREES {
                     g[l] = g[l - 1] * ratios[l];
+                    l += 1;
                 }
             }
             Response::Gains(values) => {
-                if (values[0] - 1.0).abs() > 1e-6
-                    || values.iter().any(|v| !v.is_finite() || v.abs() > 1.0 + 1e-6)
-                {
+                if absolute(values[0] - 1.0) > 1e-6 {
                     return Err(Error::InvalidParameter);
+                }
+                let mut l = 0;
+                while l < DEGREES {
+                    if !values[l].is_finite() || absolute(values[l]) > 1.0 + 1e-6 {
+                        return Err(Error::InvalidParameter);
+                    }
+                    l += 1;
                 }
                 return Ok(values);
             }
         }
-        Ok(g.map(|v| v as f32))
+        let mut out = [0.0f32; DEGREES];
+        let mut l = 0;
+        while l < DEGREES {
+            out[l] = g[l] as f32;
+            l += 1;
+        }
+        Ok(out)
     }
 
     /// Gains from a measured response: `values[k]` at angle `angles_deg[k]` from the axis
@@ -399,27 +462,90 @@ impl Prior {
 }
 
 /// Gains of the clamped cosine `max(0, t)`: `c_l = π·g_l(CosinePower(1))`.
-fn cosine_factors() -> [f32; DEGREES] {
+const fn cosine_factors() -> [f32; DEGREES] {
     let mut c = [0.0f32; DEGREES];
     if let Ok(g) = Response::CosinePower(1.0).gains() {
-        c = g.map(|v| v * core::f32::consts::PI);
+        let mut l = 0;
+        while l < DEGREES {
+            c[l] = g[l] * core::f32::consts::PI;
+            l += 1;
+        }
     }
     c
 }
 
 /// `Σ_l coef_l·P_l(t)` by the three-term recurrence (f32).
-fn legendre_sum(coef: &[f32; DEGREES], t: f32) -> f32 {
-    let t = t.clamp(-1.0, 1.0);
+const fn legendre_sum(coef: &[f32; DEGREES], t: f32) -> f32 {
+    let t = if t > 1.0 {
+        1.0
+    } else if t < -1.0 {
+        -1.0
+    } else {
+        t
+    };
     let (mut p0, mut p1) = (1.0f32, t);
     let mut s = coef[0] + coef[1] * t;
-    for (l, c) in coef.iter().enumerate().skip(2) {
+    let mut l = 2;
+    while l < DEGREES {
         let lf = l as f32;
         let p2 = ((2.0 * lf - 1.0) * t * p1 - (lf - 1.0) * p0) / lf;
-        s += c * p2;
+        s += coef[l] * p2;
         p0 = p1;
         p1 = p2;
+        l += 1;
     }
     s
+}
+
+/// Finite and at least 0 (const).
+const fn non_negative(v: f32) -> bool {
+    v.is_finite() && v >= 0.0
+}
+
+/// `(2l + 1)/(4π)`.
+const fn degree_weight(l: usize) -> f32 {
+    (2 * l + 1) as f32 / FOUR_PI
+}
+
+/// `|x|` (const).
+const fn absolute(x: f32) -> f32 {
+    if x < 0.0 {
+        -x
+    } else {
+        x
+    }
+}
+
+/// The square root of a positive, finite, normal `v`: Newton's iteration in f64 from the
+/// halved exponent (const; the same bits at compile time and at run time). 0 otherwise.
+const fn square_root(v: f64) -> f64 {
+    if !(v > 0.0 && v.is_finite()) {
+        return 0.0;
+    }
+    let bits = v.to_bits();
+    let mut r = f64::from_bits((((bits >> 52) + 1023) / 2) << 52);
+    let mut k = 0;
+    while k < 8 {
+        r = 0.5 * (r + v / r);
+        k += 1;
+    }
+    r
+}
+
+/// `v/|v|`, or `None` for a zero or non-finite vector (const).
+const fn normalized(v: Vec3) -> Option<Vec3> {
+    if !(v.x.is_finite() && v.y.is_finite() && v.z.is_finite()) {
+        return None;
+    }
+    let (ax, ay, az) = (absolute(v.x), absolute(v.y), absolute(v.z));
+    let m = if ax > ay { ax } else { ay };
+    let m = if m > az { m } else { az };
+    if m == 0.0 {
+        return None;
+    }
+    let (x, y, z) = ((v.x / m) as f64, (v.y / m) as f64, (v.z / m) as f64);
+    let length = square_root(x * x + y * y + z * z);
+    Some(Vec3::new((x / length) as f32, (y / length) as f32, (z / length) as f32))
 }
 
 /// A probe over `K` sensors of a user's layout, `f32` or RGB `[f32; 3]` readings (module
@@ -487,8 +613,8 @@ pub struct LayoutProbe<const K: usize, T: Radiance = f32> {
     stream_mean: [T; K],
     /// Their weight (effective updates).
     stream_weight: f32,
-    /// The log prior odds of a change per stream update.
-    prior_log_odds: f32,
+    /// The prior probability of a change per stream update.
+    hazard: f32,
     /// The posterior probability of a change at the last stream update.
     last_change: f32,
 }
@@ -508,114 +634,172 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// direction and response, or the antipodal pairs of cosine sensors (their differences
     /// see degree 1 only). The model's least noise, `10⁻⁶` of the largest eigenvalue of the
     /// whitened covariance, keeps the system solvable, and duplicates are averaged.
-    pub fn new(sensors: &[Sensor; K], prior: Prior, noise: Noise) -> Result<Self, Error> {
-        let mean_terms = usize::from(prior.mean != Mean::Zero);
+    pub const fn new(sensors: &[Sensor; K], prior: Prior, noise: Noise) -> Result<Self, Error> {
+        let mean_terms = match prior.mean {
+            Mean::Zero => 0,
+            _ => 1,
+        };
         if T::CHANNELS > MAX_CHANNELS {
             return Err(Error::InvalidParameter);
         }
         if K == 0 || K > MAX_SENSORS || K <= mean_terms {
             return Err(Error::InvalidSize);
         }
-        let noise_ok = |v: f32| v.is_finite() && v >= 0.0;
-        if !noise_ok(noise.absolute) || !noise_ok(noise.relative) {
+        if !non_negative(noise.absolute) || !non_negative(noise.relative) {
             return Err(Error::InvalidParameter);
         }
-        if prior.spectrum.iter().any(|&k| !noise_ok(k)) || prior.spectrum.iter().all(|&k| k == 0.0)
-        {
-            return Err(Error::InvalidParameter);
-        }
-        let profile = match prior.mean {
-            Mean::Zero => [0.0; 9],
-            Mean::Constant => {
-                let mut p = [0.0; 9];
-                p[0] = 1.0;
-                p
+        let spectrum = prior.spectrum;
+        let mut any = false;
+        let mut l = 0;
+        while l < DEGREES {
+            if !non_negative(spectrum[l]) {
+                return Err(Error::InvalidParameter);
             }
+            any |= spectrum[l] > 0.0;
+            l += 1;
+        }
+        if !any {
+            return Err(Error::InvalidParameter);
+        }
+        let mut profile = [0.0f32; 9];
+        match prior.mean {
+            Mean::Zero => {}
+            Mean::Constant => profile[0] = 1.0,
             Mean::Zonal(p) => {
-                if p.iter().any(|v| !v.is_finite()) || p.iter().all(|&v| v == 0.0) {
+                let mut any = false;
+                let mut l = 0;
+                while l < 9 {
+                    if !p[l].is_finite() {
+                        return Err(Error::InvalidParameter);
+                    }
+                    any |= p[l] != 0.0;
+                    l += 1;
+                }
+                if !any {
                     return Err(Error::InvalidParameter);
                 }
-                p
+                profile = p;
             }
-        };
+        }
         let mut directions = [Vec3::ZERO; K];
         let mut whitening = [0.0f32; K];
         let mut class = [0u8; K];
-        let mut distinct: [[f32; DEGREES]; MAX_RESPONSES] = [[0.0; DEGREES]; MAX_RESPONSES];
+        let mut distinct = [[0.0f32; DEGREES]; MAX_RESPONSES];
         let mut classes = 0usize;
-        for (i, s) in sensors.iter().enumerate() {
-            if !s.direction.is_finite() {
-                return Err(Error::InvalidDirection);
-            }
-            directions[i] = s.direction.try_normalize().ok_or(Error::InvalidDirection)?;
-            if !(s.noise_scale.is_finite() && s.noise_scale > 0.0) {
+        let mut i = 0;
+        while i < K {
+            let sensor = &sensors[i];
+            directions[i] = match normalized(sensor.direction) {
+                Some(d) => d,
+                None => return Err(Error::InvalidDirection),
+            };
+            let w = sensor.noise_scale;
+            if !(w.is_finite() && w > 0.0) {
                 return Err(Error::InvalidParameter);
             }
-            whitening[i] = 1.0 / s.noise_scale;
-            let g = s.response.gains()?;
-            let found = distinct[..classes].iter().position(|d| *d == g);
-            class[i] = match found {
-                Some(c) => c as u8,
-                None => {
-                    if classes == MAX_RESPONSES {
-                        return Err(Error::InvalidParameter);
-                    }
-                    distinct[classes] = g;
-                    classes += 1;
-                    (classes - 1) as u8
-                }
+            whitening[i] = 1.0 / w;
+            let g = match sensor.response.gains() {
+                Ok(g) => g,
+                Err(e) => return Err(e),
             };
+            let mut found = classes;
+            let mut c = 0;
+            while c < classes {
+                let mut same = true;
+                let mut l = 0;
+                while l < DEGREES {
+                    same &= distinct[c][l].to_bits() == g[l].to_bits();
+                    l += 1;
+                }
+                if same {
+                    found = c;
+                    break;
+                }
+                c += 1;
+            }
+            if found == classes {
+                if classes == MAX_RESPONSES {
+                    return Err(Error::InvalidParameter);
+                }
+                distinct[classes] = g;
+                classes += 1;
+            }
+            class[i] = found as u8;
+            i += 1;
         }
         let c = cosine_factors();
-        let spectrum = prior.spectrum;
-        // Series coefficients (with (2l + 1)/(4π)) of sensor–sensor covariances per class
-        // pair are formed on the fly; of sensor–query covariances per class here.
-        let degree_weight = |l: usize| (2 * l + 1) as f32 / FOUR_PI;
-        let mut query_coef = [[0.0f32; DEGREES]; MAX_RESPONSES];
-        for (q, g) in query_coef.iter_mut().zip(&distinct).take(classes) {
-            for l in 0..DEGREES {
-                q[l] = spectrum[l] * g[l] * c[l] * degree_weight(l);
-            }
-        }
+        // Per class, the series of the sensor–query covariance (with (2l + 1)/(4π)), and
+        // its table.
         let mut tables = [[0.0f32; NODES]; MAX_RESPONSES];
-        for (t, q) in tables.iter_mut().zip(&query_coef).take(classes) {
-            for (k, v) in t.iter_mut().enumerate() {
-                let x = -1.0 + 2.0 * k as f32 / (NODES - 1) as f32;
-                *v = legendre_sum(q, x);
+        let mut q = 0;
+        while q < classes {
+            let mut coef = [0.0f32; DEGREES];
+            let mut l = 0;
+            while l < DEGREES {
+                coef[l] = spectrum[l] * distinct[q][l] * c[l] * degree_weight(l);
+                l += 1;
             }
+            let mut k = 0;
+            while k < NODES {
+                let x = -1.0 + 2.0 * k as f32 / (NODES - 1) as f32;
+                tables[q][k] = legendre_sum(&coef, x);
+                k += 1;
+            }
+            q += 1;
         }
         // The whitened covariance and the direction average of z zᵀ.
         let mut cov = [[0.0f32; K]; K];
         let mut zz = [[0.0f32; K]; K];
-        for i in 0..K {
-            for j in 0..=i {
+        let mut i = 0;
+        while i < K {
+            let mut j = 0;
+            while j <= i {
                 let (gi, gj) = (&distinct[class[i] as usize], &distinct[class[j] as usize]);
                 let mut a = [0.0f32; DEGREES];
                 let mut b = [0.0f32; DEGREES];
-                for l in 0..DEGREES {
+                let mut l = 0;
+                while l < DEGREES {
                     a[l] = spectrum[l] * gi[l] * gj[l] * degree_weight(l);
                     b[l] =
                         spectrum[l] * spectrum[l] * gi[l] * gj[l] * c[l] * c[l] * degree_weight(l)
                             / FOUR_PI;
+                    l += 1;
                 }
-                let t = directions[i].dot(directions[j]);
+                let (di, dj) = (directions[i], directions[j]);
+                let t = di.x * dj.x + di.y * dj.y + di.z * dj.z;
                 let w = whitening[i] * whitening[j];
                 cov[i][j] = w * legendre_sum(&a, t);
                 cov[j][i] = cov[i][j];
                 zz[i][j] = w * legendre_sum(&b, t);
                 zz[j][i] = zz[i][j];
+                j += 1;
             }
+            i += 1;
         }
         let covariance = cov;
-        let (values, vectors) = jacobi_eigen(cov);
-        let top = values.iter().fold(0.0f32, |m, &v| m.max(v));
+        let (mut values, vectors) = jacobi_eigen(cov);
+        let mut top = 0.0f32;
+        let mut j = 0;
+        while j < K {
+            if values[j] > top {
+                top = values[j];
+            }
+            j += 1;
+        }
         if !(top > 0.0 && top.is_finite()) {
             return Err(Error::InvalidParameter);
         }
         // The model's least noise: eigenvalues floored at 10⁻⁶ of the largest, so that
         // dependent readings (duplicate sensors; antipodal cosine pairs, whose differences
         // see degree 1 only) keep the system solvable.
-        let values = values.map(|v| v.max(FLOOR * top));
+        let mut j = 0;
+        while j < K {
+            // (A NaN eigenvalue, impossible from finite input, is floored too.)
+            if values[j].is_nan() || values[j] <= FLOOR * top {
+                values[j] = FLOOR * top;
+            }
+            j += 1;
+        }
         // M̃ = Vᵀ·zz·V.
         let average_zz = congruence(&vectors, &zz);
         // Mean basis: sensor values h_i = Σ a_l g_l P_l(d_i·z), whitened and projected.
@@ -626,34 +810,44 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         if mean_terms == 1 {
             let mut h = [0.0f32; K];
             let mut hz = [0.0f32; K];
-            for i in 0..K {
+            let mut i = 0;
+            while i < K {
                 let g = &distinct[class[i] as usize];
                 let mut a = [0.0f32; DEGREES];
                 let mut b = [0.0f32; DEGREES];
-                for l in 0..9 {
+                let mut l = 0;
+                while l < 9 {
                     a[l] = profile[l] * g[l];
                     // avg[h(n)·z_i(n)] = (1/4π)·Σ_l Q_l·K_l g_l c_l·P_l(d_i·z), Q_l = a_l c_l.
                     b[l] = profile[l] * c[l] * spectrum[l] * g[l] * c[l] / FOUR_PI;
+                    l += 1;
                 }
                 h[i] = whitening[i] * legendre_sum(&a, directions[i].z);
                 hz[i] = whitening[i] * legendre_sum(&b, directions[i].z);
+                i += 1;
             }
             basis[0] = project(&vectors, &h);
             average_hz[0] = project(&vectors, &hz);
-            for l in 0..9 {
+            let mut l = 0;
+            while l < 9 {
                 basis_query[0][l] = profile[l] * c[l];
                 average_hh[0][0] += basis_query[0][l] * basis_query[0][l] / (2 * l + 1) as f32;
+                l += 1;
             }
         }
-        let prior_variance =
-            (0..DEGREES).map(|l| spectrum[l] * c[l] * c[l] * degree_weight(l)).sum::<f32>();
+        let mut prior_variance = 0.0f32;
+        let mut l = 0;
+        while l < DEGREES {
+            prior_variance += spectrum[l] * c[l] * c[l] * degree_weight(l);
+            l += 1;
+        }
         Ok(LayoutProbe {
             directions,
             whitening,
             class,
             gains: distinct,
             spectrum,
-            profile: if mean_terms == 1 { profile } else { [0.0; 9] },
+            profile,
             tables,
             covariance,
             vectors,
@@ -674,7 +868,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             updated: false,
             stream_mean: [T::ZERO; K],
             stream_weight: 0.0,
-            prior_log_odds: log_odds(DEFAULT_HAZARD),
+            hazard: DEFAULT_HAZARD,
             last_change: 0.0,
         })
     }
@@ -758,7 +952,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 log_bf += gaussian_log_bf(r * r, 1.0, s0, psi);
             }
         }
-        let probability = logistic(self.prior_log_odds + log_bf);
+        let probability = logistic(log_odds(self.hazard) + log_bf);
         let kept = (1.0 - probability) * w / (1.0 + probability * w);
         let weight = kept + 1.0;
         for (mean, &y) in self.stream_mean.iter_mut().zip(readings) {
@@ -790,7 +984,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         if !(h > 0.0 && h < 1.0) {
             return Err(Error::InvalidParameter);
         }
-        self.prior_log_odds = log_odds(h);
+        self.hazard = h;
         Ok(self)
     }
 
@@ -1348,88 +1542,131 @@ fn cholesky_solve<const K: usize>(l: &[[f32; K]; K], b: &[f32; K]) -> [f32; K] {
 }
 
 /// `Vᵀx` for the eigenvector columns `V`.
-fn project<const K: usize>(v: &[[f32; K]; K], x: &[f32; K]) -> [f32; K] {
+const fn project<const K: usize>(v: &[[f32; K]; K], x: &[f32; K]) -> [f32; K] {
     let mut out = [0.0f32; K];
-    for (i, xi) in x.iter().enumerate() {
-        for (o, vij) in out.iter_mut().zip(&v[i]) {
-            *o += vij * xi;
+    let mut i = 0;
+    while i < K {
+        let mut j = 0;
+        while j < K {
+            out[j] += v[i][j] * x[i];
+            j += 1;
         }
+        i += 1;
     }
     out
 }
 
 /// `VᵀAV`.
-fn congruence<const K: usize>(v: &[[f32; K]; K], a: &[[f32; K]; K]) -> [[f32; K]; K] {
+const fn congruence<const K: usize>(v: &[[f32; K]; K], a: &[[f32; K]; K]) -> [[f32; K]; K] {
     // AV first, then Vᵀ(AV).
     let mut av = [[0.0f32; K]; K];
-    for i in 0..K {
-        for k in 0..K {
+    let mut i = 0;
+    while i < K {
+        let mut k = 0;
+        while k < K {
             let aik = a[i][k];
-            for j in 0..K {
+            let mut j = 0;
+            while j < K {
                 av[i][j] += aik * v[k][j];
+                j += 1;
             }
+            k += 1;
         }
+        i += 1;
     }
     let mut out = [[0.0f32; K]; K];
-    for i in 0..K {
-        for a_ in 0..K {
+    let mut i = 0;
+    while i < K {
+        let mut a_ = 0;
+        while a_ < K {
             let via = v[i][a_];
-            for b in 0..K {
+            let mut b = 0;
+            while b < K {
                 out[a_][b] += via * av[i][b];
+                b += 1;
             }
+            a_ += 1;
         }
+        i += 1;
     }
     out
 }
 
-/// Eigenvalues and eigenvectors (columns) of a symmetric matrix by cyclic Jacobi rotations.
-fn jacobi_eigen<const K: usize>(mut a: [[f32; K]; K]) -> ([f32; K], [[f32; K]; K]) {
+/// Eigenvalues and eigenvectors (columns) of a symmetric matrix by cyclic Jacobi rotations
+/// (const: at compile time for a probe in a `const` or `static`).
+const fn jacobi_eigen<const K: usize>(mut a: [[f32; K]; K]) -> ([f32; K], [[f32; K]; K]) {
     let mut v = [[0.0f32; K]; K];
-    for (i, row) in v.iter_mut().enumerate() {
-        row[i] = 1.0;
+    let mut i = 0;
+    while i < K {
+        v[i][i] = 1.0;
+        i += 1;
     }
-    for _sweep in 0..30 {
+    let mut sweep = 0;
+    while sweep < 30 {
         let mut off = 0.0f32;
         let mut diag = 0.0f32;
-        for i in 0..K {
+        let mut i = 0;
+        while i < K {
             diag += a[i][i] * a[i][i];
-            for j in 0..i {
+            let mut j = 0;
+            while j < i {
                 off += a[i][j] * a[i][j];
+                j += 1;
             }
+            i += 1;
         }
         if off <= 1e-14 * diag {
             break;
         }
-        for p in 0..K {
-            for q in p + 1..K {
+        let mut p = 0;
+        while p < K {
+            let mut q = p + 1;
+            while q < K {
                 let apq = a[p][q];
-                if apq == 0.0 || apq.abs() <= 1e-12 * (a[p][p].abs() + a[q][q].abs()) {
+                if apq == 0.0 || absolute(apq) <= 1e-12 * (absolute(a[p][p]) + absolute(a[q][q])) {
+                    q += 1;
                     continue;
                 }
                 let theta = (a[q][q] - a[p][p]) / (2.0 * apq);
-                let t =
-                    math::copysign(1.0, theta) / (theta.abs() + math::sqrt(theta * theta + 1.0));
-                let c = 1.0 / math::sqrt(t * t + 1.0);
+                let sign = if theta < 0.0 { -1.0 } else { 1.0 };
+                let root = square_root((theta as f64) * (theta as f64) + 1.0) as f32;
+                let t = sign / (absolute(theta) + root);
+                let c = (1.0 / square_root((t as f64) * (t as f64) + 1.0)) as f32;
                 let s = t * c;
-                for k in 0..K {
+                let mut k = 0;
+                while k < K {
                     let (akp, akq) = (a[k][p], a[k][q]);
                     a[k][p] = c * akp - s * akq;
                     a[k][q] = s * akp + c * akq;
+                    k += 1;
                 }
-                for k in 0..K {
+                let mut k = 0;
+                while k < K {
                     let (apk, aqk) = (a[p][k], a[q][k]);
                     a[p][k] = c * apk - s * aqk;
                     a[q][k] = s * apk + c * aqk;
+                    k += 1;
                 }
-                for row in v.iter_mut() {
-                    let (vp, vq) = (row[p], row[q]);
-                    row[p] = c * vp - s * vq;
-                    row[q] = s * vp + c * vq;
+                let mut k = 0;
+                while k < K {
+                    let (vp, vq) = (v[k][p], v[k][q]);
+                    v[k][p] = c * vp - s * vq;
+                    v[k][q] = s * vp + c * vq;
+                    k += 1;
                 }
+                q += 1;
             }
+            p += 1;
         }
+        sweep += 1;
     }
-    (core::array::from_fn(|i| a[i][i]), v)
+    let mut values = [0.0f32; K];
+    let mut i = 0;
+    while i < K {
+        values[i] = a[i][i];
+        i += 1;
+    }
+    (values, v)
 }
 
 #[cfg(test)]
