@@ -615,6 +615,8 @@ pub struct LayoutProbe<const K: usize, T: Radiance = f32> {
     stream_weight: f32,
     /// The prior probability of a change per stream update.
     hazard: f32,
+    /// The REML log likelihood of the last fit, summed over channels.
+    log_likelihood: f32,
     /// The posterior probability of a change at the last stream update.
     last_change: f32,
 }
@@ -870,6 +872,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             stream_weight: 0.0,
             hazard: DEFAULT_HAZARD,
             last_change: 0.0,
+            log_likelihood: 0.0,
         })
     }
 
@@ -996,6 +999,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let mut scale = [0.0f32; MAX_CHANNELS];
         let mut nugget = [0.0f32; MAX_CHANNELS];
         let mut average = [0.0f32; MAX_CHANNELS];
+        let mut log_likelihood = 0.0f32;
         for ch in 0..T::CHANNELS.min(MAX_CHANNELS) {
             let y: [f32; K] = core::array::from_fn(|i| readings[i].channel(ch));
             let fit = self.fit(&y, pooled);
@@ -1004,7 +1008,9 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             scale[ch] = fit.scale;
             nugget[ch] = fit.nugget;
             average[ch] = fit.average_variance;
+            log_likelihood += fit.log_likelihood;
         }
+        self.log_likelihood = log_likelihood;
         self.alpha =
             core::array::from_fn(|i| from_channels(|ch| alpha[ch.min(MAX_CHANNELS - 1)][i]));
         self.beta = [from_channels(|ch| beta[ch.min(MAX_CHANNELS - 1)]), T::ZERO];
@@ -1025,6 +1031,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 scale: 0.0,
                 nugget: 0.0,
                 average_variance: 0.0,
+                log_likelihood: 0.0,
             };
         }
         let unit = libm::scalbnf(1.0, libm::ilogbf(top));
@@ -1138,11 +1145,19 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             math::exp(u)
         };
         let d: [f32; K] = core::array::from_fn(|j| s * lam[j] + nu);
-        let (_, beta, hh) = if s > 0.0 || nu > 0.0 {
+        let (objective, beta, hh) = if s > 0.0 || nu > 0.0 {
             eval(s)
         } else {
-            (0.0, if p == 1 && h.iter().any(|&v| v != 0.0) { gls_exact(h, &z) } else { 0.0 }, 0.0)
+            (
+                f32::INFINITY,
+                if p == 1 && h.iter().any(|&v| v != 0.0) { gls_exact(h, &z) } else { 0.0 },
+                0.0,
+            )
         };
+        // Of the readings themselves: undo the working unit (each d_j scales by unit², A by
+        // 1/unit²) and the whitening.
+        let log_likelihood = objective - (K - p) as f32 * math::ln(unit)
+            + self.whitening.iter().map(|w| math::ln(*w)).sum::<f32>();
         // r̃ = z − H̃ᵀβ; α (sensor space) = s·W·V·D⁻¹r̃.
         let r: [f32; K] = core::array::from_fn(|j| {
             let rj = z[j] - if p == 1 { h[j] * beta } else { 0.0 };
@@ -1226,6 +1241,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             scale: s * unit * unit,
             nugget: nu * unit * unit,
             average_variance: average.max(0.0) * unit * unit,
+            log_likelihood,
         }
     }
 
@@ -1455,6 +1471,37 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         self.scale
     }
 
+    /// The restricted (REML) log likelihood of the last update's readings under the probe's
+    /// prior and noise, up to a constant, summed over channels:
+    /// `−½·(log det Σ + log det HᵀΣ⁻¹H + rᵀΣ⁻¹r)` at the chosen scale (with a relative noise,
+    /// at its mean level). Compare it
+    /// between probes of the same sensors and readings to choose a prior per update; `+∞`
+    /// when the readings fit exactly (a constant under a constant mean), 0 before the first.
+    ///
+    /// ```
+    /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
+    /// use sphere_quadrature::Vec3;
+    ///
+    /// let faces = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    /// let sensors = faces.map(Sensor::cosine);
+    /// let readings = [1.0, 1.2, 0.9, 1.1, 2.0, 0.3];
+    /// let mut best = (f32::NEG_INFINITY, 0.0);
+    /// for lambda in [1.0, 4.0, 16.0] {
+    ///     let prior = Prior::squared_exponential(lambda)?;
+    ///     let mut probe = LayoutProbe::<6>::new(&sensors, prior, Noise::NONE)?;
+    ///     probe.update(&readings)?;
+    ///     if probe.log_likelihood() > best.0 {
+    ///         best = (probe.log_likelihood(), lambda);
+    ///     }
+    /// }
+    /// assert!(best.0.is_finite());
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
+    #[must_use]
+    pub const fn log_likelihood(&self) -> f32 {
+        self.log_likelihood
+    }
+
     /// Whether the probe has had an update.
     #[must_use]
     pub const fn is_updated(&self) -> bool {
@@ -1468,6 +1515,7 @@ struct Fit<const K: usize> {
     scale: f32,
     nugget: f32,
     average_variance: f32,
+    log_likelihood: f32,
 }
 
 /// β by least squares when `s = ν = 0` (all readings equal to the mean): `hᵀz/hᵀh`.
@@ -1704,7 +1752,7 @@ mod tests {
         n: [f64; 3],
         noise: Option<(f64, &[f64])>,
         lobe: Option<&[f64]>,
-    ) -> (f64, f64) {
+    ) -> (f64, f64, f64) {
         let k = dirs.len();
         let legendre = |l: usize, t: f64| {
             let (mut p0, mut p1) = (1.0, t);
@@ -1803,13 +1851,24 @@ mod tests {
         let p = usize::from(profile.is_some());
         let s = ip(&r, &qr) / (k - p) as f64;
         let value = beta * hq + scale * ip(&zq, &qr);
+        // REML without noise at s = rᵀC⁻¹r/(K − p):
+        // −½·((K − p)·ln s + ln det C + ln hᵀC⁻¹h + (K − p)).
+        let log_det: f64 = (0..k).map(|i| 2.0 * a[i * k + i].ln()).sum();
+        let p_terms = usize::from(profile.is_some());
+        let s_reml = ip(&r, &qr) / (k - p_terms) as f64;
+        let free = (k - p_terms) as f64;
+        let log_likelihood = -0.5
+            * (free * s_reml.ln()
+                + log_det
+                + if profile.is_some() { hqh.ln() } else { 0.0 }
+                + free);
         let vbar: f64 = (0..DEGREES).map(|l| sp(l) * c[l] * c[l] * w(l)).sum();
         let mut var = vbar - ip(&zq, &qz);
         if profile.is_some() {
             let rr = hq - ip(&h, &qz);
             var += rr * rr / hqh;
         }
-        (value, s * var)
+        (value, s * var, log_likelihood)
     }
 
     fn to64(v: Vec3) -> [f64; 3] {
@@ -1833,7 +1892,7 @@ mod tests {
                 Vec3::new(libm::cosf(t), libm::sinf(1.3 * t), 0.2 + 0.05 * i as f32)
             })
             .collect();
-        let mut worst = (0.0f64, 0.0f64);
+        let mut worst = (0.0f64, 0.0f64, 0.0f64);
         // Cube, zero mean.
         let sensors = cube();
         let y = [1.3f32, 0.4, 0.9, 0.7, 2.1, 0.2];
@@ -1843,7 +1902,7 @@ mod tests {
         let dirs: Vec<[f64; 3]> = sensors.iter().map(|s| to64(s.direction)).collect();
         let y64: Vec<f64> = y.iter().map(|&v| f64::from(v)).collect();
         for &n in &normals {
-            let (v, var) = reference(
+            let (v, var, ll) = reference(
                 &dirs,
                 &gains,
                 &se.spectrum,
@@ -1856,6 +1915,7 @@ mod tests {
             let e = probe.irradiance(n).unwrap();
             let ev = probe.irradiance_variance(n).unwrap();
             worst.0 = worst.0.max((f64::from(e.value) - v).abs() / 2.1);
+            worst.2 = worst.2.max((f64::from(probe.log_likelihood()) - ll).abs());
             worst.1 = worst.1.max((f64::from(ev) - var).abs() / var.max(1e-3));
         }
         // Dome, zonal mean.
@@ -1869,7 +1929,7 @@ mod tests {
         let y64: Vec<f64> = y.iter().map(|&v| f64::from(v)).collect();
         let p64: Vec<f64> = profile.iter().map(|&v| f64::from(v)).collect();
         for &n in &normals {
-            let (v, var) = reference(
+            let (v, var, ll) = reference(
                 &dirs,
                 &gains,
                 &se.spectrum,
@@ -1882,9 +1942,16 @@ mod tests {
             let e = probe.irradiance(n).unwrap();
             let ev = probe.irradiance_variance(n).unwrap();
             worst.0 = worst.0.max((f64::from(e.value) - v).abs() / 2.0);
+            worst.2 = worst.2.max((f64::from(probe.log_likelihood()) - ll).abs());
             worst.1 = worst.1.max((f64::from(ev) - var).abs() / var.max(1e-3));
         }
-        assert!(worst.0 < 1e-5 && worst.1 < 5e-4, "value {:e}, variance {:e}", worst.0, worst.1);
+        assert!(
+            worst.0 < 1e-5 && worst.1 < 5e-4 && worst.2 < 1e-5,
+            "value {:e}, variance {:e}, log likelihood {:e}",
+            worst.0,
+            worst.1,
+            worst.2
+        );
     }
 
     /// With a relative noise the mean is that of the exact system `s·C + diag(η²Yᵢ²)` at the
@@ -1912,7 +1979,7 @@ mod tests {
         let p64: Vec<f64> = profile.iter().map(|&v| f64::from(v)).collect();
         let mut worst = 0.0f64;
         for n in [Vec3::Z, Vec3::new(0.5, 0.2, 0.8), Vec3::new(-0.7, 0.1, 0.3), Vec3::X] {
-            let (v, _) = reference(
+            let (v, _, _) = reference(
                 &dirs,
                 &gains,
                 &se.spectrum,
@@ -1976,13 +2043,13 @@ mod tests {
         let mut worst = (0.0f64, 0.0f64);
         for axis in [Vec3::Z, Vec3::new(0.5, 0.2, 0.8), Vec3::new(-0.7, 0.1, 0.3)] {
             let r = to64(axis.try_normalize().unwrap());
-            let (v, var) =
+            let (v, var, _) =
                 reference(&dirs, &gains, &se.spectrum, Some(&p64), &y64, r, None, Some(&phong));
             let est = probe.phong(axis, e as f32).unwrap();
             worst.0 = worst.0.max((f64::from(est.value) - v).abs() / v.abs());
             worst.1 = worst.1.max((f64::from(est.variance) - var).abs() / var);
             let lobe = SphericalGaussian::new(axis, mu as f32, a as f32).unwrap();
-            let (v, var) =
+            let (v, var, _) =
                 reference(&dirs, &gains, &se.spectrum, Some(&p64), &y64, r, None, Some(&sg));
             let est = probe.glossy(&lobe).unwrap();
             worst.0 = worst.0.max((f64::from(est.value) - v).abs() / v.abs());
