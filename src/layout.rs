@@ -413,8 +413,15 @@ pub enum Mean {
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Prior {
-    /// `K_l ≥ 0`: the covariance `Σ_l K_l (2l + 1)/(4π)·P_l(x·x′)` (before the scale `s`).
+    /// `K_l ≥ 0`: the covariance `Σ_l K_l (2l + 1)/(4π)·P_l(x·x′)` (before the scale `s`),
+    /// that is `K_l` for every coefficient of degree `l`.
     pub spectrum: [f32; DEGREES],
+    /// Covariances between the zonal coefficients about `+z` of degrees 0, 1 and 2 (before
+    /// the scale): `(c₀₀, c₁₀)`, `(c₁₀, c₂₀)`, `(c₀₀, c₂₀)`; zero for an isotropic prior. With
+    /// the spectrum's `K₀`, `K₁`, `K₂` on the diagonal they must form a positive
+    /// semi-definite matrix. Light that comes from above: the level, the vertical gradient
+    /// and the zonal degree 2 vary together.
+    pub zonal: [f32; 3],
     /// The prior mean.
     pub mean: Mean,
 }
@@ -425,21 +432,30 @@ impl Prior {
     /// and outdoor, with pixels above 30 times the mean clamped (sun disks); computed in f64
     /// from the maps and rounded once to f32.
     pub const ENVIRONMENT: Prior =
-        Prior { spectrum: learned::ENVIRONMENT_SPECTRUM, mean: Mean::Zero };
+        Prior { spectrum: learned::ENVIRONMENT_SPECTRUM, zonal: [0.0; 3], mean: Mean::Zero };
     /// As [`Prior::ENVIRONMENT`] for light without sharp features: the same maps convolved
     /// with a spherical Gaussian of sharpness 10.
     pub const SMOOTH_ENVIRONMENT: Prior =
-        Prior { spectrum: learned::SMOOTH_SPECTRUM, mean: Mean::Zero };
-    /// Layouts that look up (a dome, a ceiling fixture) with `+z` up: the same maps' mean
-    /// zonal luminance profile about their up axis as the mean (its multiple by generalised
-    /// least squares), and the spectrum of what is left as the covariance.
+        Prior { spectrum: learned::SMOOTH_SPECTRUM, zonal: [0.0; 3], mean: Mean::Zero };
+    /// Layouts that look up (a dome, a ceiling fixture) with `+z` up. A zero mean; degrees
+    /// ≤ 2 flat (`K₀ = K₁ = K₂ = 1`, as the minimum-norm SH fit assumes) with zonal
+    /// correlations from the same maps (about 0.50, 0.51 and 0.33: the level, the vertical
+    /// gradient and the zonal degree 2 vary together), and above degree 2 their spectrum
+    /// over the mean power per coefficient of degrees ≤ 2. Measured on held-out maps, this
+    /// prior is within a few percent of the best of the standard estimators for upward
+    /// layouts, a little better on most maps: what the sensors cannot see (how dark the
+    /// ground is) differs from map to map more than four training maps can tell.
     pub const SKY_ABOVE: Prior = Prior {
-        spectrum: learned::ENVIRONMENT_RESIDUAL,
-        mean: Mean::Zonal(learned::ENVIRONMENT_PROFILE),
+        spectrum: learned::ENVIRONMENT_SKY_SPECTRUM,
+        zonal: learned::ENVIRONMENT_SKY_ZONAL,
+        mean: Mean::Zero,
     };
     /// As [`Prior::SKY_ABOVE`] for light without sharp features.
-    pub const SMOOTH_SKY_ABOVE: Prior =
-        Prior { spectrum: learned::SMOOTH_RESIDUAL, mean: Mean::Zonal(learned::SMOOTH_PROFILE) };
+    pub const SMOOTH_SKY_ABOVE: Prior = Prior {
+        spectrum: learned::SMOOTH_SKY_SPECTRUM,
+        zonal: learned::SMOOTH_SKY_ZONAL,
+        mean: Mean::Zero,
+    };
 
     /// The squared-exponential kernel `exp(λ(x·x′ − 1))`, `0 < λ ≤ 64`, with a constant
     /// mean: `K_l = 4π·e^{−λ}·i_l(λ)`, computed in f64.
@@ -451,7 +467,11 @@ impl Prior {
         let x = f64::from(lambda);
         // e^{−λ} i₀(λ) = (1 − e^{−2λ})/(2λ).
         let k0 = 4.0 * core::f64::consts::PI * (1.0 - math::exp64(-2.0 * x)) / (2.0 * x);
-        Ok(Prior { spectrum: g.map(|r| (k0 * f64::from(r)) as f32), mean: Mean::Constant })
+        Ok(Prior {
+            spectrum: g.map(|r| (k0 * f64::from(r)) as f32),
+            zonal: [0.0; 3],
+            mean: Mean::Constant,
+        })
     }
 
     /// The same prior with another mean.
@@ -495,6 +515,27 @@ const fn legendre_sum(coef: &[f32; DEGREES], t: f32) -> f32 {
         l += 1;
     }
     s
+}
+
+/// The clamped cosine's factors, evaluated once.
+const COSINE_FACTORS: [f32; DEGREES] = cosine_factors();
+
+fn cosine_factors_lookup() -> [f32; DEGREES] {
+    COSINE_FACTORS
+}
+
+/// `Y_l0(z)` for `l = 0, 1, 2` (real orthonormal harmonics about `+z`).
+const fn zonal_harmonics(z: f32) -> [f32; 3] {
+    [0.282_094_8, 0.488_602_5 * z, 0.315_391_57 * (3.0 * z * z - 1.0)]
+}
+
+/// `R·u` for the 3×3 zonal covariances.
+const fn times_r(r: &[[f32; 3]; 3], u: &[f32; 3]) -> [f32; 3] {
+    [
+        r[0][0] * u[0] + r[0][1] * u[1] + r[0][2] * u[2],
+        r[1][0] * u[0] + r[1][1] * u[1] + r[1][2] * u[2],
+        r[2][0] * u[0] + r[2][1] * u[1] + r[2][2] * u[2],
+    ]
 }
 
 /// Finite and at least 0 (const).
@@ -572,6 +613,10 @@ pub struct LayoutProbe<const K: usize, T: Radiance = f32> {
     gains: [[f32; DEGREES]; MAX_RESPONSES],
     /// The prior's spectrum.
     spectrum: [f32; DEGREES],
+    /// The prior's zonal covariances `R` (zero diagonal).
+    zonal_r: [[f32; 3]; 3],
+    /// Each sensor's `uᵢ = (g_l·Y_l0(dᵢ))`, `l ≤ 2`.
+    zonal_u: [[f32; 3]; K],
     /// The mean's zonal profile (zero for a zero mean).
     profile: [f32; 9],
     /// Unit-scale `Cov(Yᵢ, E(n))` against `t = dᵢ·n` per distinct response.
@@ -663,6 +708,21 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         if !any {
             return Err(Error::InvalidParameter);
         }
+        // The zonal covariances R (zero diagonal); with K₀, K₁, K₂ a PSD 3×3 matrix.
+        let [z01, z12, z02] = prior.zonal;
+        if !(z01.is_finite() && z12.is_finite() && z02.is_finite()) {
+            return Err(Error::InvalidParameter);
+        }
+        let zonal_r = [[0.0, z01, z02], [z01, 0.0, z12], [z02, z12, 0.0]];
+        let (k0, k1, k2) = (spectrum[0] as f64, spectrum[1] as f64, spectrum[2] as f64);
+        let (z01, z12, z02) = (z01 as f64, z12 as f64, z02 as f64);
+        let minor = k0 * k1 - z01 * z01;
+        let det = k0 * (k1 * k2 - z12 * z12) - z01 * (z01 * k2 - z12 * z02)
+            + z02 * (z01 * z12 - k1 * z02);
+        let tolerance = 1e-6 * (k0 * k1 * k2 + k0 * k1 + 1e-30);
+        if minor < -1e-6 * (k0 * k1 + 1e-30) || det < -tolerance || k0 * k2 - z02 * z02 < 0.0 {
+            return Err(Error::InvalidParameter);
+        }
         let mut profile = [0.0f32; 9];
         match prior.mean {
             Mean::Zero => {}
@@ -730,6 +790,22 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             i += 1;
         }
         let c = cosine_factors();
+        // Each sensor's zonal harmonics seen through its response, uᵢ = (g_l·Y_l0(dᵢ)), and
+        // R·uᵢ.
+        let mut zonal_u = [[0.0f32; 3]; K];
+        let mut ru = [[0.0f32; 3]; K];
+        let mut i = 0;
+        while i < K {
+            let y = zonal_harmonics(directions[i].z);
+            let g = &distinct[class[i] as usize];
+            let mut l = 0;
+            while l < 3 {
+                zonal_u[i][l] = g[l] * y[l];
+                l += 1;
+            }
+            ru[i] = times_r(&zonal_r, &zonal_u[i]);
+            i += 1;
+        }
         // Per class, the series of the sensor–query covariance (with (2l + 1)/(4π)), and
         // its table.
         let mut tables = [[0.0f32; NODES]; MAX_RESPONSES];
@@ -770,9 +846,26 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 let (di, dj) = (directions[i], directions[j]);
                 let t = di.x * dj.x + di.y * dj.y + di.z * dj.z;
                 let w = whitening[i] * whitening[j];
-                cov[i][j] = w * legendre_sum(&a, t);
+                // The zonal part: uᵢᵀRuⱼ; and in the average of z zᵀ the cross terms with
+                // the isotropic part, (1/4π)·Σ_l (Ruⱼ)_l c_l K_l gᵢ_l c_l Y_l0(dᵢ) (and i ↔ j),
+                // and (1/4π)·Σ_l (Ruᵢ)_l (Ruⱼ)_l c_l².
+                let (yi, yj) = (zonal_harmonics(di.z), zonal_harmonics(dj.z));
+                let mut zonal = 0.0f32;
+                let mut zonal_zz = 0.0f32;
+                let mut l = 0;
+                while l < 3 {
+                    zonal += zonal_u[i][l] * ru[j][l];
+                    let ai = spectrum[l] * gi[l] * c[l];
+                    let aj = spectrum[l] * gj[l] * c[l];
+                    zonal_zz += (ru[j][l] * c[l] * ai * yi[l]
+                        + ru[i][l] * c[l] * aj * yj[l]
+                        + ru[i][l] * ru[j][l] * c[l] * c[l])
+                        / FOUR_PI;
+                    l += 1;
+                }
+                cov[i][j] = w * (legendre_sum(&a, t) + zonal);
                 cov[j][i] = cov[i][j];
-                zz[i][j] = w * legendre_sum(&b, t);
+                zz[i][j] = w * (legendre_sum(&b, t) + zonal_zz);
                 zz[j][i] = zz[i][j];
                 j += 1;
             }
@@ -825,7 +918,15 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                     l += 1;
                 }
                 h[i] = whitening[i] * legendre_sum(&a, directions[i].z);
-                hz[i] = whitening[i] * legendre_sum(&b, directions[i].z);
+                // The zonal part: (1/4π)·Σ_l (Ruᵢ)_l c_l Q_l √(4π/(2l + 1)), Q_l = a_l c_l.
+                let mut zonal = 0.0f32;
+                let mut l = 0;
+                while l < 3 {
+                    let norm = square_root(FOUR_PI as f64 / (2 * l + 1) as f64) as f32;
+                    zonal += ru[i][l] * c[l] * profile[l] * c[l] * norm / FOUR_PI;
+                    l += 1;
+                }
+                hz[i] = whitening[i] * (legendre_sum(&b, directions[i].z) + zonal);
                 i += 1;
             }
             basis[0] = project(&vectors, &h);
@@ -849,6 +950,8 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             class,
             gains: distinct,
             spectrum,
+            zonal_r,
+            zonal_u,
             profile,
             tables,
             covariance,
@@ -1247,7 +1350,12 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
 
     /// `Cov(Yᵢ, E(n))` at unit scale for every sensor (table lookups).
     fn query_covariances(&self, n: Vec3) -> [f32; K] {
+        let c = cosine_factors_lookup();
+        let rv = self.zonal_query(n, &[c[0], c[1], c[2]]);
         core::array::from_fn(|i| {
+            let zonal = self.zonal_u[i][0] * rv[0]
+                + self.zonal_u[i][1] * rv[1]
+                + self.zonal_u[i][2] * rv[2];
             let t = self.directions[i].dot(n).clamp(-1.0, 1.0);
             let table = &self.tables[self.class[i] as usize];
             let x = (t + 1.0) * 0.5 * (NODES - 1) as f32;
@@ -1256,8 +1364,21 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             let k = k.clamp(1, NODES - 2);
             let u = x - k as f32;
             let (a, b, c) = (table[k - 1], table[k], table[k + 1]);
-            b + 0.5 * u * (c - a) + 0.5 * u * u * (a - 2.0 * b + c)
+            b + 0.5 * u * (c - a) + 0.5 * u * u * (a - 2.0 * b + c) + zonal
         })
+    }
+
+    /// `R·v(n)` for a lobe of zonal factors `q₀, q₁, q₂`: `v_l = q_l·Y_l0(n)`.
+    fn zonal_query(&self, n: Vec3, q: &[f32; 3]) -> [f32; 3] {
+        let y = zonal_harmonics(n.z);
+        times_r(&self.zonal_r, &[q[0] * y[0], q[1] * y[1], q[2] * y[2]])
+    }
+
+    /// The zonal part of a lobe's prior variance, `v(n)ᵀR·v(n)`.
+    fn zonal_prior(&self, n: Vec3, q: &[f32; 3]) -> f32 {
+        let y = zonal_harmonics(n.z);
+        let rv = self.zonal_query(n, q);
+        q[0] * y[0] * rv[0] + q[1] * y[1] * rv[1] + q[2] * y[2] * rv[2]
     }
 
     /// The mean basis's irradiance at `n`.
@@ -1288,7 +1409,9 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     pub fn irradiance_variance(&self, normal: Vec3) -> Result<T, Error> {
         let n = unit(normal)?;
         let z = self.query_covariances(n);
-        Ok(self.exact_variance(&z, self.mean_query(n), self.prior_variance))
+        let c = cosine_factors_lookup();
+        let prior = self.prior_variance + self.zonal_prior(n, &[c[0], c[1], c[2]]);
+        Ok(self.exact_variance(&z, self.mean_query(n), prior))
     }
 
     /// `s·V̄ − s²·z̃ᵀD⁻¹z̃ + RᵀA⁻¹R` per channel for unit-scale query covariances `z`, the
@@ -1329,15 +1452,21 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 c[l] = self.spectrum[l] * g[l] * q[l] * weight(l);
             }
         }
+        let rv = self.zonal_query(axis, &[q[0], q[1], q[2]]);
         let z: [f32; K] = core::array::from_fn(|i| {
+            let u = &self.zonal_u[i];
             legendre_sum(&series[self.class[i] as usize], self.directions[i].dot(axis))
+                + u[0] * rv[0]
+                + u[1] * rv[1]
+                + u[2] * rv[2]
         });
         let mut mean = [0.0f32; DEGREES];
         for l in 0..9 {
             mean[l] = self.profile[l] * q[l];
         }
         let h = if self.mean_terms == 1 { legendre_sum(&mean, axis.z) } else { 0.0 };
-        let prior = (0..DEGREES).map(|l| self.spectrum[l] * q[l] * q[l] * weight(l)).sum::<f32>();
+        let prior = (0..DEGREES).map(|l| self.spectrum[l] * q[l] * q[l] * weight(l)).sum::<f32>()
+            + self.zonal_prior(axis, &[q[0], q[1], q[2]]);
         let mut value = self.beta[0].scale(h);
         for i in 0..K {
             value = value.mul_add(self.alpha[i], z[i]);
@@ -1746,7 +1875,7 @@ mod tests {
     fn reference(
         dirs: &[[f64; 3]],
         gains: &[f64],
-        spectrum: &[f32],
+        prior: &Prior,
         profile: Option<&[f64]>,
         y: &[f64],
         n: [f64; 3],
@@ -1784,17 +1913,41 @@ mod tests {
         let c: Vec<f64> = lobe.map_or(c, <[f64]>::to_vec);
         let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         let w = |l: usize| (2 * l + 1) as f64 / (4.0 * core::f64::consts::PI);
-        let sp = |l: usize| f64::from(spectrum[l]);
+        let sp = |l: usize| f64::from(prior.spectrum[l]);
+        // The zonal covariances: Σ_{l≠l'} R_ll'·f_l Y_l0(x)·f'_l' Y_l'0(x') with the textbook
+        // Y_l0(z) = √((2l + 1)/(4π))·P_l(z).
+        let r = [
+            [0.0, f64::from(prior.zonal[0]), f64::from(prior.zonal[2])],
+            [f64::from(prior.zonal[0]), 0.0, f64::from(prior.zonal[1])],
+            [f64::from(prior.zonal[2]), f64::from(prior.zonal[1]), 0.0],
+        ];
+        let y0 = |l: usize, z: f64| {
+            ((2 * l + 1) as f64 / (4.0 * core::f64::consts::PI)).sqrt() * legendre(l, z)
+        };
+        let zonal =
+            |f: &dyn Fn(usize) -> f64, x: [f64; 3], f2: &dyn Fn(usize) -> f64, x2: [f64; 3]| {
+                let mut t = 0.0;
+                for l in 0..3 {
+                    for m in 0..3 {
+                        t += r[l][m] * f(l) * y0(l, x[2]) * f2(m) * y0(m, x2[2]);
+                    }
+                }
+                t
+            };
+        let g = |l: usize| gains[l];
         let cov = |i: usize, j: usize| {
             (0..DEGREES)
                 .map(|l| sp(l) * gains[l] * gains[l] * w(l) * legendre(l, dot(dirs[i], dirs[j])))
                 .sum::<f64>()
+                + zonal(&g, dirs[i], &g, dirs[j])
         };
+        let cq = |l: usize| c[l];
         let zq: Vec<f64> = (0..k)
             .map(|i| {
                 (0..DEGREES)
                     .map(|l| sp(l) * gains[l] * c[l] * w(l) * legendre(l, dot(dirs[i], n)))
-                    .sum()
+                    .sum::<f64>()
+                    + zonal(&g, dirs[i], &cq, n)
             })
             .collect();
         // Without noise the scale cancels from the mean; with noise s·C + diag(nᵢ).
@@ -1862,7 +2015,8 @@ mod tests {
                 + log_det
                 + if profile.is_some() { hqh.ln() } else { 0.0 }
                 + free);
-        let vbar: f64 = (0..DEGREES).map(|l| sp(l) * c[l] * c[l] * w(l)).sum();
+        let vbar: f64 =
+            (0..DEGREES).map(|l| sp(l) * c[l] * c[l] * w(l)).sum::<f64>() + zonal(&cq, n, &cq, n);
         let mut var = vbar - ip(&zq, &qz);
         if profile.is_some() {
             let rr = hq - ip(&h, &qz);
@@ -1905,7 +2059,7 @@ mod tests {
             let (v, var, ll) = reference(
                 &dirs,
                 &gains,
-                &se.spectrum,
+                &se,
                 None,
                 &y64,
                 to64(n.try_normalize().unwrap()),
@@ -1932,7 +2086,7 @@ mod tests {
             let (v, var, ll) = reference(
                 &dirs,
                 &gains,
-                &se.spectrum,
+                &se,
                 Some(&p64),
                 &y64,
                 to64(n.try_normalize().unwrap()),
@@ -1982,7 +2136,7 @@ mod tests {
             let (v, _, _) = reference(
                 &dirs,
                 &gains,
-                &se.spectrum,
+                &se,
                 Some(&p64),
                 &y64,
                 to64(n.try_normalize().unwrap()),
@@ -2044,13 +2198,12 @@ mod tests {
         for axis in [Vec3::Z, Vec3::new(0.5, 0.2, 0.8), Vec3::new(-0.7, 0.1, 0.3)] {
             let r = to64(axis.try_normalize().unwrap());
             let (v, var, _) =
-                reference(&dirs, &gains, &se.spectrum, Some(&p64), &y64, r, None, Some(&phong));
+                reference(&dirs, &gains, &se, Some(&p64), &y64, r, None, Some(&phong));
             let est = probe.phong(axis, e as f32).unwrap();
             worst.0 = worst.0.max((f64::from(est.value) - v).abs() / v.abs());
             worst.1 = worst.1.max((f64::from(est.variance) - var).abs() / var);
             let lobe = SphericalGaussian::new(axis, mu as f32, a as f32).unwrap();
-            let (v, var, _) =
-                reference(&dirs, &gains, &se.spectrum, Some(&p64), &y64, r, None, Some(&sg));
+            let (v, var, _) = reference(&dirs, &gains, &se, Some(&p64), &y64, r, None, Some(&sg));
             let est = probe.glossy(&lobe).unwrap();
             worst.0 = worst.0.max((f64::from(est.value) - v).abs() / v.abs());
             worst.1 = worst.1.max((f64::from(est.variance) - var).abs() / var);
@@ -2069,9 +2222,12 @@ mod tests {
         let mut spectrum = [0.0f32; DEGREES];
         spectrum[..3].copy_from_slice(&[12.0, 3.0, 1.5]);
         for mean in [Mean::Zero, Mean::Constant] {
-            let mut probe =
-                LayoutProbe::<6, [f32; 3]>::new(&cube(), Prior { spectrum, mean }, Noise::NONE)
-                    .unwrap();
+            let mut probe = LayoutProbe::<6, [f32; 3]>::new(
+                &cube(),
+                Prior { spectrum, zonal: [0.0; 3], mean },
+                Noise::NONE,
+            )
+            .unwrap();
             probe
                 .update(&[
                     [1.3, 1.0, 0.2],
@@ -2164,6 +2320,90 @@ mod tests {
         for h in [0.0, 1.0, f32::NAN] {
             assert!(probe.clone().with_hazard(h).is_err());
         }
+    }
+
+    /// A prior with zonal covariances (light from above): values, exact variances, a lobe,
+    /// the likelihood and the direction-averaged variance against the f64 reference.
+    #[test]
+    fn zonal_covariances_agree_with_the_f64_reference() {
+        let gains: Vec<f64> =
+            Response::CosinePower(1.0).gains().unwrap().iter().map(|&g| f64::from(g)).collect();
+        let mut spectrum = Prior::squared_exponential(4.0).unwrap().spectrum;
+        spectrum[0] = 1.0;
+        spectrum[1] = 1.0;
+        spectrum[2] = 1.0;
+        let zonal = [0.5, 0.5, 0.33];
+        let sensors = dome();
+        let y = [2.0f32, 1.2, 1.5, 0.8, 1.1];
+        let dirs: Vec<[f64; 3]> =
+            sensors.iter().map(|s| to64(s.direction.try_normalize().unwrap())).collect();
+        let y64: Vec<f64> = y.iter().map(|&v| f64::from(v)).collect();
+        let mut profile = [0.0f32; 9];
+        profile[0] = 1.0;
+        profile[1] = 0.8;
+        let p64: Vec<f64> = profile.iter().map(|&v| f64::from(v)).collect();
+        let e = 12.0f64;
+        let phong: Vec<f64> = Response::CosinePower(e as f32)
+            .gains()
+            .unwrap()
+            .iter()
+            .map(|&g| f64::from(g))
+            .collect();
+        let mut worst = [0.0f64; 5];
+        for mean in [Mean::Zero, Mean::Zonal(profile)] {
+            let prior = Prior { spectrum, zonal, mean };
+            let mut probe = LayoutProbe::<5>::new(&sensors, prior, Noise::NONE).unwrap();
+            probe.update(&y).unwrap();
+            let zonal_mean = if mean == Mean::Zero { None } else { Some(&p64[..]) };
+            for n in [Vec3::Z, Vec3::new(0.5, 0.2, 0.8), Vec3::new(-0.7, 0.1, 0.3), Vec3::X] {
+                let r = to64(n.try_normalize().unwrap());
+                let (v, var, ll) =
+                    reference(&dirs, &gains, &prior, zonal_mean, &y64, r, None, None);
+                let est = probe.irradiance(n).unwrap();
+                worst[0] = worst[0].max((f64::from(est.value) - v).abs() / 2.0);
+                // (At +z the zenith sensor reads the irradiance itself: no variance.)
+                worst[1] = worst[1].max(
+                    (f64::from(probe.irradiance_variance(n).unwrap()) - var).abs() / var.max(1e-3),
+                );
+                worst[2] = worst[2].max((f64::from(probe.log_likelihood()) - ll).abs());
+                let (v, var, _) =
+                    reference(&dirs, &gains, &prior, zonal_mean, &y64, r, None, Some(&phong));
+                let est = probe.phong(n, e as f32).unwrap();
+                worst[3] = worst[3].max((f64::from(est.value) - v).abs() / v.abs());
+                worst[3] = worst[3].max((f64::from(est.variance) - var).abs() / var);
+            }
+            // The O(1) variance: the mean of the exact ones over a Fibonacci sphere.
+            let m = 4000;
+            let mut sum = 0.0f64;
+            for i in 0..m {
+                let z = 1.0 - (2 * i + 1) as f32 / m as f32;
+                let rr = libm::sqrtf(1.0 - z * z);
+                let phi = i as f32 * 2.399_963;
+                let n = Vec3::new(rr * libm::cosf(phi), rr * libm::sinf(phi), z);
+                sum += f64::from(probe.irradiance_variance(n).unwrap()) / f64::from(m);
+            }
+            let average = f64::from(probe.irradiance(Vec3::Z).unwrap().variance);
+            worst[4] = worst[4].max((average - sum).abs() / sum);
+        }
+        assert!(
+            worst[0] < 1e-5
+                && worst[1] < 5e-4
+                && worst[2] < 1e-4
+                && worst[3] < 1e-4
+                && worst[4] < 1e-2,
+            "{worst:?}"
+        );
+        // Zonal covariances beyond the diagonal's reach: not positive semi-definite.
+        let bad = Prior { spectrum, zonal: [1.5, 0.0, 0.0], mean: Mean::Zero };
+        assert_eq!(
+            LayoutProbe::<5>::new(&sensors, bad, Noise::NONE).err(),
+            Some(Error::InvalidParameter)
+        );
+        let nan = Prior { spectrum, zonal: [f32::NAN, 0.0, 0.0], mean: Mean::Zero };
+        assert_eq!(
+            LayoutProbe::<5>::new(&sensors, nan, Noise::NONE).err(),
+            Some(Error::InvalidParameter)
+        );
     }
 
     /// The O(1) variance is the direction average of the exact one.

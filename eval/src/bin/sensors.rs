@@ -632,14 +632,31 @@ fn spectrum(map: &EnvMap, profile: &[f64]) -> Vec<f64> {
     out
 }
 
+/// The second moments `c_a·c_b` (row-major 3×3) of a map's zonal coefficients `c₀₀, c₁₀, c₂₀`
+/// of luminance over its mean (orthonormal harmonics about `+z`).
+fn zonal_moments(map: &EnvMap) -> Vec<f64> {
+    let mut c = [0.0f64; 3];
+    let mean = luminance(map.mean_radiance());
+    for v in 0..map.height {
+        let omega = map.pixel_solid_angle(v);
+        for u in 0..map.width {
+            let d = map.pixel_direction(u, v);
+            let f = luminance(map.pixel(u, v)) / mean;
+            for (l, cl) in c.iter_mut().enumerate() {
+                *cl += f * omega * real_sh(l, 0, d);
+            }
+        }
+    }
+    (0..9).map(|k| c[k / 3] * c[k % 3]).collect()
+}
+
 /// The file of the crate's learned priors.
 const LEARNED: &str = "src/layout/learned.rs";
 
 /// The crate's learned priors from the training maps (examples/envmaps/), as the Rust
 /// source of `src/layout/learned.rs`: per tier (`clamp` as the default, `smooth`), the mean
 /// SH power spectrum of luminance over its mean (degrees < DEGREES, on a 128×64 downsample),
-/// the mean zonal profile (degrees ≤ 8) and the spectrum of the residual after it; in f64,
-/// rounded once to f32.
+/// and the prior of light from above (below); in f64, rounded once to f32.
 fn learned_priors(threads: usize) -> Result<String, String> {
     let paths = cli::bundled_maps(&cli::TRAINING_MAPS);
     let maps: Vec<[EnvMap; 2]> = parallel::parallel_map(&paths, threads, |_, p| {
@@ -666,23 +683,43 @@ fn learned_priors(threads: usize) -> Result<String, String> {
          (`cargo eval sensors -- --check-priors`).\n\n",
     );
     for (t, tier) in ["ENVIRONMENT", "SMOOTH"].iter().enumerate() {
-        let profile = average(&zonal_profile, t);
         let spec = average(&|m: &EnvMap| spectrum(m, &[]), t);
-        let resid = average(&|m: &EnvMap| spectrum(m, &profile), t);
         let _ = writeln!(out, "/// Spectrum `K_l` of the {} tier.", TIERS[t]);
         let _ = writeln!(
             out,
             "pub(super) const {tier}_SPECTRUM: [f32; super::DEGREES] = [{}];",
             list(&spec, DEGREES)
         );
-        let _ = writeln!(out, "/// Zonal profile `a_l` (about `+z`) of the {} tier.", TIERS[t]);
-        let _ =
-            writeln!(out, "pub(super) const {tier}_PROFILE: [f32; 9] = [{}];", list(&profile, 9));
-        let _ = writeln!(out, "/// Spectrum of the residual after the profile, {} tier.", TIERS[t]);
+        // Light from above: a flat prior on degrees ≤ 2 (K₀ = K₁ = K₂ = 1) with the zonal
+        // correlations of S = ½M + ½·diag(C₀, C₁, C₂), M the maps' second moments of their
+        // zonal coefficients (c₀₀, c₁₀, c₂₀) of luminance over its mean, and above degree 2
+        // the spectrum over τ = (C₀ + 3C₁ + 5C₂)/9, the mean power per coefficient of
+        // degrees ≤ 2.
+        let moments = average(&zonal_moments, t);
+        let s_ab = |a: usize, b: usize| {
+            0.5 * moments[3 * a + b] + if a == b { 0.5 * spec[a] } else { 0.0 }
+        };
+        let rho = |a: usize, b: usize| s_ab(a, b) / (s_ab(a, a) * s_ab(b, b)).sqrt();
+        let tau = (spec[0] + 3.0 * spec[1] + 5.0 * spec[2]) / 9.0;
+        let mut sky: Vec<f64> = spec.iter().map(|c| c / tau).collect();
+        sky[0] = 1.0;
+        sky[1] = 1.0;
+        sky[2] = 1.0;
         let _ = writeln!(
             out,
-            "pub(super) const {tier}_RESIDUAL: [f32; super::DEGREES] = [{}];",
-            list(&resid, DEGREES)
+            "/// Spectrum of light from above (flat to degree 2), {} tier.",
+            TIERS[t]
+        );
+        let _ = writeln!(
+            out,
+            "pub(super) const {tier}_SKY_SPECTRUM: [f32; super::DEGREES] = [{}];",
+            list(&sky, DEGREES)
+        );
+        let _ = writeln!(out, "/// Zonal correlations of light from above, {} tier.", TIERS[t]);
+        let _ = writeln!(
+            out,
+            "pub(super) const {tier}_SKY_ZONAL: [f32; 3] = [{}];",
+            list(&[rho(0, 1), rho(1, 2), rho(0, 2)], 3)
         );
     }
     rustfmt(&out)
@@ -1029,11 +1066,17 @@ fn main() -> Result<(), Box<dyn Error>> {
                 let priors = [
                     Prior {
                         spectrum: spectrum_f32(&kernels[ti][FAMILY.len()]),
+                        zonal: [0.0; 3],
                         mean: CrateMean::Zero,
                     },
-                    Prior { spectrum: spectrum_f32(&kernels[ti][3]), mean: CrateMean::Constant },
+                    Prior {
+                        spectrum: spectrum_f32(&kernels[ti][3]),
+                        zonal: [0.0; 3],
+                        mean: CrateMean::Constant,
+                    },
                     Prior {
                         spectrum: spectrum_f32(&kernels[ti][FAMILY.len() + 2]),
+                        zonal: [0.0; 3],
                         mean: CrateMean::Zonal(zonal),
                     },
                 ];
