@@ -162,15 +162,14 @@ fn doc_line(line: &str, measured: &Measured, place: &str, problems: &mut Vec<Pro
     let mut report = |what: String| problems.push(Problem { place: place.into(), what });
     let mut out = String::new();
     let mut rest = line;
-    loop {
-        // The first quote on the rest of the line.
-        let Some((at, prefix)) = ["`m4:", "`ram:", "`flash:"]
+    // The first quote on the rest of the line, while there is one.
+    let first = |rest: &str| {
+        ["`m4:", "`ram:", "`flash:"]
             .into_iter()
             .filter_map(|p| rest.find(p).map(|at| (at, p)))
             .min()
-        else {
-            break;
-        };
+    };
+    while let Some((at, prefix)) = first(rest) {
         out.push_str(&rest[..at + prefix.len()]);
         rest = &rest[at + prefix.len()..];
         let Some((key, after)) = quoted_key(rest) else {
