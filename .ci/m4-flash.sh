@@ -8,7 +8,8 @@ set -euo pipefail
 cd "$(dirname "$0")/../examples/cortex-m4"
 elf=target/thumbv7em-none-eabihf/release/flash
 
-# KEY BASE N: the case, the case it is measured from ("none": nothing), the size it uses.
+# KEY BASE N: the case, the case it is measured from ("none": nothing), the size it uses
+# (a number of points N, or K=k sensors).
 cases="
 sf_points none 64
 qmc_irradiance none 64
@@ -30,6 +31,10 @@ probe_radiance_sh_variance probe_new 64
 probe_sh_irradiance none 64
 probe_masked_new none 64
 probe_masked_update probe_masked_new 64
+layout_new none K=6
+layout_update layout_new K=6
+layout_irradiance layout_new K=6
+layout_irradiance_variance layout_new K=6
 sg_clamped_cosine_fraction none 1
 sg_hemispherical_fraction none 1
 "
@@ -52,5 +57,6 @@ while read -r key base n; do
     [ -n "$key" ] || continue
     measure "$base"
     measure "$key"
-    echo "# flash $key N=$n $((code[$key] - code[$base])) $((data[$key] - data[$base]))"
+    case $n in *=*) size=$n ;; *) size=N=$n ;; esac
+    echo "# flash $key $size $((code[$key] - code[$base])) $((data[$key] - data[$base]))"
 done <<< "$cases"

@@ -9,12 +9,14 @@
 //!
 //! Two kinds of place quote a measurement:
 //! - rustdoc lines in `src/`: "`` `m4:NAME N=n`: K instructions ``" (the device's
-//!   `# count NAME N=n K instructions/call`) and "`` `flash:NAME N=n`: C bytes of code and
-//!   D bytes of tables ``" (`.ci/m4-flash.sh`'s `# flash NAME N=n C D`);
+//!   `# count NAME N=n K instructions/call`), "`` `ram:NAME N=n`: B bytes ``" (the device's
+//!   `# ram NAME N=n B`: the size of a type in RAM) and "`` `flash:NAME N=n`: C bytes of code
+//!   and D bytes of tables ``" (`.ci/m4-flash.sh`'s `# flash NAME N=n C D`);
 //! - generated regions of `README.md`, between `<!-- numbers: TEMPLATE -->` and
 //!   `<!-- /numbers -->`: the template file with each `{m4:NAME N=n}`, `{code:NAME N=n}` and
 //!   `{data:NAME N=n}` replaced by the measurement.
 //!
+//! The size in a name is `N=n`, or `K=n` for a count of sensors (`m4:layout_init K=16`).
 //! Numbers are written in groups of three digits separated by spaces (`88 800`). Without
 //! `--write` the program fails, listing every place that disagrees, if any quoted number
 //! differs from the measurement or names one the measurements do not have.
@@ -47,13 +49,15 @@ struct Args {
     write: bool,
 }
 
-/// A measurement's name: `NAME N=n`.
-type Key = (String, u64);
+/// A measurement's name and size: `NAME N=n` (or `K=n`) as ("NAME", "N=n").
+type Key = (String, String);
 
 #[derive(Default)]
 struct Measured {
     /// Instructions per call.
     m4: BTreeMap<Key, u64>,
+    /// Bytes of RAM.
+    ram: BTreeMap<Key, u64>,
     /// Bytes of code, bytes of tables.
     flash: BTreeMap<Key, (u64, u64)>,
 }
@@ -69,6 +73,10 @@ impl Measured {
             let w: Vec<&str> = line.split_whitespace().collect();
             if let ["#", "count", name, n, k, "instructions/call"] = w[..] {
                 out.m4.insert(key(name, n)?, number(k)?);
+            }
+            // "# ram NAME N=n B"
+            if let ["#", "ram", name, n, b] = w[..] {
+                out.ram.insert(key(name, n)?, number(b)?);
             }
         }
         for line in read(flash)?.lines() {
@@ -96,8 +104,10 @@ fn number(s: &str) -> Result<u64, String> {
 }
 
 fn key(name: &str, n: &str) -> Result<Key, String> {
-    let n = n.strip_prefix("N=").ok_or_else(|| format!("expected N=n, found {n:?}"))?;
-    Ok((name.to_string(), number(n)?))
+    let size = n.strip_prefix("N=").or_else(|| n.strip_prefix("K="));
+    let size = size.ok_or_else(|| format!("expected N=n or K=n, found {n:?}"))?;
+    number(size)?;
+    Ok((name.to_string(), n.to_string()))
 }
 
 /// `n` in groups of three digits separated by spaces: `88 800`, `2 716`, `57`.
@@ -152,41 +162,44 @@ fn doc_line(line: &str, measured: &Measured, place: &str, problems: &mut Vec<Pro
     let mut report = |what: String| problems.push(Problem { place: place.into(), what });
     let mut out = String::new();
     let mut rest = line;
-    loop {
-        let m4 = rest.find("`m4:");
-        let flash = rest.find("`flash:");
-        let (at, is_m4) = match (m4, flash) {
-            (Some(a), Some(b)) if a < b => (a, true),
-            (Some(a), None) => (a, true),
-            (_, Some(b)) => (b, false),
-            (None, None) => break,
-        };
-        let prefix = if is_m4 { "`m4:" } else { "`flash:" };
+    // The first quote on the rest of the line, while there is one.
+    let first = |rest: &str| {
+        ["`m4:", "`ram:", "`flash:"]
+            .into_iter()
+            .filter_map(|p| rest.find(p).map(|at| (at, p)))
+            .min()
+    };
+    while let Some((at, prefix)) = first(rest) {
         out.push_str(&rest[..at + prefix.len()]);
         rest = &rest[at + prefix.len()..];
         let Some((key, after)) = quoted_key(rest) else {
             report(format!("cannot parse {prefix}"));
             continue;
         };
-        let name = format!("{} N={}", key.0, key.1);
+        let name = format!("{} {}", key.0, key.1);
         out.push_str(&rest[..rest.len() - after.len()]);
         rest = after;
-        if is_m4 {
+        if prefix != "`flash:" {
+            let (kind, unit, table) = if prefix == "`m4:" {
+                ("m4", " instructions", &measured.m4)
+            } else {
+                ("ram", " bytes", &measured.ram)
+            };
             let Some((k, len)) =
-                leading_grouped(rest).filter(|(_, len)| rest[*len..].starts_with(" instructions"))
+                leading_grouped(rest).filter(|(_, len)| rest[*len..].starts_with(unit))
             else {
-                report(format!("m4:{name}: expected \"K instructions\""));
+                report(format!("{kind}:{name}: expected \"K{unit}\""));
                 continue;
             };
-            match measured.m4.get(&key) {
+            match table.get(&key) {
                 Some(&device) => {
                     if device != k {
-                        report(format!("m4:{name} says {k} instructions, the device {device}"));
+                        report(format!("{kind}:{name} says {k}{unit}, the device {device}"));
                     }
                     out.push_str(&grouped(device));
                 }
                 None => {
-                    report(format!("cites m4:{name}, which the device does not print"));
+                    report(format!("cites {kind}:{name}, which the device does not print"));
                     out.push_str(&rest[..len]);
                 }
             }
@@ -304,7 +317,7 @@ fn run(args: &Args) -> Result<bool, String> {
     let root = cli::repo_root();
     let mut problems = Vec::new();
     let mut changed = Vec::new();
-    let (mut m4_cited, mut flash_cited) = (0, 0);
+    let (mut m4_cited, mut ram_cited, mut flash_cited) = (0, 0, 0);
 
     let mut files = Vec::new();
     rust_files(&root.join("src"), &mut files).map_err(|e| format!("src/: {e}"))?;
@@ -315,6 +328,7 @@ fn run(args: &Args) -> Result<bool, String> {
         let mut new = String::new();
         for (i, line) in text.split_inclusive('\n').enumerate() {
             m4_cited += line.matches("`m4:").count();
+            ram_cited += line.matches("`ram:").count();
             flash_cited += line.matches("`flash:").count();
             new.push_str(&doc_line(line, &measured, &format!("{rel}:{}", i + 1), &mut problems));
         }
@@ -346,8 +360,8 @@ fn run(args: &Args) -> Result<bool, String> {
         eprintln!("{}: {}", p.place, p.what);
     }
     println!(
-        "{m4_cited} instruction counts and {flash_cited} flash sizes in the rustdoc of src/, and \
-         {regions} generated region(s) of README.md: {}",
+        "{m4_cited} instruction counts, {ram_cited} RAM sizes and {flash_cited} flash sizes in the \
+         rustdoc of src/, and {regions} generated region(s) of README.md: {}",
         if problems.is_empty() { "all equal the measurements" } else { "see the errors above" }
     );
     Ok(problems.is_empty())
@@ -386,8 +400,10 @@ mod tests {
     #[test]
     fn lines() {
         let mut m = Measured::default();
-        m.m4.insert(("probe_update".into(), 64), 88_801);
-        m.flash.insert(("probe_update".into(), 64), (18_396, 24_096));
+        m.m4.insert(key("probe_update", "N=64").unwrap(), 88_801);
+        m.flash.insert(key("probe_update", "N=64").unwrap(), (18_396, 24_096));
+        m.m4.insert(key("layout_init", "K=6").unwrap(), 317_640);
+        m.ram.insert(key("layout_f32", "K=6").unwrap(), 2_868);
         let mut problems = Vec::new();
         let line = "/// - `m4:probe_update N=64`: 88 800 instructions (four-member selection)\n";
         let fixed = doc_line(line, &m, "x", &mut problems);
@@ -401,6 +417,17 @@ mod tests {
         let line = "/// - `m4:missing N=64`: 1 instructions\n";
         assert_eq!(doc_line(line, &m, "x", &mut problems), line);
         assert_eq!(problems.len(), 1);
+        problems.clear();
+        // Sizes in sensors, RAM sizes, and K=n is not N=n.
+        let line =
+            "//! - `m4:layout_init K=6`: 317 640 instructions; `ram:layout_f32 K=6`: 2 868 bytes\n";
+        assert_eq!(doc_line(line, &m, "x", &mut problems), line);
+        assert!(problems.is_empty());
+        let line = "//! `ram:layout_f32 K=6`: 2 000 bytes, `m4:layout_init N=6`: 1 instructions\n";
+        let fixed = doc_line(line, &m, "x", &mut problems);
+        assert_eq!(fixed, line.replace("2 000", "2 868"));
+        assert_eq!(problems.len(), 2);
+        assert!(key("layout_init", "M=6").is_err());
         let t = render("a {m4:probe_update N=64} b {code:probe_update N=64}", &m, "t").unwrap();
         assert_eq!(t, "a 88 801 b 18 396");
         assert!(render("{m4:other N=1}", &m, "t").is_err());

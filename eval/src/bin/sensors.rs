@@ -451,7 +451,7 @@ fn sh_fit(
 fn crate_fit_k<const K: usize>(
     geo: &Geometry,
     powers: &[u32],
-    prior: Prior,
+    priors: &[Prior],
     relative: f64,
     y: &[f64],
     normals: &[[f64; 3]],
@@ -464,9 +464,17 @@ fn crate_fit_k<const K: usize>(
         )
     });
     let noise = Noise { absolute: 0.0, relative: relative as f32 };
-    let mut probe = LayoutProbe::<K>::new(&sensors, prior, noise).ok()?;
     let readings: [f32; K] = std::array::from_fn(|i| y[i] as f32);
-    probe.update(&readings).ok()?;
+    // With several priors, the one of the highest REML likelihood for these readings.
+    let mut probe: Option<LayoutProbe<K>> = None;
+    for prior in priors {
+        let mut candidate = LayoutProbe::<K>::new(&sensors, *prior, noise).ok()?;
+        candidate.update(&readings).ok()?;
+        if probe.as_ref().is_none_or(|p| candidate.log_likelihood() > p.log_likelihood()) {
+            probe = Some(candidate);
+        }
+    }
+    let probe = probe?;
     let mut values = Vec::new();
     let mut variances = Vec::new();
     for n in normals {
@@ -480,7 +488,7 @@ fn crate_fit_k<const K: usize>(
 fn crate_fit(
     geo: &Geometry,
     powers: &[u32],
-    prior: Prior,
+    prior: &[Prior],
     relative: f64,
     y: &[f64],
     normals: &[[f64; 3]],
@@ -624,14 +632,31 @@ fn spectrum(map: &EnvMap, profile: &[f64]) -> Vec<f64> {
     out
 }
 
+/// The second moments `c_a·c_b` (row-major 3×3) of a map's zonal coefficients `c₀₀, c₁₀, c₂₀`
+/// of luminance over its mean (orthonormal harmonics about `+z`).
+fn zonal_moments(map: &EnvMap) -> Vec<f64> {
+    let mut c = [0.0f64; 3];
+    let mean = luminance(map.mean_radiance());
+    for v in 0..map.height {
+        let omega = map.pixel_solid_angle(v);
+        for u in 0..map.width {
+            let d = map.pixel_direction(u, v);
+            let f = luminance(map.pixel(u, v)) / mean;
+            for (l, cl) in c.iter_mut().enumerate() {
+                *cl += f * omega * real_sh(l, 0, d);
+            }
+        }
+    }
+    (0..9).map(|k| c[k / 3] * c[k % 3]).collect()
+}
+
 /// The file of the crate's learned priors.
 const LEARNED: &str = "src/layout/learned.rs";
 
 /// The crate's learned priors from the training maps (examples/envmaps/), as the Rust
 /// source of `src/layout/learned.rs`: per tier (`clamp` as the default, `smooth`), the mean
 /// SH power spectrum of luminance over its mean (degrees < DEGREES, on a 128×64 downsample),
-/// the mean zonal profile (degrees ≤ 8) and the spectrum of the residual after it; in f64,
-/// rounded once to f32.
+/// and the prior of light from above (below); in f64, rounded once to f32.
 fn learned_priors(threads: usize) -> Result<String, String> {
     let paths = cli::bundled_maps(&cli::TRAINING_MAPS);
     let maps: Vec<[EnvMap; 2]> = parallel::parallel_map(&paths, threads, |_, p| {
@@ -658,23 +683,43 @@ fn learned_priors(threads: usize) -> Result<String, String> {
          (`cargo eval sensors -- --check-priors`).\n\n",
     );
     for (t, tier) in ["ENVIRONMENT", "SMOOTH"].iter().enumerate() {
-        let profile = average(&zonal_profile, t);
         let spec = average(&|m: &EnvMap| spectrum(m, &[]), t);
-        let resid = average(&|m: &EnvMap| spectrum(m, &profile), t);
         let _ = writeln!(out, "/// Spectrum `K_l` of the {} tier.", TIERS[t]);
         let _ = writeln!(
             out,
             "pub(super) const {tier}_SPECTRUM: [f32; super::DEGREES] = [{}];",
             list(&spec, DEGREES)
         );
-        let _ = writeln!(out, "/// Zonal profile `a_l` (about `+z`) of the {} tier.", TIERS[t]);
-        let _ =
-            writeln!(out, "pub(super) const {tier}_PROFILE: [f32; 9] = [{}];", list(&profile, 9));
-        let _ = writeln!(out, "/// Spectrum of the residual after the profile, {} tier.", TIERS[t]);
+        // Light from above: a flat prior on degrees ≤ 2 (K₀ = K₁ = K₂ = 1) with the zonal
+        // correlations of S = ½M + ½·diag(C₀, C₁, C₂), M the maps' second moments of their
+        // zonal coefficients (c₀₀, c₁₀, c₂₀) of luminance over its mean, and above degree 2
+        // the spectrum over τ = (C₀ + 3C₁ + 5C₂)/9, the mean power per coefficient of
+        // degrees ≤ 2.
+        let moments = average(&zonal_moments, t);
+        let s_ab = |a: usize, b: usize| {
+            0.5 * moments[3 * a + b] + if a == b { 0.5 * spec[a] } else { 0.0 }
+        };
+        let rho = |a: usize, b: usize| s_ab(a, b) / (s_ab(a, a) * s_ab(b, b)).sqrt();
+        let tau = (spec[0] + 3.0 * spec[1] + 5.0 * spec[2]) / 9.0;
+        let mut sky: Vec<f64> = spec.iter().map(|c| c / tau).collect();
+        sky[0] = 1.0;
+        sky[1] = 1.0;
+        sky[2] = 1.0;
         let _ = writeln!(
             out,
-            "pub(super) const {tier}_RESIDUAL: [f32; super::DEGREES] = [{}];",
-            list(&resid, DEGREES)
+            "/// Spectrum of light from above (flat to degree 2), {} tier.",
+            TIERS[t]
+        );
+        let _ = writeln!(
+            out,
+            "pub(super) const {tier}_SKY_SPECTRUM: [f32; super::DEGREES] = [{}];",
+            list(&sky, DEGREES)
+        );
+        let _ = writeln!(out, "/// Zonal correlations of light from above, {} tier.", TIERS[t]);
+        let _ = writeln!(
+            out,
+            "pub(super) const {tier}_SKY_ZONAL: [f32; 3] = [{}];",
+            list(&[rho(0, 1), rho(1, 2), rho(0, 2)], 3)
         );
     }
     rustfmt(&out)
@@ -873,7 +918,10 @@ fn main() -> Result<(), Box<dyn Error>> {
     for name in if args.explore { &CRATE_VARIANTS[..] } else { &[] } {
         variants.push(name.to_string());
     }
-    let peers = ["nearest", "cos-avg", "sh1-ls", "sh2", "bmc"];
+    // The issue's estimators, then (report only) the per-probe choice among
+    // squared-exponential kernels by REML likelihood, with the learned prior's mean.
+    let peers = ["nearest", "cos-avg", "sh1-ls", "sh2", "bmc", "bmc-se-reml"];
+    let csv_estimators = 5;
     // Evaluate: (layout, noise, tier, map) → per estimator (sum sq err, sum truth, covered, count).
     let count = scenes.len();
     let eval_jobs: Vec<(usize, usize, usize, usize)> = (0..layouts.len())
@@ -941,7 +989,18 @@ fn main() -> Result<(), Box<dyn Error>> {
                     (true, 0) => Prior::SKY_ABOVE,
                     (true, _) => Prior::SMOOTH_SKY_ABOVE,
                 };
-                if let Some((v, var)) = crate_fit(&geo, &lay.power, chosen, NOISES[ni], &y, normals)
+                let family: Vec<Prior> = [1.0f32, 2.0, 4.0, 8.0, 16.0, 32.0]
+                    .iter()
+                    .filter_map(|&l| Prior::squared_exponential(l).ok())
+                    .map(|p| p.with_mean(chosen.mean))
+                    .collect();
+                if let Some((v, var)) =
+                    crate_fit(&geo, &lay.power, &family, NOISES[ni], &y, normals)
+                {
+                    record(5, &v, Some(&var));
+                }
+                if let Some((v, var)) =
+                    crate_fit(&geo, &lay.power, &[chosen], NOISES[ni], &y, normals)
                 {
                     record(4, &v, Some(&var));
                 }
@@ -1007,17 +1066,23 @@ fn main() -> Result<(), Box<dyn Error>> {
                 let priors = [
                     Prior {
                         spectrum: spectrum_f32(&kernels[ti][FAMILY.len()]),
+                        zonal: [0.0; 3],
                         mean: CrateMean::Zero,
                     },
-                    Prior { spectrum: spectrum_f32(&kernels[ti][3]), mean: CrateMean::Constant },
+                    Prior {
+                        spectrum: spectrum_f32(&kernels[ti][3]),
+                        zonal: [0.0; 3],
+                        mean: CrateMean::Constant,
+                    },
                     Prior {
                         spectrum: spectrum_f32(&kernels[ti][FAMILY.len() + 2]),
+                        zonal: [0.0; 3],
                         mean: CrateMean::Zonal(zonal),
                     },
                 ];
                 for (j, prior) in priors.into_iter().enumerate() {
                     if let Some((v, var)) =
-                        crate_fit(&geo, &lay.power, prior, NOISES[ni], &y, normals)
+                        crate_fit(&geo, &lay.power, &[prior], NOISES[ni], &y, normals)
                     {
                         record(base + j, &v, Some(&var));
                     }
@@ -1043,7 +1108,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     if let Some(csv) = &args.csv {
         let mut text = String::new();
         for (&(li, ni, ti, mi), r) in eval_jobs.iter().zip(&results) {
-            for e in 0..peers.len() {
+            for e in 0..csv_estimators {
                 let cov = if e == 4 { format!("{:.4}", r[e][2] / r[e][3]) } else { String::new() };
                 let _ = writeln!(
                     text,
@@ -1110,6 +1175,54 @@ fn main() -> Result<(), Box<dyn Error>> {
                     sum_bmc / sum_best,
                     worst,
                     100.0 * cov / n
+                );
+            }
+        }
+    }
+    // The learned prior against the per-probe choice among squared-exponential kernels.
+    let _ = writeln!(
+        out,
+        "\n## The learned prior against a choice per update\n\n\
+         `bmc` (the learned prior, fixed) and `bmc-se-reml` (per update, the squared-exponential \
+         kernel of sharpness 1, 2, 4, 8, 16 or 32 with the highest REML likelihood, the same \
+         mean): error over the best standard estimator, mean of per-map ratios, held-out maps.\n\n\
+         | layout | noise | tier | bmc | bmc-se-reml | bmc coverage | bmc-se-reml coverage |\n\
+         |---|---|---|---|---|---|---|"
+    );
+    for li in 0..layouts.len() {
+        for ni in 0..NOISES.len() {
+            for ti in 0..2 {
+                let held: Vec<&Vec<[f64; 4]>> = eval_jobs
+                    .iter()
+                    .zip(&results)
+                    .filter(|((l, n, t, m), _)| {
+                        *l == li && *n == ni && *t == ti && !scenes[*m].training
+                    })
+                    .map(|(_, r)| r)
+                    .collect();
+                if held.is_empty() {
+                    continue;
+                }
+                let n = held.len() as f64;
+                let ratio = |e: usize| {
+                    held.iter()
+                        .map(|r| {
+                            rel(&r[e]) / (0..4).map(|s| rel(&r[s])).fold(f64::INFINITY, f64::min)
+                        })
+                        .sum::<f64>()
+                        / n
+                };
+                let coverage = |e: usize| held.iter().map(|r| r[e][2] / r[e][3]).sum::<f64>() / n;
+                let _ = writeln!(
+                    out,
+                    "| {} | {} | {} | {:.3} | {:.3} | {:.1} % | {:.1} % |",
+                    layouts[li].name,
+                    noise_name(NOISES[ni]),
+                    TIERS[ti],
+                    ratio(4),
+                    ratio(5),
+                    100.0 * coverage(4),
+                    100.0 * coverage(5)
                 );
             }
         }

@@ -17,6 +17,7 @@ use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use sphere_quadrature::footprint::{CosinePower, Footprint, Gaussian, Kind, Point};
+use sphere_quadrature::layout::{LayoutProbe, Prior, Sensor};
 use sphere_quadrature::qmc::{self, LobeSampler};
 use sphere_quadrature::{bmc, probe, sg, sh, temporal};
 use sphere_quadrature::{Lobe, SphericalFibonacci, Vec3};
@@ -139,6 +140,12 @@ fn main() -> ! {
     temporal_counts::<62, 2>(64, 4, 100);
     temporal_counts::<252, 4>(256, 1, 50);
     temporal_counts::<64, 0>(64, 4, 100);
+    // Sensor layouts built at run time: the scenario's cube of six photodiodes and the 16 on
+    // the photodiode probe's directions, with their noisy readings.
+    let readings = &scenario::sensor_readings::NOISY_READINGS_16;
+    let sf16 = *probe::Probe::<16, f32, CosinePower<1>>::new().directions();
+    layout_counts(&scenario::sensor_readings::CUBE, &scenario::sensor_readings::CUBE_READINGS);
+    layout_counts(&sf16, readings);
     report!("sg_clamped_cosine_fraction", 1, 200, || {
         sg::clamped_cosine_fraction(black_box(7.3), black_box(0.41))
     });
@@ -251,6 +258,43 @@ fn temporal_counts<const NR: usize, const S: usize>(
     let query = count(query_reps, || black_box(&p).irradiance(n));
     hprintln!("# count temporal_update_S{} N={} {} instructions/call", S, rays, update);
     hprintln!("# count temporal_irradiance_S{} N={} {} instructions/call", S, rays, query);
+}
+
+/// `LayoutProbe<K, f32>` of cosine photodiodes at `directions` (`Prior::ENVIRONMENT`, the
+/// scenario's relative noise of 1 %, the green channel of `readings`): `new`, `update`,
+/// `irradiance` and `irradiance_variance` (lines `# count layout_{init,update,…} K=…`), the
+/// RGB update, and the probes' sizes in RAM (lines `# ram layout_{f32,rgb} K=… B`).
+fn layout_counts<const K: usize>(directions: &[Vec3; K], readings: &[[f32; 3]; K]) {
+    let sensors = directions.map(Sensor::cosine);
+    let noise = scenario::LAYOUT_NOISE;
+    let new = || {
+        LayoutProbe::<K, f32>::new(
+            black_box(&sensors),
+            black_box(Prior::ENVIRONMENT),
+            black_box(noise),
+        )
+    };
+    let init = count(2, new);
+    let (Ok(mut p), Ok(mut rgb)) =
+        (new(), LayoutProbe::<K, [f32; 3]>::new(&sensors, Prior::ENVIRONMENT, noise))
+    else {
+        hprintln!("# layout K={} failed", K);
+        return;
+    };
+    let y: [f32; K] = readings.map(|r| r[1]);
+    let n = black_box(Vec3::new(0.3, -0.4, 0.5));
+    let update = count(4, || black_box(&mut p).update(black_box(&y)));
+    let update_rgb = count(2, || black_box(&mut rgb).update(black_box(readings)));
+    let _ = p.update(&y);
+    let query = count(200, || black_box(&p).irradiance(n));
+    let variance = count(50, || black_box(&p).irradiance_variance(n));
+    hprintln!("# count layout_init K={} {} instructions/call", K, init);
+    hprintln!("# count layout_update K={} {} instructions/call", K, update);
+    hprintln!("# count layout_update_rgb K={} {} instructions/call", K, update_rgb);
+    hprintln!("# count layout_irradiance K={} {} instructions/call", K, query);
+    hprintln!("# count layout_irradiance_variance K={} {} instructions/call", K, variance);
+    hprintln!("# ram layout_f32 K={} {}", K, core::mem::size_of::<LayoutProbe<K, f32>>());
+    hprintln!("# ram layout_rgb K={} {}", K, core::mem::size_of::<LayoutProbe<K, [f32; 3]>>());
 }
 
 /// Ends the QEMU run with a status.

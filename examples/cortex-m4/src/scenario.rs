@@ -3,16 +3,18 @@
 //! can be compared line by line. Shared with the host through `#[path]`
 //! (`eval/src/bin/device_scenario.rs`); `no_std`, no allocation.
 //!
-//! The photodiode readings of the sensor part are generated on the host
-//! (`eval/src/bin/sensor_readings.rs`) into `sensor_readings.rs`, next to this file.
+//! The photodiode readings of the sensor part (and the noisy ones of the sensor-layout part)
+//! are generated on the host (`eval/src/bin/sensor_readings.rs`) into `sensor_readings.rs`,
+//! next to this file.
 
 use core::fmt::Arguments;
 
 // Relative to this file's directory, so the host twin finds it through its `#[path]` too.
 #[path = "sensor_readings.rs"]
-mod sensor_readings;
+pub mod sensor_readings;
 
 use sphere_quadrature::footprint::{CosinePower, Point};
+use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
 use sphere_quadrature::qmc::{self, LobeSampler};
 use sphere_quadrature::{bmc, probe, sg};
 use sphere_quadrature::{
@@ -219,6 +221,74 @@ pub fn run(out: &mut impl Sink) {
     // taken on the host and embedded.
     sensor_probe(out, &sensor_readings::READINGS_16);
     sensor_probe(out, &sensor_readings::READINGS_32);
+
+    // Sensor layouts: six photodiodes on a cube's faces, and 16 on the photodiode probe's
+    // directions, readings with a multiplicative noise of 1 %, built at run time.
+    layout_probe(out, "cube6", &sensor_readings::CUBE, &sensor_readings::CUBE_READINGS);
+    let sf16 = *probe::Probe::<16, f32, CosinePower<1>>::new().directions();
+    layout_probe(out, "sf16", &sf16, &sensor_readings::NOISY_READINGS_16);
+}
+
+/// The noise of the scenario's layout readings: 1 % of the reading.
+pub const LAYOUT_NOISE: Noise = Noise { absolute: 0.0, relative: 0.01 };
+
+/// A `LayoutProbe<K, [f32; 3]>` of cosine photodiodes at `directions` with
+/// `Prior::ENVIRONMENT` and [`LAYOUT_NOISE`] (lines `layout_{label}_…`): the scale chosen by
+/// the update, then at the query normals the irradiance, its direction-averaged and exact
+/// variances and the relative error against the exact irradiance; then bad input (the probe
+/// keeps its data).
+fn layout_probe<const K: usize>(
+    out: &mut impl Sink,
+    label: &str,
+    directions: &[Vec3; K],
+    readings: &[[f32; 3]; K],
+) {
+    let sensors = directions.map(Sensor::cosine);
+    let mut p = match LayoutProbe::<K, [f32; 3]>::new(&sensors, Prior::ENVIRONMENT, LAYOUT_NOISE) {
+        Ok(p) => p,
+        Err(e) => {
+            out.line(format_args!("layout_{label}_new 0 error {e:?}"));
+            return;
+        }
+    };
+    out.line(format_args!("layout_{label}_update 0 {:?}", p.update(readings)));
+    for (c, &s) in p.signal_variance().iter().enumerate() {
+        layout_value(out, label, "scale", c, s);
+    }
+    let queries = sensor_readings::NORMALS.iter().zip(&sensor_readings::IRRADIANCE);
+    for (i, (&n, truth)) in queries.enumerate() {
+        let (Ok(e), Ok(exact)) = (p.irradiance(n), p.irradiance_variance(n)) else {
+            out.line(format_args!("layout_{label}_query {i} failed"));
+            continue;
+        };
+        for (c, &t) in truth.iter().enumerate() {
+            let ev = e.value[c];
+            layout_value(out, label, "e", 3 * i + c, ev);
+            layout_value(out, label, "var", 3 * i + c, e.variance[c]);
+            layout_value(out, label, "exact_var", 3 * i + c, exact[c]);
+            layout_value(out, label, "rel_err", 3 * i + c, (ev - t) / t);
+        }
+    }
+    let mut bad = *readings;
+    bad[K - 1][2] = f32::NAN;
+    out.line(format_args!("layout_{label}_nan_reading 0 {:?}", p.update(&bad)));
+    out.line(format_args!("layout_{label}_zero_normal 0 {:?}", p.irradiance(Vec3::ZERO).err()));
+    let zero_var = p.irradiance_variance(Vec3::ZERO).err();
+    out.line(format_args!("layout_{label}_zero_normal_variance 0 {zero_var:?}"));
+    // Still the data of the good update.
+    let kept = p.irradiance(sensor_readings::NORMALS[0]).map_or([f32::NAN; 3], |e| e.value);
+    for (c, &v) in kept.iter().enumerate() {
+        layout_value(out, label, "e_after_bad", c, v);
+    }
+}
+
+/// `layout_{label}_{what} index bits` (NaN as `nan`).
+fn layout_value(out: &mut impl Sink, label: &str, what: &str, index: usize, v: f32) {
+    if v.is_nan() {
+        out.line(format_args!("layout_{label}_{what} {index} nan"));
+    } else {
+        out.line(format_args!("layout_{label}_{what} {index} {:08x}", v.to_bits()));
+    }
 }
 
 /// Missing samples (issue #14): a rotated RGB probe of capacity 16 with 13 samples missing

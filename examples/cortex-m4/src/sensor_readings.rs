@@ -5,7 +5,9 @@
 //! scenario (`scenario.rs`): `Yᵢ = E(xᵢ)/π` per RGB channel, `E` the exact irradiance of the
 //! map's nearest-pixel radiance (`reference::truth::irradiance`, f64, rounded once to f32),
 //! `xᵢ` the directions of the unrotated `Probe::<N, [f32; 3], CosinePower<1>>`; and the
-//! exact irradiance at the query normals. See `eval/src/bin/sensor_readings.rs`.
+//! exact irradiance at the query normals. For the layout probe, readings of six photodiodes
+//! on a cube's faces and of the 16 above with a multiplicative noise of 1 % (fixed seed).
+//! See `eval/src/bin/sensor_readings.rs`.
 
 use sphere_quadrature::Vec3;
 
@@ -111,6 +113,68 @@ pub static READINGS_32: [[f32; 3]; 32] = [
     [f32::from_bits(0x3f5b_987d), f32::from_bits(0x3f33_a35c), f32::from_bits(0x3f1e_dcc9)],
     // 31: 0.58931935, 0.40949667, 0.26757982
     [f32::from_bits(0x3f16_dda2), f32::from_bits(0x3ed1_a98c), f32::from_bits(0x3e89_0039)],
+];
+
+/// The cube's face normals, in the order of [`CUBE_READINGS`].
+pub const CUBE: [Vec3; 6] = [
+    Vec3::new(1.0, 0.0, 0.0),
+    Vec3::new(-1.0, 0.0, 0.0),
+    Vec3::new(0.0, 1.0, 0.0),
+    Vec3::new(0.0, -1.0, 0.0),
+    Vec3::new(0.0, 0.0, 1.0),
+    Vec3::new(0.0, 0.0, -1.0),
+];
+
+/// Readings of six photodiodes on the faces of a cube ([`CUBE`]), noise of 1 %.
+pub static CUBE_READINGS: [[f32; 3]; 6] = [
+    // 0: 0.63037044, 0.4873438, 0.359761
+    [f32::from_bits(0x3f21_5ff5), f32::from_bits(0x3ef9_8520), f32::from_bits(0x3eb8_3298)],
+    // 1: 0.9279782, 0.87081695, 0.94694746
+    [f32::from_bits(0x3f6d_8ffb), f32::from_bits(0x3f5e_eddc), f32::from_bits(0x3f72_6b26)],
+    // 2: 0.43774912, 0.33611783, 0.22657621
+    [f32::from_bits(0x3ee0_20a7), f32::from_bits(0x3eac_17a3), f32::from_bits(0x3e68_0398)],
+    // 3: 1.4589651, 1.3708118, 1.39752
+    [f32::from_bits(0x3fba_bf5e), f32::from_bits(0x3faf_76c3), f32::from_bits(0x3fb2_e1ef)],
+    // 4: 0.73975515, 0.60959476, 0.5368647
+    [f32::from_bits(0x3f3d_6098), f32::from_bits(0x3f1c_0e67), f32::from_bits(0x3f09_6ff7)],
+    // 5: 0.70835286, 0.5196993, 0.3796412
+    [f32::from_bits(0x3f35_569d), f32::from_bits(0x3f05_0b03), f32::from_bits(0x3ec2_6055)],
+];
+
+/// Readings of the photodiodes of [`READINGS_16`], noise of 1 %.
+pub static NOISY_READINGS_16: [[f32; 3]; 16] = [
+    // 0: 0.66226, 0.5426919, 0.42889762
+    [f32::from_bits(0x3f29_89df), f32::from_bits(0x3f0a_eddb), f32::from_bits(0x3edb_9878)],
+    // 1: 1.0458645, 1.0281606, 1.0915877
+    [f32::from_bits(0x3f85_dee3), f32::from_bits(0x3f83_9ac4), f32::from_bits(0x3f8b_b925)],
+    // 2: 0.5480309, 0.42852736, 0.31618983
+    [f32::from_bits(0x3f0c_4bc1), f32::from_bits(0x3edb_67f0), f32::from_bits(0x3ea1_e3a2)],
+    // 3: 0.958908, 0.84989184, 0.768686
+    [f32::from_bits(0x3f75_7aff), f32::from_bits(0x3f59_9283), f32::from_bits(0x3f44_c89b)],
+    // 4: 0.817923, 0.75926185, 0.7856331
+    [f32::from_bits(0x3f51_6367), f32::from_bits(0x3f42_5efc), f32::from_bits(0x3f49_1f40)],
+    // 5: 0.53664005, 0.42420948, 0.31818742
+    [f32::from_bits(0x3f09_613e), f32::from_bits(0x3ed9_31fc), f32::from_bits(0x3ea2_e976)],
+    // 6: 1.4790063, 1.3930545, 1.4889253
+    [f32::from_bits(0x3fbd_5014), f32::from_bits(0x3fb2_4f9c), f32::from_bits(0x3fbe_951b)],
+    // 7: 0.4525378, 0.3241408, 0.22417396
+    [f32::from_bits(0x3ee7_b309), f32::from_bits(0x3ea5_f5c8), f32::from_bits(0x3e65_8ddc)],
+    // 8: 0.7435436, 0.58709955, 0.46007553
+    [f32::from_bits(0x3f3e_58e0), f32::from_bits(0x3f16_4c28), f32::from_bits(0x3eeb_8f05)],
+    // 9: 1.1764578, 1.1397599, 1.2549914
+    [f32::from_bits(0x3f96_962b), f32::from_bits(0x3f91_e3a7), f32::from_bits(0x3fa0_a38f)],
+    // 10: 0.4471809, 0.33302015, 0.22812828
+    [f32::from_bits(0x3ee4_f4e5), f32::from_bits(0x3eaa_819e), f32::from_bits(0x3e69_9a76)],
+    // 11: 1.2657578, 1.1104162, 1.0307374
+    [f32::from_bits(0x3fa2_045a), f32::from_bits(0x3f8e_221e), f32::from_bits(0x3f83_ef34)],
+    // 12: 0.561464, 0.44237855, 0.36461502
+    [f32::from_bits(0x3f0f_bc1b), f32::from_bits(0x3ee2_7f71), f32::from_bits(0x3eba_aed2)],
+    // 13: 0.5798666, 0.4304387, 0.28792277
+    [f32::from_bits(0x3f14_7223), f32::from_bits(0x3edc_6276), f32::from_bits(0x3e93_6a9d)],
+    // 14: 1.1597633, 1.0210688, 0.96777314
+    [f32::from_bits(0x3f94_7320), f32::from_bits(0x3f82_b262), f32::from_bits(0x3f77_bffb)],
+    // 15: 0.5354835, 0.3631015, 0.23086463
+    [f32::from_bits(0x3f09_1572), f32::from_bits(0x3eb9_e871), f32::from_bits(0x3e6c_67c7)],
 ];
 
 /// Query normals (not unit; none is a sample direction).

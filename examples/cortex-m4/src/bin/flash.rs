@@ -24,6 +24,7 @@ use core::hint::black_box;
 use cortex_m_rt::entry;
 use sphere_quadrature::bmc::{GlossyRenderer, Renderer};
 use sphere_quadrature::footprint::Point;
+use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
 use sphere_quadrature::probe::{self, Probe, Selection};
 use sphere_quadrature::qmc::{self, LobeSampler};
 use sphere_quadrature::sg::{self, SphericalGaussian};
@@ -52,6 +53,15 @@ fn probe() -> Probe<64, f32> {
 
 fn samples<const N: usize>() -> [f32; N] {
     core::array::from_fn(|i| black_box(1.0 + i as f32 * 0.01))
+}
+
+/// The layout probe every layout case starts from (the base case `layout_new`): six cosine
+/// photodiodes on a cube's faces, `Prior::ENVIRONMENT`, a relative noise of 1 %.
+fn layout() -> Option<LayoutProbe<6, f32>> {
+    let faces = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    let sensors = black_box(faces).map(Sensor::cosine);
+    let noise = black_box(Noise { absolute: 0.0, relative: 0.01 });
+    black_box(LayoutProbe::new(&sensors, black_box(Prior::ENVIRONMENT), noise).ok())
 }
 
 #[entry]
@@ -106,6 +116,21 @@ fn main() -> ! {
         let mut p = black_box(Probe::<64, f32, Point, 8>::new());
         keep(p.update_masked(&samples(), &valid));
         keep(p);
+    }
+    #[cfg(sq_flash = "layout_new")]
+    keep(layout());
+    #[cfg(sq_flash = "layout_update")]
+    if let Some(mut p) = layout() {
+        keep(p.update(&samples()));
+        keep(p);
+    }
+    #[cfg(sq_flash = "layout_irradiance")]
+    if let Some(p) = layout() {
+        keep(p.irradiance(dir()));
+    }
+    #[cfg(sq_flash = "layout_irradiance_variance")]
+    if let Some(p) = layout() {
+        keep(p.irradiance_variance(dir()));
     }
     #[cfg(sq_flash = "sg_clamped_cosine_fraction")]
     keep(sg::clamped_cosine_fraction(black_box(7.3), black_box(0.41)));
