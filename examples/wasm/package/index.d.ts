@@ -305,7 +305,10 @@ export type LayoutPrior =
   | "environment"
   /** As `"environment"` for light without sharp features. */
   | "smooth-environment"
-  /** Layouts that look up (a dome, a ceiling fixture) with `+z` up: the mean sky profile as the mean. */
+  /**
+   * Layouts that look up (a dome, a ceiling fixture) with `+z` up: the level, the vertical
+   * gradient and the zonal degree 2 of the light vary together (the maps' correlations).
+   */
   | "sky-above"
   /** As `"sky-above"` for light without sharp features. */
   | "smooth-sky-above"

@@ -1,7 +1,7 @@
 //! The layout module, `layout.wasm` (built with the feature `layout` alone): RGB layout
 //! probes `LayoutProbe<K, [f32; 3]>` over a user's sensors, for `K` in [`CAPACITIES`]. The
 //! sensor count is a const generic in Rust and every sensor must be a real one (a padded
-//! layout would be another layout), so each `K` is its own instantiation, about 16 KB of
+//! layout would be another layout), so each `K` is its own instantiation, about 18 KB of
 //! code: the module carries a fixed set, the counts of common boards (a tetrahedron, a dome
 //! of five, a cube, a hemisphere of seven, a ring of eight, an icosahedron, sixteen).
 //!
