@@ -261,7 +261,7 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:renderer_w_dot_y N=16`: 37 instructions (one channel)
+    /// - `m4:renderer_w_dot_y N=16`: 36 instructions (one channel)
     /// - `m4:renderer_w_dot_y N=64`: 174 instructions (one channel)
     /// - `m4:renderer_w_dot_y N=256`: 856 instructions (one channel)
     ///

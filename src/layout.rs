@@ -101,30 +101,30 @@
 //! (`LayoutProbe<K, f32>`), cosine photodiodes on the faces of a cube (`K = 6`) and on the
 //! directions of `Probe::<16, f32, CosinePower<1>>` (`K = 16`), [`Prior::ENVIRONMENT`], a
 //! relative noise of 1 % and readings of a real environment map:
-//! - `m4:layout_init K=6`: 95 860 instructions ([`LayoutProbe::new`])
-//! - `m4:layout_init K=16`: 565 100 instructions
-//! - `m4:layout_update K=6`: 5 070 instructions ([`LayoutProbe::update`])
-//! - `m4:layout_update K=16`: 25 610 instructions
+//! - `m4:layout_init K=6`: 95 880 instructions ([`LayoutProbe::new`])
+//! - `m4:layout_init K=16`: 565 300 instructions
+//! - `m4:layout_update K=6`: 5 080 instructions ([`LayoutProbe::update`])
+//! - `m4:layout_update K=16`: 25 620 instructions
 //! - `m4:layout_update_rgb K=6`: 16 020 instructions (`LayoutProbe<6, [f32; 3]>`)
 //! - `m4:layout_update_rgb K=16`: 84 380 instructions (`LayoutProbe<16, [f32; 3]>`)
 //! - `m4:layout_irradiance K=6`: 482 instructions ([`LayoutProbe::irradiance`])
 //! - `m4:layout_irradiance K=16`: 1 086 instructions
-//! - `m4:layout_irradiance_variance K=6`: 696 instructions
+//! - `m4:layout_irradiance_variance K=6`: 697 instructions
 //!   ([`LayoutProbe::irradiance_variance`])
-//! - `m4:layout_irradiance_variance K=16`: 2 072 instructions
+//! - `m4:layout_irradiance_variance K=16`: 2 076 instructions
 //!
 //! Flash (release, LTO) that one call adds, the first on top of an empty program and the
 //! others on top of [`LayoutProbe::new`] (`K = 6`, one channel):
-//! - `flash:layout_new K=6`: 29 808 bytes of code and 316 bytes of tables
-//! - `flash:layout_update K=6`: 12 616 bytes of code and 276 bytes of tables
-//! - `flash:layout_irradiance K=6`: 3 416 bytes of code and 256 bytes of tables
+//! - `flash:layout_new K=6`: 29 816 bytes of code and 320 bytes of tables
+//! - `flash:layout_update K=6`: 12 560 bytes of code and 276 bytes of tables
+//! - `flash:layout_irradiance K=6`: 3 424 bytes of code and 256 bytes of tables
 //! - `flash:layout_irradiance_variance K=6`: 4 424 bytes of code and 256 bytes of tables
 //!
 //! RAM of the probe (`core::mem::size_of`), which [`LayoutProbe::new`] returns by value:
-//! - `ram:layout_f32 K=6`: 3 712 bytes (`LayoutProbe<6, f32>`)
-//! - `ram:layout_rgb K=6`: 3 848 bytes (`LayoutProbe<6, [f32; 3]>`)
-//! - `ram:layout_f32 K=16`: 6 924 bytes (`LayoutProbe<16, f32>`)
-//! - `ram:layout_rgb K=16`: 7 220 bytes (`LayoutProbe<16, [f32; 3]>`)
+//! - `ram:layout_f32 K=6`: 3 716 bytes (`LayoutProbe<6, f32>`)
+//! - `ram:layout_rgb K=6`: 3 852 bytes (`LayoutProbe<6, [f32; 3]>`)
+//! - `ram:layout_f32 K=16`: 6 928 bytes (`LayoutProbe<16, f32>`)
+//! - `ram:layout_rgb K=16`: 7 224 bytes (`LayoutProbe<16, [f32; 3]>`)
 
 // Matrix code reads clearer with its indices.
 #![allow(clippy::needless_range_loop)]
@@ -455,6 +455,10 @@ pub struct Prior {
     pub zonal: [f32; 3],
     /// The prior mean.
     pub mean: Mean,
+    /// A factor on every variance the probe reports (finite, positive; 1 for the model's own
+    /// variances): the learned priors carry one fitted so that 2σ intervals hold for 95 % of
+    /// the errors on their training maps.
+    pub variance_scale: f32,
 }
 
 impl Prior {
@@ -462,12 +466,20 @@ impl Prior {
     /// power spectrum of the luminance (over its mean) of four real environment maps, indoor
     /// and outdoor, with pixels above 30 times the mean clamped (sun disks); computed in f64
     /// from the maps and rounded once to f32.
-    pub const ENVIRONMENT: Prior =
-        Prior { spectrum: learned::ENVIRONMENT_SPECTRUM, zonal: [0.0; 3], mean: Mean::Zero };
+    pub const ENVIRONMENT: Prior = Prior {
+        spectrum: learned::ENVIRONMENT_SPECTRUM,
+        zonal: [0.0; 3],
+        mean: Mean::Zero,
+        variance_scale: 1.0,
+    };
     /// As [`Prior::ENVIRONMENT`] for light without sharp features: the same maps convolved
     /// with a spherical Gaussian of sharpness 10.
-    pub const SMOOTH_ENVIRONMENT: Prior =
-        Prior { spectrum: learned::SMOOTH_SPECTRUM, zonal: [0.0; 3], mean: Mean::Zero };
+    pub const SMOOTH_ENVIRONMENT: Prior = Prior {
+        spectrum: learned::SMOOTH_SPECTRUM,
+        zonal: [0.0; 3],
+        mean: Mean::Zero,
+        variance_scale: 1.0,
+    };
     /// Layouts that look up (a dome, a ceiling fixture) with `+z` up. A zero mean; degrees
     /// ≤ 2 flat (`K₀ = K₁ = K₂ = 1`, as the minimum-norm SH fit assumes) with zonal
     /// correlations from the same maps (about 0.50, 0.51 and 0.33: the level, the vertical
@@ -480,12 +492,14 @@ impl Prior {
         spectrum: learned::ENVIRONMENT_SKY_SPECTRUM,
         zonal: learned::ENVIRONMENT_SKY_ZONAL,
         mean: Mean::Zero,
+        variance_scale: learned::ENVIRONMENT_SKY_CALIBRATION,
     };
     /// As [`Prior::SKY_ABOVE`] for light without sharp features.
     pub const SMOOTH_SKY_ABOVE: Prior = Prior {
         spectrum: learned::SMOOTH_SKY_SPECTRUM,
         zonal: learned::SMOOTH_SKY_ZONAL,
         mean: Mean::Zero,
+        variance_scale: learned::SMOOTH_SKY_CALIBRATION,
     };
 
     /// The squared-exponential kernel `exp(λ(x·x′ − 1))`, `0 < λ ≤ 64`, with a constant
@@ -502,6 +516,7 @@ impl Prior {
             spectrum: g.map(|r| (k0 * f64::from(r)) as f32),
             zonal: [0.0; 3],
             mean: Mean::Constant,
+            variance_scale: 1.0,
         })
     }
 
@@ -697,6 +712,8 @@ pub struct LayoutProbe<const K: usize, T: Radiance = f32> {
     basis_query: [[f32; 9]; 2],
     /// Number of mean basis functions (0, 1).
     mean_terms: usize,
+    /// The prior's factor on every reported variance.
+    variance_scale: f32,
     /// `V̄`: the prior variance of the irradiance (unit scale).
     prior_variance: f32,
     /// Direction averages, eigenbasis: `M̃ = VᵀW·avg[z zᵀ]·WV`.
@@ -770,6 +787,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             l += 1;
         }
         if !any {
+            return Err(Error::InvalidParameter);
+        }
+        let variance_scale = prior.variance_scale;
+        if !(variance_scale.is_finite() && variance_scale > 0.0) {
             return Err(Error::InvalidParameter);
         }
         // The zonal covariances R (zero diagonal); with K₀, K₁, K₂ a PSD 3×3 matrix.
@@ -1039,6 +1060,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             average_hz,
             average_hh,
             noise,
+            variance_scale,
             alpha: [T::ZERO; K],
             beta: [T::ZERO; 2],
             scale: T::ZERO,
@@ -1417,7 +1439,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             beta: beta * unit,
             scale: s * unit * unit,
             nugget: nu * unit * unit,
-            average_variance: average.max(0.0) * unit * unit,
+            average_variance: average.max(0.0) * unit * unit * self.variance_scale,
             log_likelihood,
         }
     }
@@ -1515,7 +1537,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 let r = h - s * hz;
                 v += r * r / hh;
             }
-            v.max(0.0)
+            v.max(0.0) * self.variance_scale
         })
     }
 
@@ -2308,7 +2330,7 @@ mod tests {
         for mean in [Mean::Zero, Mean::Constant] {
             let mut probe = LayoutProbe::<6, [f32; 3]>::new(
                 &cube(),
-                Prior { spectrum, zonal: [0.0; 3], mean },
+                Prior { spectrum, zonal: [0.0; 3], mean, variance_scale: 1.0 },
                 Noise::NONE,
             )
             .unwrap();
@@ -2435,7 +2457,7 @@ mod tests {
             .collect();
         let mut worst = [0.0f64; 5];
         for mean in [Mean::Zero, Mean::Zonal(profile)] {
-            let prior = Prior { spectrum, zonal, mean };
+            let prior = Prior { spectrum, zonal, mean, variance_scale: 1.0 };
             let mut probe = LayoutProbe::<5>::new(&sensors, prior, Noise::NONE).unwrap();
             probe.update(&y).unwrap();
             let zonal_mean = if mean == Mean::Zero { None } else { Some(&p64[..]) };
@@ -2478,12 +2500,13 @@ mod tests {
             "{worst:?}"
         );
         // Zonal covariances beyond the diagonal's reach: not positive semi-definite.
-        let bad = Prior { spectrum, zonal: [1.5, 0.0, 0.0], mean: Mean::Zero };
+        let bad = Prior { spectrum, zonal: [1.5, 0.0, 0.0], mean: Mean::Zero, variance_scale: 1.0 };
         assert_eq!(
             LayoutProbe::<5>::new(&sensors, bad, Noise::NONE).err(),
             Some(Error::InvalidParameter)
         );
-        let nan = Prior { spectrum, zonal: [f32::NAN, 0.0, 0.0], mean: Mean::Zero };
+        let nan =
+            Prior { spectrum, zonal: [f32::NAN, 0.0, 0.0], mean: Mean::Zero, variance_scale: 1.0 };
         assert_eq!(
             LayoutProbe::<5>::new(&sensors, nan, Noise::NONE).err(),
             Some(Error::InvalidParameter)

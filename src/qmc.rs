@@ -250,7 +250,7 @@ fn is_finite<T: Radiance>(x: T) -> bool {
 /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
 /// `examples/cortex-m4`, whose output CI checks these lines against):
 /// - `m4:qmc_irradiance N=16`: 5 074 instructions (trivial radiance callback)
-/// - `m4:qmc_irradiance N=64`: 19 196 instructions (trivial radiance callback)
+/// - `m4:qmc_irradiance N=64`: 19 192 instructions (trivial radiance callback)
 /// - `m4:qmc_irradiance N=256`: 75 690 instructions (trivial radiance callback)
 ///
 /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
