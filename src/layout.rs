@@ -101,30 +101,30 @@
 //! (`LayoutProbe<K, f32>`), cosine photodiodes on the faces of a cube (`K = 6`) and on the
 //! directions of `Probe::<16, f32, CosinePower<1>>` (`K = 16`), [`Prior::ENVIRONMENT`], a
 //! relative noise of 1 % and readings of a real environment map:
-//! - `m4:layout_init K=6`: 471 160 instructions ([`LayoutProbe::new`])
-//! - `m4:layout_init K=16`: 4 843 180 instructions
-//! - `m4:layout_update K=6`: 5 060 instructions ([`LayoutProbe::update`])
-//! - `m4:layout_update K=16`: 25 190 instructions
-//! - `m4:layout_update_rgb K=6`: 16 000 instructions (`LayoutProbe<6, [f32; 3]>`)
-//! - `m4:layout_update_rgb K=16`: 83 000 instructions (`LayoutProbe<16, [f32; 3]>`)
-//! - `m4:layout_irradiance K=6`: 490 instructions ([`LayoutProbe::irradiance`])
-//! - `m4:layout_irradiance K=16`: 1 008 instructions
-//! - `m4:layout_irradiance_variance K=6`: 674 instructions
+//! - `m4:layout_init K=6`: 95 880 instructions ([`LayoutProbe::new`])
+//! - `m4:layout_init K=16`: 565 300 instructions
+//! - `m4:layout_update K=6`: 5 080 instructions ([`LayoutProbe::update`])
+//! - `m4:layout_update K=16`: 25 620 instructions
+//! - `m4:layout_update_rgb K=6`: 16 020 instructions (`LayoutProbe<6, [f32; 3]>`)
+//! - `m4:layout_update_rgb K=16`: 84 380 instructions (`LayoutProbe<16, [f32; 3]>`)
+//! - `m4:layout_irradiance K=6`: 482 instructions ([`LayoutProbe::irradiance`])
+//! - `m4:layout_irradiance K=16`: 1 086 instructions
+//! - `m4:layout_irradiance_variance K=6`: 697 instructions
 //!   ([`LayoutProbe::irradiance_variance`])
-//! - `m4:layout_irradiance_variance K=16`: 1 852 instructions
+//! - `m4:layout_irradiance_variance K=16`: 2 076 instructions
 //!
 //! Flash (release, LTO) that one call adds, the first on top of an empty program and the
 //! others on top of [`LayoutProbe::new`] (`K = 6`, one channel):
-//! - `flash:layout_new K=6`: 30 228 bytes of code and 308 bytes of tables
-//! - `flash:layout_update K=6`: 12 248 bytes of code and 272 bytes of tables
-//! - `flash:layout_irradiance K=6`: 3 120 bytes of code and 256 bytes of tables
-//! - `flash:layout_irradiance_variance K=6`: 4 008 bytes of code and 256 bytes of tables
+//! - `flash:layout_new K=6`: 29 816 bytes of code and 320 bytes of tables
+//! - `flash:layout_update K=6`: 12 560 bytes of code and 276 bytes of tables
+//! - `flash:layout_irradiance K=6`: 3 424 bytes of code and 256 bytes of tables
+//! - `flash:layout_irradiance_variance K=6`: 4 424 bytes of code and 256 bytes of tables
 //!
 //! RAM of the probe (`core::mem::size_of`), which [`LayoutProbe::new`] returns by value:
-//! - `ram:layout_f32 K=6`: 3 604 bytes (`LayoutProbe<6, f32>`)
-//! - `ram:layout_rgb K=6`: 3 740 bytes (`LayoutProbe<6, [f32; 3]>`)
-//! - `ram:layout_f32 K=16`: 6 696 bytes (`LayoutProbe<16, f32>`)
-//! - `ram:layout_rgb K=16`: 6 992 bytes (`LayoutProbe<16, [f32; 3]>`)
+//! - `ram:layout_f32 K=6`: 3 716 bytes (`LayoutProbe<6, f32>`)
+//! - `ram:layout_rgb K=6`: 3 852 bytes (`LayoutProbe<6, [f32; 3]>`)
+//! - `ram:layout_f32 K=16`: 6 928 bytes (`LayoutProbe<16, f32>`)
+//! - `ram:layout_rgb K=16`: 7 224 bytes (`LayoutProbe<16, [f32; 3]>`)
 
 // Matrix code reads clearer with its indices.
 #![allow(clippy::needless_range_loop)]
@@ -455,6 +455,10 @@ pub struct Prior {
     pub zonal: [f32; 3],
     /// The prior mean.
     pub mean: Mean,
+    /// A factor on every variance the probe reports (finite, positive; 1 for the model's own
+    /// variances): the learned priors carry one fitted so that 2σ intervals hold for 95 % of
+    /// the errors on their training maps.
+    pub variance_scale: f32,
 }
 
 impl Prior {
@@ -462,12 +466,20 @@ impl Prior {
     /// power spectrum of the luminance (over its mean) of four real environment maps, indoor
     /// and outdoor, with pixels above 30 times the mean clamped (sun disks); computed in f64
     /// from the maps and rounded once to f32.
-    pub const ENVIRONMENT: Prior =
-        Prior { spectrum: learned::ENVIRONMENT_SPECTRUM, zonal: [0.0; 3], mean: Mean::Zero };
+    pub const ENVIRONMENT: Prior = Prior {
+        spectrum: learned::ENVIRONMENT_SPECTRUM,
+        zonal: [0.0; 3],
+        mean: Mean::Zero,
+        variance_scale: 1.0,
+    };
     /// As [`Prior::ENVIRONMENT`] for light without sharp features: the same maps convolved
     /// with a spherical Gaussian of sharpness 10.
-    pub const SMOOTH_ENVIRONMENT: Prior =
-        Prior { spectrum: learned::SMOOTH_SPECTRUM, zonal: [0.0; 3], mean: Mean::Zero };
+    pub const SMOOTH_ENVIRONMENT: Prior = Prior {
+        spectrum: learned::SMOOTH_SPECTRUM,
+        zonal: [0.0; 3],
+        mean: Mean::Zero,
+        variance_scale: 1.0,
+    };
     /// Layouts that look up (a dome, a ceiling fixture) with `+z` up. A zero mean; degrees
     /// ≤ 2 flat (`K₀ = K₁ = K₂ = 1`, as the minimum-norm SH fit assumes) with zonal
     /// correlations from the same maps (about 0.50, 0.51 and 0.33: the level, the vertical
@@ -480,12 +492,14 @@ impl Prior {
         spectrum: learned::ENVIRONMENT_SKY_SPECTRUM,
         zonal: learned::ENVIRONMENT_SKY_ZONAL,
         mean: Mean::Zero,
+        variance_scale: learned::ENVIRONMENT_SKY_CALIBRATION,
     };
     /// As [`Prior::SKY_ABOVE`] for light without sharp features.
     pub const SMOOTH_SKY_ABOVE: Prior = Prior {
         spectrum: learned::SMOOTH_SKY_SPECTRUM,
         zonal: learned::SMOOTH_SKY_ZONAL,
         mean: Mean::Zero,
+        variance_scale: learned::SMOOTH_SKY_CALIBRATION,
     };
 
     /// The squared-exponential kernel `exp(λ(x·x′ − 1))`, `0 < λ ≤ 64`, with a constant
@@ -502,6 +516,7 @@ impl Prior {
             spectrum: g.map(|r| (k0 * f64::from(r)) as f32),
             zonal: [0.0; 3],
             mean: Mean::Constant,
+            variance_scale: 1.0,
         })
     }
 
@@ -538,8 +553,7 @@ const fn legendre_sum(coef: &[f32; DEGREES], t: f32) -> f32 {
     let mut s = coef[0] + coef[1] * t;
     let mut l = 2;
     while l < DEGREES {
-        let lf = l as f32;
-        let p2 = ((2.0 * lf - 1.0) * t * p1 - (lf - 1.0) * p0) / lf;
+        let p2 = RECURRENCE[l].0 * t * p1 - RECURRENCE[l].1 * p0;
         s += coef[l] * p2;
         p0 = p1;
         p1 = p2;
@@ -579,6 +593,36 @@ const fn degree_weight(l: usize) -> f32 {
     (2 * l + 1) as f32 / FOUR_PI
 }
 
+/// The Legendre recurrence's factors `((2l − 1)/l, (l − 1)/l)`.
+const RECURRENCE: [(f32, f32); DEGREES] = {
+    let mut r = [(0.0f32, 0.0f32); DEGREES];
+    let mut l = 1;
+    while l < DEGREES {
+        r[l] = ((2 * l - 1) as f32 / l as f32, (l - 1) as f32 / l as f32);
+        l += 1;
+    }
+    r
+};
+
+/// Two responses are the same (their parameters bit for bit).
+const fn same_response(a: &Response, b: &Response) -> bool {
+    match (a, b) {
+        (Response::CosinePower(x), Response::CosinePower(y))
+        | (Response::Gaussian(x), Response::Gaussian(y)) => x.to_bits() == y.to_bits(),
+        (Response::Gains(x), Response::Gains(y)) => {
+            let mut l = 0;
+            while l < DEGREES {
+                if x[l].to_bits() != y[l].to_bits() {
+                    return false;
+                }
+                l += 1;
+            }
+            true
+        }
+        _ => false,
+    }
+}
+
 /// `|x|` (const).
 const fn absolute(x: f32) -> f32 {
     if x < 0.0 {
@@ -588,20 +632,22 @@ const fn absolute(x: f32) -> f32 {
     }
 }
 
-/// The square root of a positive, finite, normal `v`: Newton's iteration in f64 from the
-/// halved exponent (const; the same bits at compile time and at run time). 0 otherwise.
-const fn square_root(v: f64) -> f64 {
+/// The square root of a positive, finite `v`: Newton's iteration in f32 from the halved
+/// exponent (const; the same bits at compile time and at run time, and cheap on a core
+/// without f64). 0 otherwise.
+const fn square_root(v: f32) -> f32 {
     if !(v > 0.0 && v.is_finite()) {
         return 0.0;
     }
-    let bits = v.to_bits();
-    let mut r = f64::from_bits((((bits >> 52) + 1023) / 2) << 52);
+    // Subnormals: scale up by 2^24 first (the root by 2^12).
+    let (v, back) = if v < 1e-30 { (v * 16_777_216.0, 1.0 / 4096.0) } else { (v, 1.0) };
+    let mut r = f32::from_bits((v.to_bits() >> 1) + 0x1fbd_1df5);
     let mut k = 0;
-    while k < 8 {
+    while k < 4 {
         r = 0.5 * (r + v / r);
         k += 1;
     }
-    r
+    r * back
 }
 
 /// `v/|v|`, or `None` for a zero or non-finite vector (const).
@@ -615,9 +661,9 @@ const fn normalized(v: Vec3) -> Option<Vec3> {
     if m == 0.0 {
         return None;
     }
-    let (x, y, z) = ((v.x / m) as f64, (v.y / m) as f64, (v.z / m) as f64);
+    let (x, y, z) = (v.x / m, v.y / m, v.z / m);
     let length = square_root(x * x + y * y + z * z);
-    Some(Vec3::new((x / length) as f32, (y / length) as f32, (z / length) as f32))
+    Some(Vec3::new(x / length, y / length, z / length))
 }
 
 /// A probe over `K` sensors of a user's layout, `f32` or RGB `[f32; 3]` readings (module
@@ -646,6 +692,8 @@ pub struct LayoutProbe<const K: usize, T: Radiance = f32> {
     spectrum: [f32; DEGREES],
     /// The prior's zonal covariances `R` (zero diagonal).
     zonal_r: [[f32; 3]; 3],
+    /// Whether `R` is zero.
+    isotropic: bool,
     /// Each sensor's `uᵢ = (g_l·Y_l0(dᵢ))`, `l ≤ 2`.
     zonal_u: [[f32; 3]; K],
     /// The mean's zonal profile (zero for a zero mean).
@@ -664,6 +712,8 @@ pub struct LayoutProbe<const K: usize, T: Radiance = f32> {
     basis_query: [[f32; 9]; 2],
     /// Number of mean basis functions (0, 1).
     mean_terms: usize,
+    /// The prior's factor on every reported variance.
+    variance_scale: f32,
     /// `V̄`: the prior variance of the irradiance (unit scale).
     prior_variance: f32,
     /// Direction averages, eigenbasis: `M̃ = VᵀW·avg[z zᵀ]·WV`.
@@ -739,6 +789,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         if !any {
             return Err(Error::InvalidParameter);
         }
+        let variance_scale = prior.variance_scale;
+        if !(variance_scale.is_finite() && variance_scale > 0.0) {
+            return Err(Error::InvalidParameter);
+        }
         // The zonal covariances R (zero diagonal); with K₀, K₁, K₂ a PSD 3×3 matrix.
         let [z01, z12, z02] = prior.zonal;
         if !(z01.is_finite() && z12.is_finite() && z02.is_finite()) {
@@ -778,6 +832,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let mut whitening = [0.0f32; K];
         let mut class = [0u8; K];
         let mut distinct = [[0.0f32; DEGREES]; MAX_RESPONSES];
+        let mut responses = [Response::CosinePower(1.0); MAX_RESPONSES];
         let mut classes = 0usize;
         let mut i = 0;
         while i < K {
@@ -791,36 +846,31 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 return Err(Error::InvalidParameter);
             }
             whitening[i] = 1.0 / w;
-            let g = match sensor.response.gains() {
-                Ok(g) => g,
-                Err(e) => return Err(e),
-            };
+            // A response seen before shares its class (and its gains, computed once).
             let mut found = classes;
             let mut c = 0;
-            while c < classes {
-                let mut same = true;
-                let mut l = 0;
-                while l < DEGREES {
-                    same &= distinct[c][l].to_bits() == g[l].to_bits();
-                    l += 1;
-                }
-                if same {
+            while c < classes && c < MAX_RESPONSES {
+                if same_response(&responses[c], &sensor.response) {
                     found = c;
                     break;
                 }
                 c += 1;
             }
             if found == classes {
-                if classes == MAX_RESPONSES {
+                if classes >= MAX_RESPONSES {
                     return Err(Error::InvalidParameter);
                 }
-                distinct[classes] = g;
+                distinct[classes] = match sensor.response.gains() {
+                    Ok(g) => g,
+                    Err(e) => return Err(e),
+                };
+                responses[classes] = sensor.response;
                 classes += 1;
             }
-            class[i] = found as u8;
+            class[i] = (found % MAX_RESPONSES) as u8;
             i += 1;
         }
-        let c = cosine_factors();
+        let c = COSINE_FACTORS;
         // Each sensor's zonal harmonics seen through its response, uᵢ = (g_l·Y_l0(dᵢ)), and
         // R·uᵢ.
         let mut zonal_u = [[0.0f32; 3]; K];
@@ -828,7 +878,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let mut i = 0;
         while i < K {
             let y = zonal_harmonics(directions[i].z);
-            let g = &distinct[class[i] as usize];
+            let g = &distinct[class[i] as usize % MAX_RESPONSES];
             let mut l = 0;
             while l < 3 {
                 zonal_u[i][l] = g[l] * y[l];
@@ -841,7 +891,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         // its table.
         let mut tables = [[0.0f32; NODES]; MAX_RESPONSES];
         let mut q = 0;
-        while q < classes {
+        while q < classes && q < MAX_RESPONSES {
             let mut coef = [0.0f32; DEGREES];
             let mut l = 0;
             while l < DEGREES {
@@ -856,6 +906,26 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             }
             q += 1;
         }
+        // The Legendre series of the sensor covariance and of the average of z zᵀ per pair of
+        // responses.
+        let mut pair_cov = [[[0.0f32; DEGREES]; MAX_RESPONSES]; MAX_RESPONSES];
+        let mut pair_zz = [[[0.0f32; DEGREES]; MAX_RESPONSES]; MAX_RESPONSES];
+        let mut ci = 0;
+        while ci < classes && ci < MAX_RESPONSES {
+            let mut cj = 0;
+            while cj < classes && cj < MAX_RESPONSES {
+                let (gi, gj) = (&distinct[ci], &distinct[cj]);
+                let mut l = 0;
+                while l < DEGREES {
+                    let k = spectrum[l] * gi[l] * gj[l] * degree_weight(l);
+                    pair_cov[ci][cj][l] = k;
+                    pair_zz[ci][cj][l] = k * spectrum[l] * c[l] * c[l] / FOUR_PI;
+                    l += 1;
+                }
+                cj += 1;
+            }
+            ci += 1;
+        }
         // The whitened covariance and the direction average of z zᵀ.
         let mut cov = [[0.0f32; K]; K];
         let mut zz = [[0.0f32; K]; K];
@@ -863,17 +933,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         while i < K {
             let mut j = 0;
             while j <= i {
-                let (gi, gj) = (&distinct[class[i] as usize], &distinct[class[j] as usize]);
-                let mut a = [0.0f32; DEGREES];
-                let mut b = [0.0f32; DEGREES];
-                let mut l = 0;
-                while l < DEGREES {
-                    a[l] = spectrum[l] * gi[l] * gj[l] * degree_weight(l);
-                    b[l] =
-                        spectrum[l] * spectrum[l] * gi[l] * gj[l] * c[l] * c[l] * degree_weight(l)
-                            / FOUR_PI;
-                    l += 1;
-                }
+                let (ci, cj) =
+                    (class[i] as usize % MAX_RESPONSES, class[j] as usize % MAX_RESPONSES);
+                let (gi, gj) = (&distinct[ci], &distinct[cj]);
+                let (a, b) = (&pair_cov[ci][cj], &pair_zz[ci][cj]);
                 let (di, dj) = (directions[i], directions[j]);
                 let t = di.x * dj.x + di.y * dj.y + di.z * dj.z;
                 let w = whitening[i] * whitening[j];
@@ -894,9 +957,9 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                         / FOUR_PI;
                     l += 1;
                 }
-                cov[i][j] = w * (legendre_sum(&a, t) + zonal);
+                cov[i][j] = w * (legendre_sum(a, t) + zonal);
                 cov[j][i] = cov[i][j];
-                zz[i][j] = w * (legendre_sum(&b, t) + zonal_zz);
+                zz[i][j] = w * (legendre_sum(b, t) + zonal_zz);
                 zz[j][i] = zz[i][j];
                 j += 1;
             }
@@ -938,7 +1001,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             let mut hz = [0.0f32; K];
             let mut i = 0;
             while i < K {
-                let g = &distinct[class[i] as usize];
+                let g = &distinct[class[i] as usize % MAX_RESPONSES];
                 let mut a = [0.0f32; DEGREES];
                 let mut b = [0.0f32; DEGREES];
                 let mut l = 0;
@@ -953,7 +1016,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 let mut zonal = 0.0f32;
                 let mut l = 0;
                 while l < 3 {
-                    let norm = square_root(FOUR_PI as f64 / (2 * l + 1) as f64) as f32;
+                    let norm = square_root(FOUR_PI / (2 * l + 1) as f32);
                     zonal += ru[i][l] * c[l] * profile[l] * c[l] * norm / FOUR_PI;
                     l += 1;
                 }
@@ -982,6 +1045,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             gains: distinct,
             spectrum,
             zonal_r,
+            isotropic: z01 == 0.0 && z12 == 0.0 && z02 == 0.0,
             zonal_u,
             profile,
             tables,
@@ -996,6 +1060,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             average_hz,
             average_hh,
             noise,
+            variance_scale,
             alpha: [T::ZERO; K],
             beta: [T::ZERO; 2],
             scale: T::ZERO,
@@ -1374,29 +1439,32 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             beta: beta * unit,
             scale: s * unit * unit,
             nugget: nu * unit * unit,
-            average_variance: average.max(0.0) * unit * unit,
+            average_variance: average.max(0.0) * unit * unit * self.variance_scale,
             log_likelihood,
         }
     }
 
     /// `Cov(Yᵢ, E(n))` at unit scale for every sensor (table lookups).
     fn query_covariances(&self, n: Vec3) -> [f32; K] {
-        let c = cosine_factors_lookup();
-        let rv = self.zonal_query(n, &[c[0], c[1], c[2]]);
-        core::array::from_fn(|i| {
-            let zonal = self.zonal_u[i][0] * rv[0]
-                + self.zonal_u[i][1] * rv[1]
-                + self.zonal_u[i][2] * rv[2];
+        let mut z = [0.0f32; K];
+        for (i, zi) in z.iter_mut().enumerate() {
             let t = self.directions[i].dot(n).clamp(-1.0, 1.0);
-            let table = &self.tables[self.class[i] as usize];
+            let table = &self.tables[self.class[i] as usize % MAX_RESPONSES];
             let x = (t + 1.0) * 0.5 * (NODES - 1) as f32;
             // Quadratic through the three nearest nodes.
-            let k = (x + 0.5) as usize;
-            let k = k.clamp(1, NODES - 2);
+            let k = ((x + 0.5) as usize).clamp(1, NODES - 2);
             let u = x - k as f32;
             let (a, b, c) = (table[k - 1], table[k], table[k + 1]);
-            b + 0.5 * u * (c - a) + 0.5 * u * u * (a - 2.0 * b + c) + zonal
-        })
+            *zi = b + 0.5 * u * (c - a) + 0.5 * u * u * (a - 2.0 * b + c);
+        }
+        if !self.isotropic {
+            let c = COSINE_FACTORS;
+            let rv = self.zonal_query(n, &[c[0], c[1], c[2]]);
+            for (zi, u) in z.iter_mut().zip(&self.zonal_u) {
+                *zi += u[0] * rv[0] + u[1] * rv[1] + u[2] * rv[2];
+            }
+        }
+        z
     }
 
     /// `R·v(n)` for a lobe of zonal factors `q₀, q₁, q₂`: `v_l = q_l·Y_l0(n)`.
@@ -1469,7 +1537,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 let r = h - s * hz;
                 v += r * r / hh;
             }
-            v.max(0.0)
+            v.max(0.0) * self.variance_scale
         })
     }
 
@@ -1486,8 +1554,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let rv = self.zonal_query(axis, &[q[0], q[1], q[2]]);
         let z: [f32; K] = core::array::from_fn(|i| {
             let u = &self.zonal_u[i];
-            legendre_sum(&series[self.class[i] as usize], self.directions[i].dot(axis))
-                + u[0] * rv[0]
+            legendre_sum(
+                &series[self.class[i] as usize % MAX_RESPONSES],
+                self.directions[i].dot(axis),
+            ) + u[0] * rv[0]
                 + u[1] * rv[1]
                 + u[2] * rv[2]
         });
@@ -1596,7 +1666,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         }
         for i in 0..K {
             let Ok(basis) = ShL2::<f32>::basis(self.directions[i]) else { continue };
-            let g = &self.gains[self.class[i] as usize];
+            let g = &self.gains[self.class[i] as usize % MAX_RESPONSES];
             for (k, c) in coefficients.iter_mut().enumerate() {
                 let l = if k == 0 {
                     0
@@ -1837,9 +1907,14 @@ const fn jacobi_eigen<const K: usize>(mut a: [[f32; K]; K]) -> ([f32; K], [[f32;
                 }
                 let theta = (a[q][q] - a[p][p]) / (2.0 * apq);
                 let sign = if theta < 0.0 { -1.0 } else { 1.0 };
-                let root = square_root((theta as f64) * (theta as f64) + 1.0) as f32;
-                let t = sign / (absolute(theta) + root);
-                let c = (1.0 / square_root((t as f64) * (t as f64) + 1.0)) as f32;
+                // tan of the rotation angle, the smaller root of t² + 2θt − 1 = 0 (1/(2θ)
+                // where θ² would overflow).
+                let t = if absolute(theta) > 1e18 {
+                    0.5 / theta
+                } else {
+                    sign / (absolute(theta) + square_root(theta * theta + 1.0))
+                };
+                let c = 1.0 / square_root(t * t + 1.0);
                 let s = t * c;
                 let mut k = 0;
                 while k < K {
@@ -2255,7 +2330,7 @@ mod tests {
         for mean in [Mean::Zero, Mean::Constant] {
             let mut probe = LayoutProbe::<6, [f32; 3]>::new(
                 &cube(),
-                Prior { spectrum, zonal: [0.0; 3], mean },
+                Prior { spectrum, zonal: [0.0; 3], mean, variance_scale: 1.0 },
                 Noise::NONE,
             )
             .unwrap();
@@ -2382,7 +2457,7 @@ mod tests {
             .collect();
         let mut worst = [0.0f64; 5];
         for mean in [Mean::Zero, Mean::Zonal(profile)] {
-            let prior = Prior { spectrum, zonal, mean };
+            let prior = Prior { spectrum, zonal, mean, variance_scale: 1.0 };
             let mut probe = LayoutProbe::<5>::new(&sensors, prior, Noise::NONE).unwrap();
             probe.update(&y).unwrap();
             let zonal_mean = if mean == Mean::Zero { None } else { Some(&p64[..]) };
@@ -2425,12 +2500,13 @@ mod tests {
             "{worst:?}"
         );
         // Zonal covariances beyond the diagonal's reach: not positive semi-definite.
-        let bad = Prior { spectrum, zonal: [1.5, 0.0, 0.0], mean: Mean::Zero };
+        let bad = Prior { spectrum, zonal: [1.5, 0.0, 0.0], mean: Mean::Zero, variance_scale: 1.0 };
         assert_eq!(
             LayoutProbe::<5>::new(&sensors, bad, Noise::NONE).err(),
             Some(Error::InvalidParameter)
         );
-        let nan = Prior { spectrum, zonal: [f32::NAN, 0.0, 0.0], mean: Mean::Zero };
+        let nan =
+            Prior { spectrum, zonal: [f32::NAN, 0.0, 0.0], mean: Mean::Zero, variance_scale: 1.0 };
         assert_eq!(
             LayoutProbe::<5>::new(&sensors, nan, Noise::NONE).err(),
             Some(Error::InvalidParameter)

@@ -76,6 +76,8 @@ pub(super) const ENVIRONMENT_SKY_SPECTRUM: [f32; super::DEGREES] = [
 ];
 /// Zonal correlations of light from above, clamp tier.
 pub(super) const ENVIRONMENT_SKY_ZONAL: [f32; 3] = [0.5000387, 0.51215947, 0.3318849];
+/// Variance factor of light from above (leave one map out), clamp tier.
+pub(super) const ENVIRONMENT_SKY_CALIBRATION: f32 = 0.59460354;
 /// Spectrum `K_l` of the smooth tier.
 pub(super) const SMOOTH_SPECTRUM: [f32; super::DEGREES] = [
     12.566371,
@@ -150,3 +152,5 @@ pub(super) const SMOOTH_SKY_SPECTRUM: [f32; super::DEGREES] = [
 ];
 /// Zonal correlations of light from above, smooth tier.
 pub(super) const SMOOTH_SKY_ZONAL: [f32; 3] = [0.5000277, 0.51225716, 0.33210352];
+/// Variance factor of light from above (leave one map out), smooth tier.
+pub(super) const SMOOTH_SKY_CALIBRATION: f32 = 0.35355338;

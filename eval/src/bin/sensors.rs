@@ -650,6 +650,79 @@ fn zonal_moments(map: &EnvMap) -> Vec<f64> {
     (0..9).map(|k| c[k / 3] * c[k % 3]).collect()
 }
 
+/// The prior of light from above from the maps `use_maps`: degrees ≤ 2 flat with the zonal
+/// correlations of ½M + ½·diag(C₀, C₁, C₂), above them the spectrum over
+/// τ = (C₀ + 3C₁ + 5C₂)/9.
+fn sky_prior(
+    spectra: &[Vec<f64>],
+    moments: &[Vec<f64>],
+    use_maps: &[usize],
+) -> (Vec<f64>, [f64; 3]) {
+    let n = use_maps.len() as f64;
+    let spec: Vec<f64> = (0..spectra[0].len())
+        .map(|l| use_maps.iter().map(|&m| spectra[m][l]).sum::<f64>() / n)
+        .collect();
+    let mom: Vec<f64> =
+        (0..9).map(|k| use_maps.iter().map(|&m| moments[m][k]).sum::<f64>() / n).collect();
+    let s_ab = |a: usize, b: usize| 0.5 * mom[3 * a + b] + if a == b { 0.5 * spec[a] } else { 0.0 };
+    let rho = |a: usize, b: usize| s_ab(a, b) / (s_ab(a, a) * s_ab(b, b)).sqrt();
+    let tau = (spec[0] + 3.0 * spec[1] + 5.0 * spec[2]) / 9.0;
+    let mut sky: Vec<f64> = spec.iter().map(|c| c / tau).collect();
+    sky[0] = 1.0;
+    sky[1] = 1.0;
+    sky[2] = 1.0;
+    (sky, [rho(0, 1), rho(1, 2), rho(0, 2)])
+}
+
+/// |error|/σ (exact variance) of the crate's probe with `prior` on the upward layouts of the
+/// benchmark over `map`: 8 turns about z, 32 normals above, noise 0, 1 and 5 %.
+fn upward_errors(map: &EnvMap, prior: Prior, seed: u64) -> Vec<f64> {
+    let mut rng = Rng::new(SEED ^ 0xca11 ^ seed);
+    let normals: Vec<[f64; 3]> = (0..32).map(|_| rng.uniform_hemisphere()).collect();
+    let lum: Vec<f64> =
+        map.pixels.iter().map(|p| luminance([p[0] as f64, p[1] as f64, p[2] as f64])).collect();
+    let integrate = |w: &[f64]| w.iter().zip(&lum).map(|(a, b)| a * b).sum::<f64>();
+    let truth: Vec<f64> = normals
+        .iter()
+        .map(|&n| integrate(&reference::truth::cosine_weights(map.width, map.height, n)))
+        .collect();
+    let c = cosine_factors();
+    let mut out = Vec::new();
+    for lay in layouts().into_iter().filter(|l| l.one_sided) {
+        for r in 0..8 {
+            let (sn, cs) = (2.0 * PI * (r as f64 + 0.3) / 8.0).sin_cos();
+            let rot = [[cs, -sn, 0.0], [sn, cs, 0.0], [0.0, 0.0, 1.0]];
+            let geo = Geometry {
+                g: lay.power.iter().map(|&p| gains(p)).collect(),
+                dirs: lay.dirs.iter().map(|&d| mat_mul_vec(rot, d)).collect(),
+                c: c.clone(),
+            };
+            let exact: Vec<f64> = geo
+                .dirs
+                .iter()
+                .map(|&d| {
+                    integrate(&reference::truth::cosine_weights(map.width, map.height, d)) / PI
+                })
+                .collect();
+            for eta in NOISES {
+                let y: Vec<f64> = exact
+                    .iter()
+                    .map(|v| {
+                        let (u1, u2) = (rng.next_f64().max(1e-300), rng.next_f64());
+                        v * (1.0 + eta * (-2.0 * u1.ln()).sqrt() * (2.0 * PI * u2).cos())
+                    })
+                    .collect();
+                if let Some((v, var)) = crate_fit(&geo, &lay.power, &[prior], eta, &y, &normals) {
+                    for q in 0..normals.len() {
+                        out.push((v[q] - truth[q]).abs() / var[q].max(1e-300).sqrt());
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
 /// The file of the crate's learned priors.
 const LEARNED: &str = "src/layout/learned.rs";
 
@@ -695,16 +768,10 @@ fn learned_priors(threads: usize) -> Result<String, String> {
         // zonal coefficients (c₀₀, c₁₀, c₂₀) of luminance over its mean, and above degree 2
         // the spectrum over τ = (C₀ + 3C₁ + 5C₂)/9, the mean power per coefficient of
         // degrees ≤ 2.
-        let moments = average(&zonal_moments, t);
-        let s_ab = |a: usize, b: usize| {
-            0.5 * moments[3 * a + b] + if a == b { 0.5 * spec[a] } else { 0.0 }
-        };
-        let rho = |a: usize, b: usize| s_ab(a, b) / (s_ab(a, a) * s_ab(b, b)).sqrt();
-        let tau = (spec[0] + 3.0 * spec[1] + 5.0 * spec[2]) / 9.0;
-        let mut sky: Vec<f64> = spec.iter().map(|c| c / tau).collect();
-        sky[0] = 1.0;
-        sky[1] = 1.0;
-        sky[2] = 1.0;
+        let spectra: Vec<Vec<f64>> = maps.iter().map(|m| spectrum(&m[t], &[])).collect();
+        let moments: Vec<Vec<f64>> = maps.iter().map(|m| zonal_moments(&m[t])).collect();
+        let all: Vec<usize> = (0..maps.len()).collect();
+        let (sky, zonal) = sky_prior(&spectra, &moments, &all);
         let _ = writeln!(
             out,
             "/// Spectrum of light from above (flat to degree 2), {} tier.",
@@ -716,10 +783,45 @@ fn learned_priors(threads: usize) -> Result<String, String> {
             list(&sky, DEGREES)
         );
         let _ = writeln!(out, "/// Zonal correlations of light from above, {} tier.", TIERS[t]);
+        let _ =
+            writeln!(out, "pub(super) const {tier}_SKY_ZONAL: [f32; 3] = [{}];", list(&zonal, 3));
+        // Its variance factor, leave one map out: the prior of the other three on the upward
+        // layouts (rotations about z, normals above) at noise 0, 1 and 5 %, the smallest
+        // power of 2^¼ for which 2σ holds for 95 % of the errors.
+        let mut ratios: Vec<f64> = Vec::new();
+        for m in 0..maps.len() {
+            let others: Vec<usize> = all.iter().copied().filter(|&o| o != m).collect();
+            let (sky, zonal) = sky_prior(&spectra, &moments, &others);
+            let prior = Prior {
+                spectrum: spectrum_f32(&sky),
+                zonal: [zonal[0] as f32, zonal[1] as f32, zonal[2] as f32],
+                mean: CrateMean::Zero,
+                variance_scale: 1.0,
+            };
+            ratios.extend(upward_errors(&maps[m][t], prior, m as u64));
+        }
+        ratios.sort_by(f64::total_cmp);
+        let q95 = ratios[(0.95 * ratios.len() as f64) as usize];
+        let mut k = -24i32;
+        while 2f64.powf(k as f64 / 4.0) < (q95 / 2.0).powi(2) {
+            k += 1;
+        }
+        let calibration = 2f64.powf(k as f64 / 4.0);
+        eprintln!(
+            "{} tier, light from above: 95 % of |error|/σ ≤ {q95:.3} over {} errors: variance \
+             factor 2^({k}/4) = {calibration:.4}",
+            TIERS[t],
+            ratios.len()
+        );
         let _ = writeln!(
             out,
-            "pub(super) const {tier}_SKY_ZONAL: [f32; 3] = [{}];",
-            list(&[rho(0, 1), rho(1, 2), rho(0, 2)], 3)
+            "/// Variance factor of light from above (leave one map out), {} tier.",
+            TIERS[t]
+        );
+        let _ = writeln!(
+            out,
+            "pub(super) const {tier}_SKY_CALIBRATION: f32 = {:?};",
+            calibration as f32
         );
     }
     rustfmt(&out)
@@ -1068,16 +1170,19 @@ fn main() -> Result<(), Box<dyn Error>> {
                         spectrum: spectrum_f32(&kernels[ti][FAMILY.len()]),
                         zonal: [0.0; 3],
                         mean: CrateMean::Zero,
+                        variance_scale: 1.0,
                     },
                     Prior {
                         spectrum: spectrum_f32(&kernels[ti][3]),
                         zonal: [0.0; 3],
                         mean: CrateMean::Constant,
+                        variance_scale: 1.0,
                     },
                     Prior {
                         spectrum: spectrum_f32(&kernels[ti][FAMILY.len() + 2]),
                         zonal: [0.0; 3],
                         mean: CrateMean::Zonal(zonal),
+                        variance_scale: 1.0,
                     },
                 ];
                 for (j, prior) in priors.into_iter().enumerate() {

@@ -24,6 +24,7 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hio};
 use sphere_quadrature::bmc::Renderer;
 use sphere_quadrature::footprint::{CosinePower, Gaussian, Point};
+use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Response, Sensor};
 use sphere_quadrature::probe::{cosine_weighted_average, Probe, Selection};
 use sphere_quadrature::qmc::{self, LobeSampler};
 use sphere_quadrature::sg::{self, SphericalGaussian};
@@ -304,6 +305,35 @@ fn sh_export(ys: &[f32]) {
     keep(c.radiance_sh_variance());
 }
 
+/// Sensor layouts: a probe built at run time from opaque sensors, prior and noise (RGB and one
+/// channel), its update and queries.
+#[inline(never)]
+fn layout_probe() {
+    let faces = black_box([Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z]);
+    let mut sensors = faces.map(Sensor::cosine);
+    sensors[4] = Sensor::new(faces[4], Response::CosinePower(black_box(2.0)))
+        .with_noise_scale(black_box(1.5));
+    let noise = Noise { absolute: black_box(0.01), relative: black_box(0.01) };
+    if let Ok(mut p) =
+        LayoutProbe::<6, [f32; 3]>::new(&sensors, black_box(Prior::ENVIRONMENT), noise)
+    {
+        keep(p.update(black_box(&[[1.0, 2.0, 3.0]; 6])));
+        keep(p.irradiance(dir()));
+        keep(p.irradiance_variance(dir()));
+        keep(p.signal_variance());
+        keep(p);
+    }
+    let sensors: [Sensor; 16] = core::array::from_fn(|i| {
+        Sensor::cosine(black_box(Vec3::new(1.0, i as f32 * 0.1, 0.3 - i as f32 * 0.05)))
+    });
+    if let Ok(mut p) = LayoutProbe::<16, f32>::new(&sensors, black_box(Prior::SKY_ABOVE), noise) {
+        keep(p.update(black_box(&[1.5; 16])));
+        keep(p.irradiance(dir()));
+        keep(p.irradiance_variance(dir()));
+        keep(p);
+    }
+}
+
 #[inline(never)]
 fn metrics_distance(points: &[Vec3]) {
     keep(metrics::energy(points));
@@ -354,6 +384,7 @@ fn main() -> ! {
     missing_samples();
     footprint_probes();
     sh_export(black_box(&ys[..]));
+    layout_probe();
     let points = SphericalFibonacci::<32>::new().points();
     let points = black_box(&points[..]);
     metrics_distance(points);
