@@ -33,6 +33,20 @@
 //! of the posterior variance, computed once per update; [`LayoutProbe::irradiance_variance`]
 //! is the exact variance at one normal, O(K²).
 //!
+//! # Accuracy
+//! - **Against an f64 reference** (the unit tests: textbook Gaussian-process formulas in
+//!   f64): values within 5·10⁻⁶ relative, exact variances within 2·10⁻⁴, the log likelihood
+//!   within 10⁻⁶; with a relative noise the weights solve an f32 system of condition about
+//!   10⁴, and values agree within 2·10⁻⁴.
+//! - **On real maps** (the repository's `sensors` benchmark: held-out environment maps, exact
+//!   readings of every pixel, the learned priors), the irradiance error over the best of the
+//!   nearest sensor, the cosine-weighted average and the degree-1 and degree-2 SH fits on the
+//!   same readings, mean over maps: 0.57–1.00 for sensors all round (16 on a spherical
+//!   Fibonacci set: 0.70 on sharp light, 0.57 on smooth light, without noise; a cube ties the
+//!   degree-2 fit), 0.92–1.03 for upward layouts (a dome of 5, a ring of 6 and a zenith
+//!   sensor). 2σ intervals hold for 93–99 % of the queries all round; for upward layouts
+//!   they are wide without noise (100 %) and hold for 91–98 % at 5 % noise.
+//!
 //! # Tables at compile time
 //! [`LayoutProbe::new`] is a `const fn`: a probe in a `static` or `const` has its tables
 //! computed by the compiler (in flash, no run-time cost), and a bad layout is a compile error
