@@ -27,8 +27,8 @@
 //! `build.rs` solves in f64 (Cholesky with one step of iterative refinement; generator
 //! `gen/bmc.rs`, sets in `tables/bmc.txt`) and bakes `w` rounded once to f32, one `static`
 //! array per size. Only the baked sizes compile: `N` ∈ {16, 32, 64, 80, 128, 256}. The
-//! hyperparameters are **learned** offline on real maps (`eval/src/bin/renderer.rs --learn`, issue
-//! #12: the (l, σ′) whose estimates have the smallest RMSE ratio to QMC-SF over the clamp and
+//! hyperparameters are **learned** offline on real maps (`eval/src/bin/renderer.rs --learn`:
+//! the (l, σ′) whose estimates have the smallest RMSE ratio to QMC-SF over the clamp and
 //! smooth tiers of four training maps; the report is `docs/renderer.md`). On point-sampled
 //! real lighting this renderer ties QMC-SF on the same samples; for light as smooth as
 //! mixtures of spherical Gaussians of sharpness 2…20, the preset `tables/bmc_smooth.txt`

@@ -1,6 +1,6 @@
 //! The glossy renderer form: Bayesian Monte Carlo of the Phong lobe with the cosine factor,
 //! with weights baked per `(N, e)` on a grid of the angle between the normal and the mirror
-//! direction (issue #12; generator `gen/glossy.rs`, sets in `tables/glossy.txt`).
+//! direction (generator `gen/glossy.rs`, sets in `tables/glossy.txt`).
 //!
 //! The integral is `I(n, r) = ∫ L(x)·(e+1)/(2π)·max(0, r·x)ᵉ·max(0, n·x) dx`: the normalised
 //! Phong lobe about the mirror direction `r`, with the cosine factor and the horizon at the
@@ -149,7 +149,7 @@ pub trait SampleSet: sealed::Kind {}
 pub struct Fibonacci;
 
 /// The optimal set of `tables/optimal_sets.txt` for `(N, e)`: the `N` directions that minimise
-/// the model's posterior variance (`eval/src/bin/optimal_sets.rs`, issue #12), with plain BMC
+/// the model's posterior variance (`eval/src/bin/optimal_sets.rs`), with plain BMC
 /// weights for the `(l, σ′)` it was optimised for. Baked for the pairs of the `optimal = N e`
 /// lines of `tables/glossy.txt` ([`BAKED_OPTIMAL_SETS`]); `12·N` more bytes of directions.
 ///

@@ -1,5 +1,5 @@
 //! The REML channel covariance of a probe and the variance of linear combinations of its
-//! channels (issue #13, item 2).
+//! channels.
 //!
 //! One kernel serves every channel, so the posterior covariance of two channels of an estimate
 //! is `S_ab` times the unit posterior variance, where `S_ab = r_aᵀQ⁻¹r_b/(N − 1)` is the REML

@@ -1,4 +1,4 @@
-//! Missing samples (issue #14, item 3): an update from the valid subset `V` of the `N`
+//! Missing samples: an update from the valid subset `V` of the `N`
 //! samples, through the baked factors of the full set, by the Schur complement of the missing
 //! block `M` (`m ≤ M` samples, the probe's capacity).
 //!

@@ -1,4 +1,4 @@
-//! The probe's posterior mean as spherical harmonics of degree `l ≤ 2` (issue #14, item 1):
+//! The probe's posterior mean as spherical harmonics of degree `l ≤ 2`:
 //! the exact projection and the posterior variance of every coefficient.
 //!
 //! The posterior mean radiance is `L̄(x) = β + Σᵢ αᵢ·k(xᵢ, x)`, where `k(xᵢ, x)` is the
