@@ -1198,6 +1198,17 @@ fn main() -> Result<(), Box<dyn Error>> {
     let names: Vec<String> =
         peers.iter().map(|s| s.to_string()).chain(variants.iter().cloned()).collect();
     let rel = |a: &[f64; 4]| (a[0] / a[3]).sqrt() / (a[1] / a[3]);
+    // The best of the four standard estimators' errors on one map.
+    let best_standard = |r: &[[f64; 4]]| (0..4).map(|s| rel(&r[s])).fold(f64::INFINITY, f64::min);
+    // One layout, noise and tier: (map, accumulators) of every map.
+    let rows_of = |li: usize, ni: usize, ti: usize| -> Vec<(usize, &Vec<[f64; 4]>)> {
+        eval_jobs
+            .iter()
+            .zip(&results)
+            .filter(|((l, n, t, _), _)| *l == li && *n == ni && *t == ti)
+            .map(|((_, _, _, m), r)| (*m, r))
+            .collect()
+    };
     let noise_name = |n: f64| if n == 0.0 { "0".to_string() } else { format!("{n}") };
     let estimator_name = |li: usize, e: usize| -> String {
         if e == 3 {
@@ -1239,12 +1250,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     for li in 0..layouts.len() {
         for ni in 0..NOISES.len() {
             for ti in 0..2 {
-                let rows: Vec<(usize, &Vec<[f64; 4]>)> = eval_jobs
-                    .iter()
-                    .zip(&results)
-                    .filter(|((l, n, t, _), _)| *l == li && *n == ni && *t == ti)
-                    .map(|((_, _, _, m), r)| (*m, r))
-                    .collect();
+                let rows = rows_of(li, ni, ti);
                 let held: Vec<&(usize, &Vec<[f64; 4]>)> =
                     rows.iter().filter(|(m, _)| !scenes[*m].training).collect();
                 if held.is_empty() {
@@ -1297,26 +1303,17 @@ fn main() -> Result<(), Box<dyn Error>> {
     for li in 0..layouts.len() {
         for ni in 0..NOISES.len() {
             for ti in 0..2 {
-                let held: Vec<&Vec<[f64; 4]>> = eval_jobs
-                    .iter()
-                    .zip(&results)
-                    .filter(|((l, n, t, m), _)| {
-                        *l == li && *n == ni && *t == ti && !scenes[*m].training
-                    })
+                let held: Vec<&Vec<[f64; 4]>> = rows_of(li, ni, ti)
+                    .into_iter()
+                    .filter(|(m, _)| !scenes[*m].training)
                     .map(|(_, r)| r)
                     .collect();
                 if held.is_empty() {
                     continue;
                 }
                 let n = held.len() as f64;
-                let ratio = |e: usize| {
-                    held.iter()
-                        .map(|r| {
-                            rel(&r[e]) / (0..4).map(|s| rel(&r[s])).fold(f64::INFINITY, f64::min)
-                        })
-                        .sum::<f64>()
-                        / n
-                };
+                let ratio =
+                    |e: usize| held.iter().map(|r| rel(&r[e]) / best_standard(r)).sum::<f64>() / n;
                 let coverage = |e: usize| held.iter().map(|r| r[e][2] / r[e][3]).sum::<f64>() / n;
                 let _ = writeln!(
                     out,
@@ -1337,12 +1334,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         for li in 0..layouts.len() {
             for ni in 0..NOISES.len() {
                 for ti in 0..2 {
-                    let rows: Vec<(usize, &Vec<[f64; 4]>)> = eval_jobs
-                        .iter()
-                        .zip(&results)
-                        .filter(|((l, n, t, _), _)| *l == li && *n == ni && *t == ti)
-                        .map(|((_, _, _, m), r)| (*m, r))
-                        .collect();
+                    let rows = rows_of(li, ni, ti);
                     let mut line =
                         format!("{:10} η={:.2} {:6}", layouts[li].name, NOISES[ni], TIERS[ti]);
                     let _ = &mut line;
@@ -1353,7 +1345,7 @@ fn main() -> Result<(), Box<dyn Error>> {
                             (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
                         let mut abs = 0.0f64;
                         for (m, r) in &rows {
-                            let best = (0..4).map(|s| rel(&r[s])).fold(f64::INFINITY, f64::min);
+                            let best = best_standard(r);
                             let ratio = rel(&r[e]) / best;
                             if scenes[*m].training {
                                 train += ratio;
