@@ -17,6 +17,9 @@ mod cli;
 mod compare;
 #[path = "../common/parallel.rs"]
 mod parallel;
+// (The module allows its own dead code.)
+#[path = "../common/renderer_engine.rs"]
+mod renderer_engine;
 #[allow(dead_code)]
 #[path = "../common/tiers.rs"]
 mod tiers;
@@ -31,6 +34,7 @@ use reference::envmap::{luminance, EnvMap};
 use reference::rng::Rng;
 use reference::sh::{legendre, real_sh};
 use reference::vec::{dot, mat_mul_vec, normalize};
+use renderer_engine::Cholesky;
 use sphere_quadrature::footprint::Kind;
 use sphere_quadrature::layout::{
     LayoutProbe, Mean as CrateMean, Noise, Prior, Response, Sensor, DEGREES,
@@ -136,55 +140,6 @@ fn series(coef: &[f64], t: f64) -> f64 {
         p1 = p2;
     }
     s
-}
-
-/// Dense symmetric positive-definite factor.
-struct Chol {
-    l: Vec<f64>,
-    n: usize,
-}
-
-impl Chol {
-    fn new(a: &[f64], n: usize) -> Option<Chol> {
-        let mut l = vec![0.0; n * n];
-        for i in 0..n {
-            for j in 0..=i {
-                let mut s = a[i * n + j];
-                for k in 0..j {
-                    s -= l[i * n + k] * l[j * n + k];
-                }
-                if i == j {
-                    if s <= 0.0 {
-                        return None;
-                    }
-                    l[i * n + i] = s.sqrt();
-                } else {
-                    l[i * n + j] = s / l[j * n + j];
-                }
-            }
-        }
-        Some(Chol { l, n })
-    }
-    fn solve(&self, b: &[f64]) -> Vec<f64> {
-        let n = self.n;
-        let mut y = b.to_vec();
-        for i in 0..n {
-            for k in 0..i {
-                y[i] -= self.l[i * n + k] * y[k];
-            }
-            y[i] /= self.l[i * n + i];
-        }
-        for i in (0..n).rev() {
-            for k in i + 1..n {
-                y[i] -= self.l[k * n + i] * y[k];
-            }
-            y[i] /= self.l[i * n + i];
-        }
-        y
-    }
-    fn log_det(&self) -> f64 {
-        (0..self.n).map(|i| 2.0 * self.l[i * self.n + i].ln()).sum()
-    }
 }
 
 /// Solves a small dense system by Gaussian elimination with partial pivoting.
@@ -297,12 +252,12 @@ fn gp_fit(
     let jitter = 1e-9 * c[0].max(1e-300);
     let nz: Vec<f64> = y.iter().map(|v| (noise_rel * v).powi(2)).collect();
     // REML over σ_f² on a log grid then golden refinement.
-    let reml = |s2: f64| -> Option<(f64, Chol, Vec<f64>)> {
+    let reml = |s2: f64| -> Option<(f64, Cholesky, Vec<f64>)> {
         let mut a = c.iter().map(|v| v * s2).collect::<Vec<_>>();
         for i in 0..k {
             a[i * k + i] += nz[i] + jitter * s2;
         }
-        let ch = Chol::new(&a, k)?;
+        let ch = Cholesky::new(a.clone(), k)?;
         let (beta, r, ldh) = gls(&ch, &h, y, p)?;
         let alpha = ch.solve(&r);
         let quad: f64 = r.iter().zip(&alpha).map(|(a, b)| a * b).sum();
@@ -316,7 +271,7 @@ fn gp_fit(
         for i in 0..k {
             a[i * k + i] += jitter;
         }
-        let ch = Chol::new(&a, k)?;
+        let ch = Cholesky::new(a.clone(), k)?;
         let (_, r, _) = gls(&ch, &h, y, p)?;
         let alpha = ch.solve(&r);
         let quad: f64 = r.iter().zip(&alpha).map(|(a, b)| a * b).sum();
@@ -379,7 +334,7 @@ fn gp_fit(
 }
 
 /// GLS: β, residual r = y − Hβ, log det HᵀΣ⁻¹H.
-fn gls(ch: &Chol, h: &[Vec<f64>], y: &[f64], p: usize) -> Option<(Vec<f64>, Vec<f64>, f64)> {
+fn gls(ch: &Cholesky, h: &[Vec<f64>], y: &[f64], p: usize) -> Option<(Vec<f64>, Vec<f64>, f64)> {
     let k = y.len();
     if p == 0 {
         return Some((vec![], y.to_vec(), 0.0));
@@ -394,7 +349,7 @@ fn gls(ch: &Chol, h: &[Vec<f64>], y: &[f64], p: usize) -> Option<(Vec<f64>, Vec<
         }
         rhs[a] = (0..k).map(|i| y[i] * sih[a][i]).sum();
     }
-    let ldh = Chol::new(&m, p).map_or(0.0, |c| c.log_det());
+    let ldh = Cholesky::new(m.clone(), p).map_or(0.0, |c| c.log_det());
     let beta = dense_solve(m, p, rhs)?;
     let r: Vec<f64> =
         (0..k).map(|i| y[i] - (0..p).map(|a| h[i][a] * beta[a]).sum::<f64>()).collect();
