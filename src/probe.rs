@@ -617,8 +617,8 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
     /// - `m4:probe_update N=16`: 2 716 instructions (four-member selection)
-    /// - `m4:probe_update N=32`: 33 968 instructions (four-member selection)
-    /// - `m4:probe_update N=64`: 88 800 instructions (four-member selection)
+    /// - `m4:probe_update N=32`: 33 960 instructions (four-member selection)
+    /// - `m4:probe_update N=64`: 88 790 instructions (four-member selection)
     /// - `m4:probe_update N=256`: 790 440 instructions (four-member selection)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
@@ -640,8 +640,8 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_update_one_member N=16`: 1 272 instructions (one member)
-    /// - `m4:probe_update_one_member N=32`: 11 876 instructions (one member)
+    /// - `m4:probe_update_one_member N=16`: 1 274 instructions (one member)
+    /// - `m4:probe_update_one_member N=32`: 11 872 instructions (one member)
     /// - `m4:probe_update_one_member N=64`: 31 080 instructions (one member)
     /// - `m4:probe_update_one_member N=256`: 274 880 instructions (one member)
     ///
@@ -781,12 +781,12 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_irradiance N=16`: 835 instructions
-    /// - `m4:probe_irradiance N=32`: 1 562 instructions
+    /// - `m4:probe_irradiance N=16`: 836 instructions
+    /// - `m4:probe_irradiance N=32`: 1 561 instructions
     /// - `m4:probe_irradiance N=64`: 2 916 instructions
     /// - `m4:probe_irradiance N=256`: 11 640 instructions
-    /// - `m4:gaussian8_probe_irradiance N=64`: 2 956 instructions (`Gaussian<8>` footprint)
-    /// - `m4:photodiode_probe_irradiance N=16`: 837 instructions (`CosinePower<1>`)
+    /// - `m4:gaussian8_probe_irradiance N=64`: 2 954 instructions (`Gaussian<8>` footprint)
+    /// - `m4:photodiode_probe_irradiance N=16`: 840 instructions (`CosinePower<1>`)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
     /// these lines against):
@@ -884,7 +884,7 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_masked_posterior_variance_M16_m0 N=64`: 261 700 instructions (none missing)
+    /// - `m4:probe_masked_posterior_variance_M16_m0 N=64`: 261 680 instructions (none missing)
     /// - `m4:probe_masked_posterior_variance_M8_m8 N=64`: 518 420 instructions (8 missing)
     /// - `m4:probe_masked_posterior_variance_M16_m16 N=64`: 547 330 instructions (16 missing)
     ///
@@ -950,12 +950,12 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_glossy N=16`: 2 675 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=32`: 4 904 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=64`: 9 272 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=16`: 2 690 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=32`: 4 906 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=64`: 9 338 instructions (SG lobe of Phong e = 20)
     /// - `m4:probe_glossy N=256`: 38 175 instructions (SG lobe of Phong e = 20)
-    /// - `m4:gaussian8_probe_glossy N=64`: 9 394 instructions (`Gaussian<8>`)
-    /// - `m4:photodiode_probe_glossy N=16`: 11 538 instructions (photodiodes)
+    /// - `m4:gaussian8_probe_glossy N=64`: 9 453 instructions (`Gaussian<8>`)
+    /// - `m4:photodiode_probe_glossy N=16`: 11 547 instructions (photodiodes)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
     /// these lines against):
@@ -1032,7 +1032,7 @@ where
     /// - `m4:probe_glossy_variance N=16`: 773 836 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=32`: 894 020 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=64`: 1 217 180 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=256`: 5 495 440 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=256`: 5 494 680 instructions (soft f64 quadrature)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
     /// these lines against):
@@ -1112,9 +1112,9 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_phong N=16`: 9 472 instructions (e = 20)
-    /// - `m4:probe_phong N=32`: 13 509 instructions (e = 20)
-    /// - `m4:probe_phong N=64`: 21 318 instructions (e = 20)
+    /// - `m4:probe_phong N=16`: 9 457 instructions (e = 20)
+    /// - `m4:probe_phong N=32`: 13 449 instructions (e = 20)
+    /// - `m4:probe_phong N=64`: 21 314 instructions (e = 20)
     /// - `m4:probe_phong N=256`: 66 520 instructions (e = 20)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
@@ -1171,9 +1171,9 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// `examples/cortex-m4`, whose output CI checks these lines against):
-    /// - `m4:probe_phong_variance N=16`: 422 710 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=16`: 422 712 instructions (e = 20)
     /// - `m4:probe_phong_variance N=32`: 778 064 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=64`: 1 568 680 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=64`: 1 568 670 instructions (e = 20)
     /// - `m4:probe_phong_variance N=256`: 8 657 080 instructions (e = 20)
     ///
     /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
@@ -1804,7 +1804,7 @@ fn legendre_sum_f32(h: &[f32], rec: &[(f32, f32)], t: f32) -> f32 {
 /// - `m4:cosine_weighted_average N=16`: 514 instructions
 /// - `m4:cosine_weighted_average N=32`: 894 instructions
 /// - `m4:cosine_weighted_average N=64`: 1 651 instructions
-/// - `m4:cosine_weighted_average N=256`: 6 187 instructions
+/// - `m4:cosine_weighted_average N=256`: 6 188 instructions
 ///
 /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
 /// these lines against):

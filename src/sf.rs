@@ -538,7 +538,7 @@ macro_rules! const_set {
             /// # Cost
             /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm`
             /// backend; `examples/cortex-m4`, whose output CI checks these lines against):
-            /// - `m4:sf_points N=16`: 4 484 instructions (`SphericalFibonacci`)
+            /// - `m4:sf_points N=16`: 4 486 instructions (`SphericalFibonacci`)
             /// - `m4:sf_points N=64`: 12 104 instructions (`SphericalFibonacci`)
             /// - `m4:sf_points N=256`: 48 300 instructions (`SphericalFibonacci`)
             ///

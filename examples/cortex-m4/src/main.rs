@@ -17,7 +17,7 @@ use cortex_m::peripheral::{syst::SystClkSource, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use sphere_quadrature::footprint::{CosinePower, Footprint, Gaussian, Kind, Point};
-use sphere_quadrature::layout::{LayoutProbe, Prior, Sensor};
+use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
 use sphere_quadrature::qmc::{self, LobeSampler};
 use sphere_quadrature::{bmc, probe, sg, sh, temporal};
 use sphere_quadrature::{Lobe, SphericalFibonacci, Vec3};
@@ -285,12 +285,20 @@ fn layout_counts<const K: usize>(directions: &[Vec3; K], readings: &[[f32; 3]; K
     let n = black_box(Vec3::new(0.3, -0.4, 0.5));
     let update = count(4, || black_box(&mut p).update(black_box(&y)));
     let update_rgb = count(2, || black_box(&mut rgb).update(black_box(readings)));
+    // The same readings with an absolute noise only (one noise level for all sensors: no
+    // per-reading solve).
+    let absolute = Noise { absolute: 0.01 * y.iter().sum::<f32>() / K as f32, relative: 0.0 };
+    let update_absolute = match LayoutProbe::<K, f32>::new(&sensors, Prior::ENVIRONMENT, absolute) {
+        Ok(mut q) => count(4, || black_box(&mut q).update(black_box(&y))),
+        Err(_) => 0,
+    };
     let _ = p.update(&y);
     let query = count(200, || black_box(&p).irradiance(n));
     let variance = count(50, || black_box(&p).irradiance_variance(n));
     hprintln!("# count layout_init K={} {} instructions/call", K, init);
     hprintln!("# count layout_update K={} {} instructions/call", K, update);
     hprintln!("# count layout_update_rgb K={} {} instructions/call", K, update_rgb);
+    hprintln!("# count layout_update_absolute K={} {} instructions/call", K, update_absolute);
     hprintln!("# count layout_irradiance K={} {} instructions/call", K, query);
     hprintln!("# count layout_irradiance_variance K={} {} instructions/call", K, variance);
     hprintln!("# ram layout_f32 K={} {}", K, core::mem::size_of::<LayoutProbe<K, f32>>());
