@@ -33,6 +33,10 @@
 //! of the posterior variance, computed once per update; [`LayoutProbe::irradiance_variance`]
 //! is the exact variance at one normal, O(K²).
 //!
+//! Channels are fitted one by one, each with its own scale. Their errors are correlated, so
+//! the variance of a combination of channels (luminance from RGB) is not a sum of the
+//! channels' variances: [`LayoutProbe::combined`] fits the combined readings as one channel.
+//!
 //! # Accuracy
 //! - **Against an f64 reference** (the unit tests: textbook Gaussian-process formulas in
 //!   f64): values within 5·10⁻⁶ relative, exact variances within 2·10⁻⁴, the log likelihood
@@ -1297,6 +1301,106 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         Ok(self)
     }
 
+    /// A one-channel probe of the combination `Σ_c w_c·Y_c` of this probe's channels
+    /// (luminance from RGB readings, say), fitted to the combined (pooled) readings with their
+    /// own scale by restricted maximum likelihood and their exact noise: absolute `σ·|w|`,
+    /// relative `η²·Σ_c w_c²·Y_c²` per reading. Its queries give the combination with its
+    /// posterior variance: the variance of a sum of channels, which the channels' own
+    /// variances cannot give (their errors are correlated). Without noise its values are the
+    /// combination of the channels' values (the weights do not depend on the scale); with
+    /// noise each channel weighs its noise on its own, and the values differ by that.
+    ///
+    /// Later updates of the returned probe treat its readings as one channel, with noise
+    /// `(σ·|w|, η)`. Before any update, the returned probe is not updated either.
+    /// [`Error::InvalidParameter`] for non-finite weights or weights all zero.
+    ///
+    /// ```
+    /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
+    /// use sphere_quadrature::Vec3;
+    ///
+    /// let faces = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    /// let mut rgb = LayoutProbe::<6, [f32; 3]>::new(&faces.map(Sensor::cosine), Prior::ENVIRONMENT, Noise::NONE)?;
+    /// rgb.update(&faces.map(|d| [1.0 + 0.5 * d.z, 0.8 + 0.3 * d.x, 0.6]))?;
+    /// let luminance = rgb.combined([0.2126, 0.7152, 0.0722])?;
+    /// let (e, y) = (rgb.irradiance(Vec3::Z)?, luminance.irradiance(Vec3::Z)?);
+    /// let sum = 0.2126 * e.value[0] + 0.7152 * e.value[1] + 0.0722 * e.value[2];
+    /// assert!((y.value - sum).abs() < 1e-5 * sum);
+    /// assert!(y.variance > 0.0);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
+    pub fn combined(&self, weights: T) -> Result<LayoutProbe<K, f32>, Error> {
+        let channels = T::CHANNELS.min(MAX_CHANNELS);
+        let w: [f32; MAX_CHANNELS] =
+            core::array::from_fn(|c| if c < channels { weights.channel(c) } else { 0.0 });
+        if w.iter().any(|v| !v.is_finite()) || w.iter().all(|&v| v == 0.0) {
+            return Err(Error::InvalidParameter);
+        }
+        let norm = math::sqrt(w.iter().map(|v| v * v).sum::<f32>());
+        let noise = Noise { absolute: self.noise.absolute * norm, relative: self.noise.relative };
+        let readings: [f32; K] = core::array::from_fn(|i| {
+            (0..channels).map(|c| w[c] * self.stream_mean[i].channel(c)).sum::<f32>()
+        });
+        let eta2 = self.noise.relative * self.noise.relative;
+        let relative: [f32; K] = core::array::from_fn(|i| {
+            eta2 * (0..channels)
+                .map(|c| {
+                    let v = w[c] * self.stream_mean[i].channel(c);
+                    v * v
+                })
+                .sum::<f32>()
+        });
+        let mut probe = LayoutProbe::<K, f32> {
+            directions: self.directions,
+            whitening: self.whitening,
+            class: self.class,
+            classes: self.classes,
+            scaled: self.scaled,
+            gains: self.gains,
+            spectrum: self.spectrum,
+            zonal_r: self.zonal_r,
+            isotropic: self.isotropic,
+            zonal_u: self.zonal_u,
+            profile: self.profile,
+            tables: self.tables,
+            covariance: self.covariance,
+            vectors: self.vectors,
+            values: self.values,
+            basis: self.basis,
+            basis_sensor: self.basis_sensor,
+            log_whitening: self.log_whitening,
+            basis_query: self.basis_query,
+            mean_terms: self.mean_terms,
+            variance_scale: self.variance_scale,
+            prior_variance: self.prior_variance,
+            average_zz: self.average_zz,
+            average_hz: self.average_hz,
+            average_hh: self.average_hh,
+            noise,
+            alpha: [0.0; K],
+            beta: [0.0; 2],
+            scale: 0.0,
+            nugget: 0.0,
+            average_variance: 0.0,
+            updated: false,
+            stream_mean: readings,
+            stream_weight: self.stream_weight,
+            hazard: self.hazard,
+            log_likelihood: 0.0,
+            last_change: self.last_change,
+        };
+        if self.updated {
+            let fit = probe.fit(&readings, self.stream_weight.max(1.0), Some(&relative));
+            probe.alpha = fit.alpha;
+            probe.beta = [fit.beta, 0.0];
+            probe.scale = fit.scale;
+            probe.nugget = fit.nugget;
+            probe.average_variance = fit.average_variance;
+            probe.log_likelihood = fit.log_likelihood;
+            probe.updated = true;
+        }
+        Ok(probe)
+    }
+
     /// Fits every channel of these (pooled) readings, whose noise variance is the layout's
     /// divided by `pooled`.
     fn fit_all(&mut self, readings: &[T; K], pooled: f32) {
@@ -1308,7 +1412,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let mut log_likelihood = 0.0f32;
         for ch in 0..T::CHANNELS.min(MAX_CHANNELS) {
             let y: [f32; K] = core::array::from_fn(|i| readings[i].channel(ch));
-            let fit = self.fit(&y, pooled);
+            let fit = self.fit(&y, pooled, None);
             alpha[ch] = fit.alpha;
             beta[ch] = fit.beta;
             scale[ch] = fit.scale;
@@ -1326,8 +1430,9 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         self.updated = true;
     }
 
-    /// One channel's fit.
-    fn fit(&self, y: &[f32; K], pooled: f32) -> Fit<K> {
+    /// One channel's fit. `relative`: each reading's relative-noise variance in reading units
+    /// (before pooling) where it is not `η²·yᵢ²` (a combination of channels).
+    fn fit(&self, y: &[f32; K], pooled: f32, relative: Option<&[f32; K]>) -> Fit<K> {
         // Work relative to a power of two near the largest whitened reading.
         let top = (0..K).fold(0.0f32, |m, i| m.max((y[i] * self.whitening[i]).abs()));
         if top == 0.0 {
@@ -1348,7 +1453,17 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         // and the variances.
         let absolute = (self.noise.absolute * inv) * (self.noise.absolute * inv) / pooled;
         let eta2 = self.noise.relative * self.noise.relative / pooled;
-        let nus: [f32; K] = core::array::from_fn(|i| absolute + eta2 * yw[i] * yw[i]);
+        let nus: [f32; K] = match relative {
+            None => core::array::from_fn(|i| absolute + eta2 * yw[i] * yw[i]),
+            Some(r) => core::array::from_fn(|i| {
+                let w = self.whitening[i] * inv;
+                absolute + r[i] * w * w / pooled
+            }),
+        };
+        let per_reading = match relative {
+            None => eta2 > 0.0,
+            Some(r) => r.iter().any(|&v| v > 0.0),
+        };
         let nu = nus.iter().sum::<f32>() / K as f32;
         let p = self.mean_terms;
         let h = &self.basis[0];
@@ -1493,7 +1608,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let mut exact = None;
         // Relative noise differs between sensors: the mean and the weights from the exact
         // system s·C̃ + diag(ν_i), factored once (the scale and the variances keep ν̄).
-        if eta2 > 0.0 && s > 0.0 {
+        if per_reading && s > 0.0 {
             let h_sensor = &self.basis_sensor;
             let top = lam.iter().fold(0.0f32, |m, &v| m.max(v));
             // The lower triangle is all the factorization reads.
@@ -2621,6 +2736,99 @@ mod tests {
         // Measured 1.6·10⁻⁴: the f32 factor of a system of condition about 10⁴, whose weights
         // (up to 20 times the answer) cancel.
         assert!(s > 0.0 && worst < 5e-4, "s {s}, worst {worst:e}");
+    }
+
+    /// A combination of channels: with an absolute noise, the same probe as one built for the
+    /// combined readings with noise `σ·|w|` (bit for bit); with a relative noise, the exact
+    /// system of the combined readings' noise `η²·Σ w_c²Y_c²` (f64 reference); channels in
+    /// proportion add their errors in proportion (not in quadrature); bad weights are errors.
+    #[test]
+    fn a_combination_of_channels_is_fitted_with_its_own_noise() {
+        let sensors = dome();
+        let se = Prior::squared_exponential(4.0).unwrap();
+        let mut profile = [0.0f32; 9];
+        profile[0] = 1.0;
+        profile[1] = 0.9;
+        let prior = se.with_mean(Mean::Zonal(profile));
+        let y = [2.0f32, 1.2, 1.5, 0.8, 1.1];
+        let rgb: [[f32; 3]; 5] =
+            core::array::from_fn(|i| [y[i], 0.5 + 0.3 * y[i], 1.7 - 0.4 * y[i]]);
+        let w = [0.2126f32, 0.7152, 0.0722];
+        let combined: [f32; 5] = core::array::from_fn(|i| (0..3).map(|c| w[c] * rgb[i][c]).sum());
+        let norm = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+        let normals = [Vec3::Z, Vec3::new(0.5, 0.2, 0.8), Vec3::new(-0.7, 0.1, 0.3), Vec3::X];
+        // Absolute noise.
+        let noise = Noise { absolute: 0.02, relative: 0.0 };
+        let mut probe = LayoutProbe::<5, [f32; 3]>::new(&sensors, prior, noise).unwrap();
+        probe.update(&rgb).unwrap();
+        let luminance = probe.combined(w).unwrap();
+        let mut direct =
+            LayoutProbe::<5>::new(&sensors, prior, Noise { absolute: 0.02 * norm, relative: 0.0 })
+                .unwrap();
+        direct.update(&combined).unwrap();
+        for n in normals {
+            let (a, b) = (luminance.irradiance(n).unwrap(), direct.irradiance(n).unwrap());
+            assert_eq!(
+                (a.value.to_bits(), a.variance.to_bits()),
+                (b.value.to_bits(), b.variance.to_bits())
+            );
+            let (a, b) =
+                (luminance.irradiance_variance(n).unwrap(), direct.irradiance_variance(n).unwrap());
+            assert_eq!(a.to_bits(), b.to_bits());
+        }
+        // Relative noise: the exact system at the combined probe's scale.
+        let eta = 0.05f32;
+        let mut probe = LayoutProbe::<5, [f32; 3]>::new(
+            &sensors,
+            prior,
+            Noise { absolute: 0.0, relative: eta },
+        )
+        .unwrap();
+        probe.update(&rgb).unwrap();
+        let luminance = probe.combined(w).unwrap();
+        let s = f64::from(luminance.signal_variance());
+        let gains: Vec<f64> =
+            Response::CosinePower(1.0).gains().unwrap().iter().map(|&g| f64::from(g)).collect();
+        let dirs: Vec<[f64; 3]> =
+            sensors.iter().map(|s| to64(s.direction.try_normalize().unwrap())).collect();
+        let y64: Vec<f64> = combined.iter().map(|&v| f64::from(v)).collect();
+        let noise64: Vec<f64> = rgb
+            .iter()
+            .map(|r| {
+                (0..3).map(|c| (f64::from(eta) * f64::from(w[c]) * f64::from(r[c])).powi(2)).sum()
+            })
+            .collect();
+        let p64: Vec<f64> = profile.iter().map(|&v| f64::from(v)).collect();
+        let mut worst = 0.0f64;
+        for n in normals {
+            let (v, _, _) = reference(
+                &dirs,
+                &gains,
+                &se,
+                Some(&p64),
+                &y64,
+                to64(n.try_normalize().unwrap()),
+                Some((s, &noise64)),
+                None,
+            );
+            worst = worst.max((f64::from(luminance.irradiance(n).unwrap().value) - v).abs() / v);
+        }
+        assert!(s > 0.0 && worst < 5e-4, "s {s}, worst {worst:e}");
+        // Channels in proportion, no noise: errors add linearly, 1 + 2 + 3 = 6 times the first
+        // channel's, a variance 36 times (the channels' variances summed would give 14). (The
+        // direction-averaged variance: at the sensors' own directions the exact one is at the
+        // level of rounding without noise.)
+        let mut probe = LayoutProbe::<5, [f32; 3]>::new(&sensors, prior, Noise::NONE).unwrap();
+        probe.update(&y.map(|v| [v, 2.0 * v, 3.0 * v])).unwrap();
+        let sum = probe.combined([1.0, 1.0, 1.0]).unwrap();
+        let one = probe.irradiance(Vec3::Z).unwrap().variance[0];
+        let all = sum.irradiance(Vec3::Z).unwrap().variance;
+        assert!(one > 0.0 && (all / one - 36.0).abs() < 36.0 * 1e-5, "{}", all / one);
+        // Bad weights.
+        assert_eq!(probe.combined([f32::NAN, 1.0, 0.0]).unwrap_err(), Error::InvalidParameter);
+        assert_eq!(probe.combined([0.0; 3]).unwrap_err(), Error::InvalidParameter);
+        let fresh = LayoutProbe::<5, [f32; 3]>::new(&sensors, prior, Noise::NONE).unwrap();
+        assert!(!fresh.combined(w).unwrap().is_updated());
     }
 
     /// Phong and SG lobes against the f64 reference with the lobes' Legendre coefficients
