@@ -70,7 +70,7 @@
 //!   Sobol-QMC, Monte Carlo):
 //!   N = 64: 9.0 %, 10.7 %, 17.1 %;
 //!   N = 256: 3.3 %, 4.0 %, 9.4 %
-//!   (`cargo run --release --example probe` prints the full tables; CI checks these figures
+//!   (`cargo run --release --example qmc_compare` prints the full tables; CI checks these figures
 //!   against its output).
 //! - Spherical Gaussians: hemispherical and clamped-cosine integrals from 16 KiB of build-time
 //!   tables to 1.1·10⁻⁵ and 4.8·10⁻⁶ absolute (normalised by the full-sphere integral), 460×

@@ -96,7 +96,7 @@
 //!   the Legendre series at build time, and [`Probe::glossy`] sums
 //!   `Σ_l K_l g_l Λ_l(μ)(2l + 1)/(4π)·P_l(xᵢ·r)` per sample (`16 + 9.1√λ` terms, the Bessel
 //!   ratios `Λ_l/Λ₀ = i_l(μ)/i₀(μ)` once per query), so its glossy query costs more than a
-//!   point probe's (README, Cortex-M4 table).
+//!   point probe's (the crate's Cortex-M4 cost tables).
 //!
 //! On real maps footprint samples cut the irradiance error by 40–200× against the
 //! cosine-weighted average of point samples at the same `N` (held-out maps, N = 16…256, mean of
@@ -204,7 +204,7 @@
 //!   vectors (`(N/2 − p)²/2` multiply-adds each), their Gram products (`m²·N/6` on average),
 //!   an `m³/6` factorisation and one forward substitution of the samples on top of
 //!   [`Probe::update`]'s solve. Cortex-M4 at `N = 64`: 297 460 instructions with 8 missing,
-//!   573 860 with 16, against 88 800 for [`Probe::update`] (README). Memory: the probe grows by
+//!   573 860 with 16, against 88 800 for [`Probe::update`]. Memory: the probe grows by
 //!   the missing indices and factor, `4M² + 6M` bytes and a few words; the update uses
 //!   another `4·M·N + 8M²` bytes of stack. Each exact-variance query does one more back
 //!   substitution (`N²/4` f64 multiply-adds: 261 700 → 547 330 M4 instructions for
@@ -1021,7 +1021,7 @@ where
     /// `a²·8π²/(λμ)·∫₀^{2 min(λ, μ)} exp(s²/(2λ) − s(2λ + μ)/λ)·(1 − e^(−2(λ + μ − s)))/2 ds`,
     /// summed by 8-point Gauss–Legendre on panels of width `2λ/(2λ + μ)` until the integrand
     /// has fallen by `e^(−40)` (at most 41 panels: about 0.8·10⁶ Cortex-M4 instructions of soft
-    /// f64 at N = 16, 1.2·10⁶ at N = 64; README).
+    /// f64 at N = 16, 1.2·10⁶ at N = 64).
     ///
     /// # Errors
     /// As [`Probe::glossy`].
@@ -1097,7 +1097,7 @@ where
     /// Gaussian (point samples; of sharpness `ν` for a Gaussian footprint) or that times the
     /// footprint's gains (cosine power). The sum runs over `L = 16 + ⌈9.1√λ⌉` degrees (past
     /// them the kernel's coefficients are below `e^{−41}` of the first), once per sample: about
-    /// `L` multiply-adds more per sample than [`Probe::glossy`] (README, Cortex-M4 table).
+    /// `L` multiply-adds more per sample than [`Probe::glossy`] (the crate's Cortex-M4 cost tables).
     ///
     /// [`Probe::glossy`] with [`SphericalGaussian::phong_moments`] approximates the same lobe
     /// by a spherical Gaussian, exact in its integral and first moment only: for broad lobes

@@ -53,7 +53,7 @@
 //! of the defining integral, on a dense grid and 10⁵ random `(λ, t)` with `λ` up to 10⁴ and
 //! beyond: max absolute error of `H/F` 1.1·10⁻⁵ and of `C/F` 5·10⁻⁶ (`libm`). For comparison
 //! the closed forms, on the same points: Tokuyoshi 2022 (`H`) 4.9·10⁻³, Meder & Brüderlin 2018
-//! (`H`) 1.2·10⁻², Tokuyoshi et al. 2024 (`C`) 1.3·10⁻³. The README has the table per λ decade.
+//! (`H`) 1.2·10⁻², Tokuyoshi et al. 2024 (`C`) 1.3·10⁻³. The repository's guide has the table per λ decade.
 //!
 //! # Fits
 //! [`SphericalGaussian::phong_lobe`] fits the normalised Phong lobe `(e+1)/(2π)·max(0, cos θ)ᵉ`

@@ -31,7 +31,7 @@
 //! "An Efficient Representation for Irradiance Environment Maps", SIGGRAPH 2001, section
 //! 3), so [`ShL2::irradiance`] is `E(n) = Σ Â_l·c_lm·Y_lm(n)`: 9 multiply-adds after a
 //! check of `n` (57 Cortex-M4 instructions per call for one channel and a unit normal, 88
-//! for a normal that must be normalised; README). It is exact for a radiance without
+//! for a normal that must be normalised). It is exact for a radiance without
 //! harmonics above degree 2; for any other it is the irradiance of the projection, which
 //! drops the terms of `Â₄ = −π/24`, `Â₆ = π/64`, … (the odd `Â_l` above 1 vanish):
 //! Ramamoorthi and Hanrahan report average errors of about 1 % on their environment maps.
@@ -315,7 +315,7 @@ impl<T: Radiance> ShL2<T> {
 
     /// The irradiance `E(n) = ∫ L(x)·max(0, n̂·x) dx` of the expansion, `Σ Â_l·c_lm·Y_lm(n̂)`
     /// with `Â = π, 2π/3, π/4` (Ramamoorthi and Hanrahan 2001), O(9): 57 Cortex-M4
-    /// instructions per call for one channel (README). `n` need not be unit: a normal that
+    /// instructions per call for one channel. `n` need not be unit: a normal that
     /// is unit to f32 precision is used as given, any other normalised without a square
     /// root ([`crate::math::inv_sqrt`]; 88 instructions).
     ///

@@ -2,7 +2,7 @@
 //! (`examples/envmaps/apartment.hdr`, CC0), with ground truth integrated over every pixel.
 //!
 //! The comparison is seeded, so it is deterministic; it guards the claim the README makes
-//! with the numbers of `cargo run --release --example probe`.
+//! with the numbers of `cargo run --release --example qmc_compare`.
 
 #[path = "../examples/common/compare.rs"]
 #[allow(dead_code)] // the example also uses the clamp tier

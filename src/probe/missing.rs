@@ -153,7 +153,7 @@ where
     ///
     /// Cost: per family member, `m` forward substitutions of unit vectors and an `m × m`
     /// factorisation on top of [`Probe::update`]'s solve, and one more forward substitution
-    /// of the samples (README, Cortex-M4 table); stack `4·M·N` bytes for the substitutions
+    /// of the samples (the crate's Cortex-M4 cost tables); stack `4·M·N` bytes for the substitutions
     /// plus `8·M²` for two factors.
     ///
     /// ```

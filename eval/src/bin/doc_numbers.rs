@@ -12,9 +12,12 @@
 //!   `# count NAME N=n K instructions/call`), "`` `ram:NAME N=n`: B bytes ``" (the device's
 //!   `# ram NAME N=n B`: the size of a type in RAM) and "`` `flash:NAME N=n`: C bytes of code
 //!   and D bytes of tables ``" (`.ci/m4-flash.sh`'s `# flash NAME N=n C D`);
-//! - generated regions of `README.md`, between `<!-- numbers: TEMPLATE -->` and
+//! - generated regions of `README.md` and `docs/costs.md`, between `<!-- numbers: TEMPLATE -->` and
 //!   `<!-- /numbers -->`: the template file with each `{m4:NAME N=n}`, `{code:NAME N=n}` and
 //!   `{data:NAME N=n}` replaced by the measurement.
+//!
+//! - quoted lines, between `<!-- quote: docs/REPORT.md -->` and `<!-- /quote -->` in the same
+//!   files: each must be a line of that generated report, verbatim.
 //!
 //! The size in a name is `N=n`, or `K=n` for a count of sensors (`m4:layout_init K=16`).
 //! Numbers are written in groups of three digits separated by spaces (`88 800`). Without
@@ -33,7 +36,7 @@ use clap::Parser;
 mod cli;
 
 /// Check (or rewrite) the Cortex-M4 instruction counts and flash sizes quoted in the rustdoc of
-/// `src/` and in README.md against the device's output.
+/// `src/`, README.md and docs/costs.md against the device's output.
 #[derive(Parser)]
 #[command(bin_name = "cargo eval doc_numbers --")]
 struct Args {
@@ -300,6 +303,48 @@ fn generated_regions(
     Ok(out)
 }
 
+/// The files with generated regions and quotes of reports.
+const GENERATED: [&str; 2] = ["README.md", "docs/costs.md"];
+const QUOTE: &str = "<!-- quote: ";
+const QUOTE_END: &str = "<!-- /quote -->";
+
+/// Every line between `<!-- quote: REPORT -->` and `<!-- /quote -->` must be a line of
+/// `REPORT` (a generated report under `docs/`), verbatim.
+fn quoted_lines(
+    root: &Path,
+    name: &str,
+    text: &str,
+    quotes: &mut usize,
+    problems: &mut Vec<Problem>,
+) -> Result<(), String> {
+    let mut source: Option<(String, Vec<String>)> = None;
+    for (i, line) in text.lines().enumerate() {
+        let place = format!("{name}:{}", i + 1);
+        if let Some(rest) = line.strip_prefix(QUOTE) {
+            let Some(report) = rest.strip_suffix(" -->") else {
+                return Err(format!("{place}: no ` -->` after the quoted report's name"));
+            };
+            let body = std::fs::read_to_string(root.join(report))
+                .map_err(|e| format!("{place}: {report}: {e}"))?;
+            source = Some((report.to_string(), body.lines().map(str::to_string).collect()));
+        } else if line == QUOTE_END {
+            source = None;
+        } else if let Some((report, lines)) = &source {
+            *quotes += 1;
+            if !lines.iter().any(|l| l == line) {
+                problems.push(Problem {
+                    place,
+                    what: format!("not a line of {report} (rerun its benchmark, then quote it)"),
+                });
+            }
+        }
+    }
+    if source.is_some() {
+        return Err(format!("{name}: a quote has no {QUOTE_END}"));
+    }
+    Ok(())
+}
+
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
     for entry in std::fs::read_dir(dir)? {
         let path = entry?.path();
@@ -337,16 +382,20 @@ fn run(args: &Args) -> Result<bool, String> {
         }
     }
 
-    let readme = root.join("README.md");
-    let text = std::fs::read_to_string(&readme).map_err(|e| format!("README.md: {e}"))?;
     let mut regions = 0;
-    let new = generated_regions(root, &text, &measured, &mut regions)?;
-    if new != text {
-        problems.push(Problem {
-            place: "README.md".into(),
-            what: "a generated region differs from its template and the measurements".into(),
-        });
-        changed.push((readme, new));
+    let mut quotes = 0;
+    for name in GENERATED {
+        let path = root.join(name);
+        let text = std::fs::read_to_string(&path).map_err(|e| format!("{name}: {e}"))?;
+        let new = generated_regions(root, &text, &measured, &mut regions)?;
+        if new != text {
+            problems.push(Problem {
+                place: name.into(),
+                what: "a generated region differs from its template and the measurements".into(),
+            });
+            changed.push((path, new));
+        }
+        quoted_lines(root, name, &text, &mut quotes, &mut problems)?;
     }
 
     if args.write {
@@ -361,7 +410,9 @@ fn run(args: &Args) -> Result<bool, String> {
     }
     println!(
         "{m4_cited} instruction counts, {ram_cited} RAM sizes and {flash_cited} flash sizes in the \
-         rustdoc of src/, and {regions} generated region(s) of README.md: {}",
+         rustdoc of src/, {regions} generated region(s) and {quotes} quoted report line(s) of {}: \
+         {}",
+        GENERATED.join(" and "),
         if problems.is_empty() { "all equal the measurements" } else { "see the errors above" }
     );
     Ok(problems.is_empty())

@@ -274,7 +274,7 @@ fn cost_table(md: &mut String, quick: bool) {
          `Probe::update`. The work grows with the missing count m (m unit-vector substitutions \
          and an m × m factor per member); the capacity M costs memory, `4M² + 6M` bytes in the \
          probe and `4·M·N + 8M²` of stack during the update, and the copies of the M × M \
-         factor. The Cortex-M4 instruction counts at N = 64 are in the README.\n\n\
+         factor. The Cortex-M4 instruction counts at N = 64 are in docs/costs.md.\n\n\
          | N | capacity M | missing m | µs per update | × `update` | probe bytes |\n\
          | ---: | ---: | ---: | ---: | ---: | ---: |\n",
     );
