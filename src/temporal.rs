@@ -472,8 +472,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// `examples/cortex-m4`, whose output CI checks these lines against), one channel, a budget
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
     /// - `m4:temporal_update_S1 N=16`: 24 144 instructions (15 rotated, 1 sentinel)
-    /// - `m4:temporal_update_S2 N=64`: 102 840 instructions (62 rotated, 2 sentinels)
-    /// - `m4:temporal_update_S0 N=64`: 105 080 instructions (64 rotated)
+    /// - `m4:temporal_update_S2 N=64`: 102 830 instructions (62 rotated, 2 sentinels)
+    /// - `m4:temporal_update_S0 N=64`: 105 070 instructions (64 rotated)
     /// - `m4:temporal_update_S4 N=256`: 570 920 instructions (252 rotated, 4 sentinels)
     ///
     /// # Examples

@@ -1,0 +1,359 @@
+//! `LayoutProbe::new`: the tables of a layout, at run time or by the compiler.
+
+use super::linalg::{congruence, project, symmetric_eigen, LogProduct};
+use super::*;
+
+impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
+    /// Builds the probe's tables for these sensors, prior and noise: O(K³), no allocation.
+    ///
+    /// Errors:
+    /// - [`Error::InvalidSize`]: `K = 0`, `K > MAX_SENSORS`, or `K` not above the number of
+    ///   mean terms (a constant or zonal mean needs two sensors);
+    /// - [`Error::InvalidDirection`]: a zero or non-finite direction;
+    /// - [`Error::InvalidParameter`]: a response, noise scale (must be finite and positive),
+    ///   noise (finite, non-negative), spectrum (finite, non-negative) or profile out of
+    ///   range, or more than [`MAX_RESPONSES`] distinct responses.
+    ///
+    /// Readings that the prior makes linearly dependent are fine: two sensors with the same
+    /// direction and response, or the antipodal pairs of cosine sensors (their differences
+    /// see degree 1 only). The model's least noise, `10⁻⁶` of the largest eigenvalue of the
+    /// whitened covariance, keeps the system solvable, and duplicates are averaged.
+    pub const fn new(sensors: &[Sensor; K], prior: Prior, noise: Noise) -> Result<Self, Error> {
+        let mean_terms = match prior.mean {
+            Mean::Zero => 0,
+            _ => 1,
+        };
+        if T::CHANNELS > MAX_CHANNELS {
+            return Err(Error::InvalidParameter);
+        }
+        if K == 0 || K > MAX_SENSORS || K <= mean_terms {
+            return Err(Error::InvalidSize);
+        }
+        if !non_negative(noise.absolute) || !non_negative(noise.relative) {
+            return Err(Error::InvalidParameter);
+        }
+        let spectrum = prior.spectrum;
+        let mut any = false;
+        let mut l = 0;
+        while l < DEGREES {
+            if !non_negative(spectrum[l]) {
+                return Err(Error::InvalidParameter);
+            }
+            any |= spectrum[l] > 0.0;
+            l += 1;
+        }
+        if !any {
+            return Err(Error::InvalidParameter);
+        }
+        let variance_scale = prior.variance_scale;
+        if !(variance_scale.is_finite() && variance_scale > 0.0) {
+            return Err(Error::InvalidParameter);
+        }
+        // The zonal covariances R (zero diagonal); with K₀, K₁, K₂ a PSD 3×3 matrix.
+        let [z01, z12, z02] = prior.zonal;
+        if !(z01.is_finite() && z12.is_finite() && z02.is_finite()) {
+            return Err(Error::InvalidParameter);
+        }
+        let zonal_r = [[0.0, z01, z02], [z01, 0.0, z12], [z02, z12, 0.0]];
+        let (k0, k1, k2) = (spectrum[0] as f64, spectrum[1] as f64, spectrum[2] as f64);
+        let (z01, z12, z02) = (z01 as f64, z12 as f64, z02 as f64);
+        let minor = k0 * k1 - z01 * z01;
+        let det = k0 * (k1 * k2 - z12 * z12) - z01 * (z01 * k2 - z12 * z02)
+            + z02 * (z01 * z12 - k1 * z02);
+        let tolerance = 1e-6 * (k0 * k1 * k2 + k0 * k1 + 1e-30);
+        if minor < -1e-6 * (k0 * k1 + 1e-30) || det < -tolerance || k0 * k2 - z02 * z02 < 0.0 {
+            return Err(Error::InvalidParameter);
+        }
+        let mut profile = [0.0f32; 9];
+        match prior.mean {
+            Mean::Zero => {}
+            Mean::Constant => profile[0] = 1.0,
+            Mean::Zonal(p) => {
+                let mut any = false;
+                let mut l = 0;
+                while l < 9 {
+                    if !p[l].is_finite() {
+                        return Err(Error::InvalidParameter);
+                    }
+                    any |= p[l] != 0.0;
+                    l += 1;
+                }
+                if !any {
+                    return Err(Error::InvalidParameter);
+                }
+                profile = p;
+            }
+        }
+        let mut directions = [Vec3::ZERO; K];
+        let mut whitening = [0.0f32; K];
+        let mut class = [0u8; K];
+        let mut distinct = [[0.0f32; DEGREES]; MAX_RESPONSES];
+        let mut responses = [Response::CosinePower(1.0); MAX_RESPONSES];
+        let mut classes = 0usize;
+        let mut i = 0;
+        while i < K {
+            let sensor = &sensors[i];
+            directions[i] = match normalized(sensor.direction) {
+                Some(d) => d,
+                None => return Err(Error::InvalidDirection),
+            };
+            let w = sensor.noise_scale;
+            if !(w.is_finite() && w > 0.0) {
+                return Err(Error::InvalidParameter);
+            }
+            whitening[i] = 1.0 / w;
+            // A response seen before shares its class (and its gains, computed once).
+            let mut found = classes;
+            let mut c = 0;
+            while c < classes && c < MAX_RESPONSES {
+                if same_response(&responses[c], &sensor.response) {
+                    found = c;
+                    break;
+                }
+                c += 1;
+            }
+            if found == classes {
+                if classes >= MAX_RESPONSES {
+                    return Err(Error::InvalidParameter);
+                }
+                distinct[classes] = match sensor.response.gains() {
+                    Ok(g) => g,
+                    Err(e) => return Err(e),
+                };
+                responses[classes] = sensor.response;
+                classes += 1;
+            }
+            class[i] = (found % MAX_RESPONSES) as u8;
+            i += 1;
+        }
+        let mut scaled = [Vec3::ZERO; K];
+        let mut i = 0;
+        while i < K {
+            let d = directions[i];
+            let f = 0.5 * (NODES - 1) as f32;
+            scaled[i] = Vec3::new(f * d.x, f * d.y, f * d.z);
+            i += 1;
+        }
+        let c = COSINE_FACTORS;
+        // Each sensor's zonal harmonics seen through its response, uᵢ = (g_l·Y_l0(dᵢ)), and
+        // R·uᵢ.
+        let mut zonal_u = [[0.0f32; 3]; K];
+        let mut ru = [[0.0f32; 3]; K];
+        let mut i = 0;
+        while i < K {
+            let y = zonal_harmonics(directions[i].z);
+            let g = &distinct[class[i] as usize % MAX_RESPONSES];
+            let mut l = 0;
+            while l < 3 {
+                zonal_u[i][l] = g[l] * y[l];
+                l += 1;
+            }
+            ru[i] = times_r(&zonal_r, &zonal_u[i]);
+            i += 1;
+        }
+        // Per class, the series of the sensor–query covariance (with (2l + 1)/(4π)), and
+        // its table.
+        let mut tables = [[0.0f32; NODES]; MAX_RESPONSES];
+        let mut q = 0;
+        while q < classes && q < MAX_RESPONSES {
+            let mut coef = [0.0f32; DEGREES];
+            let mut l = 0;
+            while l < DEGREES {
+                coef[l] = spectrum[l] * distinct[q][l] * c[l] * degree_weight(l);
+                l += 1;
+            }
+            // Nodes k and NODES − 1 − k sit at ±t: one recurrence gives both.
+            let mut k = NODES / 2;
+            while k < NODES {
+                let x = -1.0 + 2.0 * k as f32 / (NODES - 1) as f32;
+                let (even, odd) = legendre_parts(&coef, x);
+                tables[q][k] = even + odd;
+                tables[q][NODES - 1 - k] = even - odd;
+                k += 1;
+            }
+            q += 1;
+        }
+        // The Legendre series of the sensor covariance and of the average of z zᵀ per pair of
+        // responses.
+        let mut pair_cov = [[[0.0f32; DEGREES]; MAX_RESPONSES]; MAX_RESPONSES];
+        let mut pair_zz = [[[0.0f32; DEGREES]; MAX_RESPONSES]; MAX_RESPONSES];
+        let mut ci = 0;
+        while ci < classes && ci < MAX_RESPONSES {
+            let mut cj = 0;
+            while cj < classes && cj < MAX_RESPONSES {
+                let (gi, gj) = (&distinct[ci], &distinct[cj]);
+                let mut l = 0;
+                while l < DEGREES {
+                    let k = spectrum[l] * gi[l] * gj[l] * degree_weight(l);
+                    pair_cov[ci][cj][l] = k;
+                    pair_zz[ci][cj][l] = k * spectrum[l] * c[l] * c[l] / FOUR_PI;
+                    l += 1;
+                }
+                cj += 1;
+            }
+            ci += 1;
+        }
+        // The whitened covariance and the direction average of z zᵀ.
+        let mut cov = [[0.0f32; K]; K];
+        let mut zz = [[0.0f32; K]; K];
+        let mut i = 0;
+        while i < K {
+            let mut j = 0;
+            while j <= i {
+                let (ci, cj) =
+                    (class[i] as usize % MAX_RESPONSES, class[j] as usize % MAX_RESPONSES);
+                let (gi, gj) = (&distinct[ci], &distinct[cj]);
+                let (a, b) = (&pair_cov[ci][cj], &pair_zz[ci][cj]);
+                let (di, dj) = (directions[i], directions[j]);
+                let t = di.x * dj.x + di.y * dj.y + di.z * dj.z;
+                let w = whitening[i] * whitening[j];
+                // The zonal part: uᵢᵀRuⱼ; and in the average of z zᵀ the cross terms with
+                // the isotropic part, (1/4π)·Σ_l (Ruⱼ)_l c_l K_l gᵢ_l c_l Y_l0(dᵢ) (and i ↔ j),
+                // and (1/4π)·Σ_l (Ruᵢ)_l (Ruⱼ)_l c_l².
+                let (yi, yj) = (zonal_harmonics(di.z), zonal_harmonics(dj.z));
+                let mut zonal = 0.0f32;
+                let mut zonal_zz = 0.0f32;
+                let mut l = 0;
+                while l < 3 {
+                    zonal += zonal_u[i][l] * ru[j][l];
+                    let ai = spectrum[l] * gi[l] * c[l];
+                    let aj = spectrum[l] * gj[l] * c[l];
+                    zonal_zz += (ru[j][l] * c[l] * ai * yi[l]
+                        + ru[i][l] * c[l] * aj * yj[l]
+                        + ru[i][l] * ru[j][l] * c[l] * c[l])
+                        / FOUR_PI;
+                    l += 1;
+                }
+                let (sa, sb) = legendre_sums(a, b, t);
+                cov[i][j] = w * (sa + zonal);
+                cov[j][i] = cov[i][j];
+                zz[i][j] = w * (sb + zonal_zz);
+                zz[j][i] = zz[i][j];
+                j += 1;
+            }
+            i += 1;
+        }
+        let covariance = cov;
+        let (mut values, vectors) = symmetric_eigen(cov);
+        let mut top = 0.0f32;
+        let mut j = 0;
+        while j < K {
+            if values[j] > top {
+                top = values[j];
+            }
+            j += 1;
+        }
+        if !(top > 0.0 && top.is_finite()) {
+            return Err(Error::InvalidParameter);
+        }
+        // The model's least noise: eigenvalues floored at 10⁻⁶ of the largest, so that
+        // dependent readings (duplicate sensors; antipodal cosine pairs, whose differences
+        // see degree 1 only) keep the system solvable.
+        let mut j = 0;
+        while j < K {
+            // (A NaN eigenvalue, impossible from finite input, is floored too.)
+            if values[j].is_nan() || values[j] <= FLOOR * top {
+                values[j] = FLOOR * top;
+            }
+            j += 1;
+        }
+        // M̃ = Vᵀ·zz·V.
+        let average_zz = congruence(&vectors, &zz);
+        // Mean basis: sensor values h_i = Σ a_l g_l P_l(d_i·z), whitened and projected.
+        let mut basis = [[0.0f32; K]; 2];
+        let mut basis_sensor = [0.0f32; K];
+        let mut basis_query = [[0.0f32; 9]; 2];
+        let mut average_hz = [[0.0f32; K]; 2];
+        let mut average_hh = [[0.0f32; 2]; 2];
+        if mean_terms == 1 {
+            let mut h = [0.0f32; K];
+            let mut hz = [0.0f32; K];
+            let mut i = 0;
+            while i < K {
+                let g = &distinct[class[i] as usize % MAX_RESPONSES];
+                let mut a = [0.0f32; 9];
+                let mut b = [0.0f32; 9];
+                let mut l = 0;
+                while l < 9 {
+                    a[l] = profile[l] * g[l];
+                    // avg[h(n)·z_i(n)] = (1/4π)·Σ_l Q_l·K_l g_l c_l·P_l(d_i·z), Q_l = a_l c_l.
+                    b[l] = profile[l] * c[l] * spectrum[l] * g[l] * c[l] / FOUR_PI;
+                    l += 1;
+                }
+                h[i] = whitening[i] * legendre_sum(&a, directions[i].z);
+                // The zonal part: (1/4π)·Σ_l (Ruᵢ)_l c_l Q_l √(4π/(2l + 1)), Q_l = a_l c_l.
+                let mut zonal = 0.0f32;
+                let mut l = 0;
+                while l < 3 {
+                    let norm = square_root(FOUR_PI / (2 * l + 1) as f32);
+                    zonal += ru[i][l] * c[l] * profile[l] * c[l] * norm / FOUR_PI;
+                    l += 1;
+                }
+                hz[i] = whitening[i] * (legendre_sum(&b, directions[i].z) + zonal);
+                i += 1;
+            }
+            basis[0] = project(&vectors, &h);
+            basis_sensor = h;
+            average_hz[0] = project(&vectors, &hz);
+            let mut l = 0;
+            while l < 9 {
+                basis_query[0][l] = profile[l] * c[l];
+                average_hh[0][0] += basis_query[0][l] * basis_query[0][l] / (2 * l + 1) as f32;
+                l += 1;
+            }
+        }
+        let mut prior_variance = 0.0f32;
+        let mut l = 0;
+        while l < DEGREES {
+            prior_variance += spectrum[l] * c[l] * c[l] * degree_weight(l);
+            l += 1;
+        }
+        Ok(LayoutProbe {
+            directions,
+            whitening,
+            class,
+            classes,
+            scaled,
+            gains: distinct,
+            spectrum,
+            zonal_r,
+            isotropic: z01 == 0.0 && z12 == 0.0 && z02 == 0.0,
+            zonal_u,
+            profile,
+            tables,
+            covariance,
+            vectors,
+            values,
+            basis,
+            basis_sensor,
+            log_whitening: {
+                let mut product = LogProduct::ONE;
+                let mut i = 0;
+                while i < K {
+                    product = product.times(whitening[i]);
+                    i += 1;
+                }
+                product
+            },
+            basis_query,
+            mean_terms,
+            prior_variance,
+            average_zz,
+            average_hz,
+            average_hh,
+            noise,
+            variance_scale,
+            alpha: [T::ZERO; K],
+            beta: [T::ZERO; 2],
+            scale: T::ZERO,
+            nugget: T::ZERO,
+            average_variance: T::ZERO,
+            updated: false,
+            stream_mean: [T::ZERO; K],
+            stream_weight: 0.0,
+            hazard: DEFAULT_HAZARD,
+            last_change: 0.0,
+            log_likelihood: 0.0,
+        })
+    }
+}

@@ -1,0 +1,527 @@
+//! Updates: the fit of each channel (REML scale, GLS mean, weights), streams and channel
+//! combinations.
+
+use super::linalg::{cholesky, cholesky_solve, project, LogProduct};
+use super::*;
+
+impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
+    /// Takes one reading per sensor. [`Error::InvalidRadiance`] for a non-finite reading
+    /// (the probe keeps its previous state).
+    pub fn update(&mut self, readings: &[T; K]) -> Result<(), Error> {
+        check_readings(readings)?;
+        self.stream_mean = *readings;
+        self.stream_weight = 1.0;
+        self.last_change = 0.0;
+        self.fit_all(readings, 1.0);
+        Ok(())
+    }
+
+    /// Pools these readings with the earlier ones of a stream of static light, forgetting
+    /// them by the posterior probability that the light changed (soft, partial resets).
+    ///
+    /// The state is each sensor's weighted mean reading and its weight `w` (the effective
+    /// number of updates). Under unchanged light the new readings differ from the means by
+    /// the noise, variance `nᵢ·(1 + 1/w)`; under a change by that plus `ψᵢ = 2·(mᵢ² + m̄²)`
+    /// (the mean's square and the mean square of all means, per channel). The Bayes factor
+    /// of all sensors and channels and the prior odds of a change `h/(1 − h)` (hazard `h`,
+    /// [`LayoutProbe::with_hazard`], default 1/64) give the probability `π`; the old means
+    /// keep the weight `(1 − π)·w/(1 + π·w)` (the mixture of "changed" and "unchanged"
+    /// collapsed with the same mean). The probe then fits the pooled means with noise
+    /// `nᵢ/w`: on static light the noise's share of the error falls like `1/√w`. Readings
+    /// without noise ([`Noise::NONE`]) repeat exactly on static light, and any change of
+    /// more than 10⁻⁵ of a reading resets.
+    ///
+    /// [`Error::InvalidRadiance`] for a non-finite reading (the state is kept).
+    ///
+    /// ```
+    /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
+    /// use sphere_quadrature::temporal::Change;
+    /// use sphere_quadrature::Vec3;
+    ///
+    /// let faces = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    /// let noise = Noise { absolute: 0.01, relative: 0.0 };
+    /// let mut probe = LayoutProbe::<6>::new(&faces.map(Sensor::cosine), Prior::ENVIRONMENT, noise)?;
+    /// let light = [1.0, 1.2, 0.9, 1.1, 2.0, 0.3];
+    /// assert_eq!(probe.accumulate(&light)?, Change::First);
+    /// assert_eq!(probe.accumulate(&light.map(|v| v + 0.004))?, Change::Blended);
+    /// assert!(probe.pooled_updates() > 1.9);
+    /// // The lamp goes off: every sensor reads half.
+    /// assert_eq!(probe.accumulate(&light.map(|v| 0.5 * v))?, Change::Reset);
+    /// assert!(probe.pooled_updates() < 1.1);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
+    pub fn accumulate(&mut self, readings: &[T; K]) -> Result<Change, Error> {
+        check_readings(readings)?;
+        let w = self.stream_weight;
+        if w <= 0.0 {
+            self.stream_mean = *readings;
+            self.stream_weight = 1.0;
+            self.last_change = 1.0;
+            self.fit_all(readings, 1.0);
+            return Ok(Change::First);
+        }
+        let mut log_bf = 0.0f32;
+        for ch in 0..T::CHANNELS {
+            let square_mean =
+                self.stream_mean.iter().map(|m| m.channel(ch) * m.channel(ch)).sum::<f32>()
+                    / K as f32;
+            for i in 0..K {
+                let m = self.stream_mean[i].channel(ch);
+                let r = readings[i].channel(ch) - m;
+                let scale = self.whitening[i];
+                let noise = self.noise.absolute * self.noise.absolute / (scale * scale)
+                    + self.noise.relative * self.noise.relative * m * m;
+                // Rounding is not a change.
+                let tiny = 1e-5 * m.abs();
+                let s0 = noise * (1.0 + 1.0 / w) + tiny * tiny;
+                let psi = 2.0 * (m * m + square_mean);
+                log_bf += gaussian_log_bf(r * r, 1.0, s0, psi);
+            }
+        }
+        let probability = logistic(log_odds(self.hazard) + log_bf);
+        let kept = (1.0 - probability) * w / (1.0 + probability * w);
+        let weight = kept + 1.0;
+        for (mean, &y) in self.stream_mean.iter_mut().zip(readings) {
+            *mean = mean.scale(kept / weight).add(y.scale(1.0 / weight));
+        }
+        self.stream_weight = weight;
+        self.last_change = probability;
+        let pooled = self.stream_mean;
+        self.fit_all(&pooled, weight);
+        Ok(if probability >= 0.5 { Change::Reset } else { Change::Blended })
+    }
+
+    /// The effective number of updates pooled by [`LayoutProbe::accumulate`] (1 after
+    /// [`LayoutProbe::update`], 0 before any).
+    #[must_use]
+    pub const fn pooled_updates(&self) -> f32 {
+        self.stream_weight
+    }
+
+    /// The posterior probability of a change at the last [`LayoutProbe::accumulate`].
+    #[must_use]
+    pub const fn last_change_probability(&self) -> f32 {
+        self.last_change
+    }
+
+    /// The same probe with hazard `h` (the prior probability of a change per update of
+    /// [`LayoutProbe::accumulate`]), `0 < h < 1`; [`Error::InvalidParameter`] otherwise.
+    pub fn with_hazard(mut self, h: f32) -> Result<Self, Error> {
+        if !(h > 0.0 && h < 1.0) {
+            return Err(Error::InvalidParameter);
+        }
+        self.hazard = h;
+        Ok(self)
+    }
+
+    /// A one-channel probe of the combination `Σ_c w_c·Y_c` of this probe's channels
+    /// (luminance from RGB readings, say), fitted to the combined (pooled) readings with their
+    /// own scale by restricted maximum likelihood and their exact noise: absolute `σ·|w|`,
+    /// relative `η²·Σ_c w_c²·Y_c²` per reading. Its queries give the combination with its
+    /// posterior variance: the variance of a sum of channels, which the channels' own
+    /// variances cannot give (their errors are correlated). Without noise its values are the
+    /// combination of the channels' values (the weights do not depend on the scale); with
+    /// noise each channel weighs its noise on its own, and the values differ by that.
+    ///
+    /// Later updates of the returned probe treat its readings as one channel, with noise
+    /// `(σ·|w|, η)`. Before any update, the returned probe is not updated either.
+    /// [`Error::InvalidParameter`] for non-finite weights or weights all zero.
+    ///
+    /// ```
+    /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
+    /// use sphere_quadrature::Vec3;
+    ///
+    /// let faces = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    /// let mut rgb = LayoutProbe::<6, [f32; 3]>::new(&faces.map(Sensor::cosine), Prior::ENVIRONMENT, Noise::NONE)?;
+    /// rgb.update(&faces.map(|d| [1.0 + 0.5 * d.z, 0.8 + 0.3 * d.x, 0.6]))?;
+    /// let luminance = rgb.combined([0.2126, 0.7152, 0.0722])?;
+    /// let (e, y) = (rgb.irradiance(Vec3::Z)?, luminance.irradiance(Vec3::Z)?);
+    /// let sum = 0.2126 * e.value[0] + 0.7152 * e.value[1] + 0.0722 * e.value[2];
+    /// assert!((y.value - sum).abs() < 1e-5 * sum);
+    /// assert!(y.variance > 0.0);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
+    pub fn combined(&self, weights: T) -> Result<LayoutProbe<K, f32>, Error> {
+        let channels = T::CHANNELS.min(MAX_CHANNELS);
+        let w: [f32; MAX_CHANNELS] =
+            core::array::from_fn(|c| if c < channels { weights.channel(c) } else { 0.0 });
+        if w.iter().any(|v| !v.is_finite()) || w.iter().all(|&v| v == 0.0) {
+            return Err(Error::InvalidParameter);
+        }
+        let norm = math::sqrt(w.iter().map(|v| v * v).sum::<f32>());
+        let noise = Noise { absolute: self.noise.absolute * norm, relative: self.noise.relative };
+        let readings: [f32; K] = core::array::from_fn(|i| {
+            (0..channels).map(|c| w[c] * self.stream_mean[i].channel(c)).sum::<f32>()
+        });
+        let eta2 = self.noise.relative * self.noise.relative;
+        let relative: [f32; K] = core::array::from_fn(|i| {
+            eta2 * (0..channels)
+                .map(|c| {
+                    let v = w[c] * self.stream_mean[i].channel(c);
+                    v * v
+                })
+                .sum::<f32>()
+        });
+        let mut probe = LayoutProbe::<K, f32> {
+            directions: self.directions,
+            whitening: self.whitening,
+            class: self.class,
+            classes: self.classes,
+            scaled: self.scaled,
+            gains: self.gains,
+            spectrum: self.spectrum,
+            zonal_r: self.zonal_r,
+            isotropic: self.isotropic,
+            zonal_u: self.zonal_u,
+            profile: self.profile,
+            tables: self.tables,
+            covariance: self.covariance,
+            vectors: self.vectors,
+            values: self.values,
+            basis: self.basis,
+            basis_sensor: self.basis_sensor,
+            log_whitening: self.log_whitening,
+            basis_query: self.basis_query,
+            mean_terms: self.mean_terms,
+            variance_scale: self.variance_scale,
+            prior_variance: self.prior_variance,
+            average_zz: self.average_zz,
+            average_hz: self.average_hz,
+            average_hh: self.average_hh,
+            noise,
+            alpha: [0.0; K],
+            beta: [0.0; 2],
+            scale: 0.0,
+            nugget: 0.0,
+            average_variance: 0.0,
+            updated: false,
+            stream_mean: readings,
+            stream_weight: self.stream_weight,
+            hazard: self.hazard,
+            log_likelihood: 0.0,
+            last_change: self.last_change,
+        };
+        if self.updated {
+            let fit = probe.fit(&readings, self.stream_weight.max(1.0), Some(&relative));
+            probe.alpha = fit.alpha;
+            probe.beta = [fit.beta, 0.0];
+            probe.scale = fit.scale;
+            probe.nugget = fit.nugget;
+            probe.average_variance = fit.average_variance;
+            probe.log_likelihood = fit.log_likelihood;
+            probe.updated = true;
+        }
+        Ok(probe)
+    }
+
+    /// Fits every channel of these (pooled) readings, whose noise variance is the layout's
+    /// divided by `pooled`.
+    fn fit_all(&mut self, readings: &[T; K], pooled: f32) {
+        let mut alpha = [[0.0f32; K]; MAX_CHANNELS];
+        let mut beta = [0.0f32; MAX_CHANNELS];
+        let mut scale = [0.0f32; MAX_CHANNELS];
+        let mut nugget = [0.0f32; MAX_CHANNELS];
+        let mut average = [0.0f32; MAX_CHANNELS];
+        let mut log_likelihood = 0.0f32;
+        for ch in 0..T::CHANNELS.min(MAX_CHANNELS) {
+            let y: [f32; K] = core::array::from_fn(|i| readings[i].channel(ch));
+            let fit = self.fit(&y, pooled, None);
+            alpha[ch] = fit.alpha;
+            beta[ch] = fit.beta;
+            scale[ch] = fit.scale;
+            nugget[ch] = fit.nugget;
+            average[ch] = fit.average_variance;
+            log_likelihood += fit.log_likelihood;
+        }
+        self.log_likelihood = log_likelihood;
+        self.alpha =
+            core::array::from_fn(|i| from_channels(|ch| alpha[ch.min(MAX_CHANNELS - 1)][i]));
+        self.beta = [from_channels(|ch| beta[ch.min(MAX_CHANNELS - 1)]), T::ZERO];
+        self.scale = from_channels(|ch| scale[ch.min(MAX_CHANNELS - 1)]);
+        self.nugget = from_channels(|ch| nugget[ch.min(MAX_CHANNELS - 1)]);
+        self.average_variance = from_channels(|ch| average[ch.min(MAX_CHANNELS - 1)]);
+        self.updated = true;
+    }
+
+    /// One channel's fit. `relative`: each reading's relative-noise variance in reading units
+    /// (before pooling) where it is not `η²·yᵢ²` (a combination of channels).
+    fn fit(&self, y: &[f32; K], pooled: f32, relative: Option<&[f32; K]>) -> Fit<K> {
+        // Work relative to a power of two near the largest whitened reading.
+        let top = (0..K).fold(0.0f32, |m, i| m.max((y[i] * self.whitening[i]).abs()));
+        if top == 0.0 {
+            return Fit {
+                alpha: [0.0; K],
+                beta: 0.0,
+                scale: 0.0,
+                nugget: 0.0,
+                average_variance: 0.0,
+                log_likelihood: 0.0,
+            };
+        }
+        let unit = libm::scalbnf(1.0, libm::ilogbf(top));
+        let inv = 1.0 / unit;
+        let yw: [f32; K] = core::array::from_fn(|i| y[i] * self.whitening[i] * inv);
+        let z = project(&self.vectors, &yw);
+        // Whitened noise variances ν_i = σ² + η²·(Y_i/w_i)², and their mean ν̄ for the scale
+        // and the variances.
+        let absolute = (self.noise.absolute * inv) * (self.noise.absolute * inv) / pooled;
+        let eta2 = self.noise.relative * self.noise.relative / pooled;
+        let nus: [f32; K] = match relative {
+            None => core::array::from_fn(|i| absolute + eta2 * yw[i] * yw[i]),
+            Some(r) => core::array::from_fn(|i| {
+                let w = self.whitening[i] * inv;
+                absolute + r[i] * w * w / pooled
+            }),
+        };
+        let per_reading = match relative {
+            None => eta2 > 0.0,
+            Some(r) => r.iter().any(|&v| v > 0.0),
+        };
+        let nu = nus.iter().sum::<f32>() / K as f32;
+        let p = self.mean_terms;
+        let h = &self.basis[0];
+        let lam = &self.values;
+        // REML objective at s (and the GLS pieces).
+        let eval = |s: f32| -> (f32, f32, f32) {
+            // Returns (objective, beta, A = hᵀD⁻¹h).
+            let mut product = LogProduct::ONE;
+            let (mut zz, mut hz, mut hh) = (0.0f32, 0.0f32, 0.0f32);
+            for j in 0..K {
+                let d = s * lam[j] + nu;
+                product = product.times(d);
+                zz += z[j] * z[j] / d;
+                if p == 1 {
+                    hz += h[j] * z[j] / d;
+                    hh += h[j] * h[j] / d;
+                }
+            }
+            let logdet = product.ln();
+            if p == 1 && hh > 0.0 {
+                let beta = hz / hh;
+                (-0.5 * (logdet + math::ln(hh) + zz - hz * beta), beta, hh)
+            } else {
+                (-0.5 * (logdet + zz), 0.0, hh)
+            }
+        };
+        // Without noise the closed form s = r̃ᵀΛ⁻¹r̃/(K − p); with noise, where the search starts.
+        let noiseless = {
+            let (mut zz, mut hz, mut hh) = (0.0f32, 0.0f32, 0.0f32);
+            for j in 0..K {
+                let inv = 1.0 / lam[j];
+                zz += z[j] * z[j] * inv;
+                if p == 1 {
+                    hz += h[j] * z[j] * inv;
+                    hh += h[j] * h[j] * inv;
+                }
+            }
+            let q = if p == 1 && hh > 0.0 { zz - hz * hz / hh } else { zz };
+            (q / (K - p) as f32).max(0.0)
+        };
+        let s = if nu == 0.0 {
+            noiseless
+        } else {
+            // The root of the REML score in u = ln s by the Illinois variant of regula falsi:
+            // s·dℓ/ds = −½·s·Σ λ_j/d_j + ½·s·Q′-terms, no logarithms, O(K) per trial.
+            let score = |u: f32| -> f32 {
+                let s = math::exp(u);
+                let (mut tr, mut zz1, mut a, mut b, mut a1, mut b1) =
+                    (0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32);
+                for j in 0..K {
+                    let inv = 1.0 / (s * lam[j] + nu);
+                    let l_inv = lam[j] * inv;
+                    tr += l_inv;
+                    zz1 += z[j] * z[j] * l_inv * inv;
+                    if p == 1 {
+                        a += h[j] * h[j] * inv;
+                        b += h[j] * z[j] * inv;
+                        a1 += h[j] * h[j] * l_inv * inv;
+                        b1 += h[j] * z[j] * l_inv * inv;
+                    }
+                }
+                // dℓ/ds = −½·(Σ λ/d − A′/A·(−1)… ): with A′ = −a1, b′ = −b1,
+                // Q = Σ z²/d − b²/A, Q′ = −zz1 + (2b·b1·A − b²·a1)/A².
+                let mut g = -tr + zz1;
+                if p == 1 && a > 0.0 {
+                    g += a1 / a - (2.0 * b * b1 * a - b * b * a1) / (a * a);
+                }
+                0.5 * s * g
+            };
+            // Noise only lowers the scale: a bracket just below the noiseless one first, and
+            // the wide one about the readings' spread where that fails.
+            let spread = z.iter().map(|v| v * v).sum::<f32>() / lam.iter().sum::<f32>();
+            let centre = math::ln(spread.max(nu * 1e-6).max(1e-30));
+            let start = math::ln(noiseless.max(nu * 1e-6).max(1e-30));
+            let (mut lo, mut hi) = (start - 3.0, start + 0.5);
+            let (mut f_lo, mut f_hi) = (score(lo), score(hi));
+            if f_lo <= 0.0 {
+                (hi, f_hi) = (lo, f_lo);
+                lo = hi.min(centre) - 14.0;
+                f_lo = score(lo);
+            } else if f_hi >= 0.0 {
+                (lo, f_lo) = (hi, f_hi);
+                hi = lo.max(centre) + 6.0;
+                f_hi = score(hi);
+            }
+            let u = if f_lo <= 0.0 {
+                lo
+            } else if f_hi >= 0.0 {
+                hi
+            } else {
+                let mut side = 0i8;
+                let mut u = 0.5 * (lo + hi);
+                for _ in 0..24 {
+                    u = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+                    let f = score(u);
+                    if f > 0.0 {
+                        lo = u;
+                        f_lo = f;
+                        if side == 1 {
+                            f_hi *= 0.5;
+                        }
+                        side = 1;
+                    } else {
+                        hi = u;
+                        f_hi = f;
+                        if side == -1 {
+                            f_lo *= 0.5;
+                        }
+                        side = -1;
+                    }
+                    if hi - lo < 1e-3 || f == 0.0 {
+                        break;
+                    }
+                }
+                u
+            };
+            math::exp(u)
+        };
+        let d: [f32; K] = core::array::from_fn(|j| s * lam[j] + nu);
+        let (objective, beta, hh) = if s > 0.0 || nu > 0.0 {
+            eval(s)
+        } else {
+            (
+                f32::INFINITY,
+                if p == 1 && h.iter().any(|&v| v != 0.0) { gls_exact(h, &z) } else { 0.0 },
+                0.0,
+            )
+        };
+        // Of the readings themselves: undo the working unit (each d_j scales by unit², A by
+        // 1/unit²) and the whitening.
+        let log_likelihood = objective - (K - p) as f32 * math::ln(unit) + self.log_whitening.ln();
+        // r̃ = z − H̃ᵀβ; α (sensor space) = s·W·V·D⁻¹r̃.
+        let r: [f32; K] = core::array::from_fn(|j| {
+            let rj = z[j] - if p == 1 { h[j] * beta } else { 0.0 };
+            if d[j] > 0.0 {
+                rj / d[j]
+            } else {
+                0.0
+            }
+        });
+        let mut beta = beta;
+        let mut exact = None;
+        // Relative noise differs between sensors: the mean and the weights from the exact
+        // system s·C̃ + diag(ν_i), factored once (the scale and the variances keep ν̄).
+        if per_reading && s > 0.0 {
+            let h_sensor = &self.basis_sensor;
+            let top = lam.iter().fold(0.0f32, |m, &v| m.max(v));
+            // The lower triangle is all the factorization reads.
+            let mut a = [[0.0f32; K]; K];
+            for (i, (row, cov)) in a.iter_mut().zip(&self.covariance).enumerate() {
+                for (x, c) in row[..=i].iter_mut().zip(cov) {
+                    *x = s * c;
+                }
+                row[i] += nus[i] + s * FLOOR * top;
+            }
+            if cholesky(&mut a) {
+                // Q = (s·C̃ + diag ν)⁻¹: β = hᵀQy/hᵀQh, and the weights Q(y − βh) = Qy − β·Qh.
+                let mut weights = cholesky_solve(&a, &yw);
+                if p == 1 {
+                    let qh = cholesky_solve(&a, h_sensor);
+                    let hqh: f32 = h_sensor.iter().zip(&qh).map(|(x, q)| x * q).sum();
+                    if hqh > 0.0 {
+                        beta = h_sensor.iter().zip(&weights).map(|(x, q)| x * q).sum::<f32>() / hqh;
+                        for i in 0..K {
+                            weights[i] -= beta * qh[i];
+                        }
+                    }
+                }
+                exact = Some(weights);
+            }
+        }
+        let weights = match exact {
+            Some(w) => w,
+            None => core::array::from_fn(|i| {
+                let mut acc = 0.0f32;
+                for j in 0..K {
+                    acc += self.vectors[i][j] * r[j];
+                }
+                acc
+            }),
+        };
+        let mut alpha = [0.0f32; K];
+        for i in 0..K {
+            alpha[i] = s * self.whitening[i] * weights[i] * unit;
+        }
+        // Direction-averaged variance: s·V̄ − s²·Σ M̃_jj/d_j + avg[RᵀA⁻¹R].
+        let mut average = s * self.prior_variance;
+        for j in 0..K {
+            if d[j] > 0.0 {
+                average -= s * s * self.average_zz[j][j] / d[j];
+            }
+        }
+        if p == 1 && hh > 0.0 {
+            let hzq = &self.average_hz[0];
+            let hd: [f32; K] = core::array::from_fn(|j| if d[j] > 0.0 { h[j] / d[j] } else { 0.0 });
+            let mut cross = 0.0f32;
+            let mut quad = 0.0f32;
+            for j in 0..K {
+                cross += hd[j] * hzq[j];
+                let mut row = 0.0f32;
+                for k in 0..K {
+                    row += self.average_zz[j][k] * hd[k];
+                }
+                quad += hd[j] * row;
+            }
+            average += (self.average_hh[0][0] - 2.0 * s * cross + s * s * quad) / hh;
+        }
+        Fit {
+            alpha,
+            beta: beta * unit,
+            scale: s * unit * unit,
+            nugget: nu * unit * unit,
+            average_variance: average.max(0.0) * unit * unit * self.variance_scale,
+            log_likelihood,
+        }
+    }
+}
+
+struct Fit<const K: usize> {
+    alpha: [f32; K],
+    beta: f32,
+    scale: f32,
+    nugget: f32,
+    average_variance: f32,
+    log_likelihood: f32,
+}
+
+/// β by least squares when `s = ν = 0` (all readings equal to the mean): `hᵀz/hᵀh`.
+fn gls_exact<const K: usize>(h: &[f32; K], z: &[f32; K]) -> f32 {
+    let hh: f32 = h.iter().map(|v| v * v).sum();
+    let hz: f32 = h.iter().zip(z).map(|(a, b)| a * b).sum();
+    if hh > 0.0 {
+        hz / hh
+    } else {
+        0.0
+    }
+}
+
+fn check_readings<T: Radiance, const K: usize>(readings: &[T; K]) -> Result<(), Error> {
+    for r in readings {
+        for ch in 0..T::CHANNELS {
+            if !r.channel(ch).is_finite() {
+                return Err(Error::InvalidRadiance);
+            }
+        }
+    }
+    Ok(())
+}
