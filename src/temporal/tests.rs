@@ -1,0 +1,85 @@
+//! The temporal probe's contracts: pooling, resets, flicker and footprints.
+
+use super::*;
+
+#[test]
+fn the_recurrence_tables_are_their_f64_values_rounded_once() {
+    let mut acc = 1.0 / (4.0 * core::f64::consts::PI);
+    for (m, &q) in SECTORAL.iter().enumerate() {
+        if m > 0 {
+            acc *= (2 * m - 1) as f64 / (2 * m) as f64;
+        }
+        let want = (acc * (2 * m + 1) as f64).sqrt() * if m > 0 { 2f64.sqrt() } else { 1.0 };
+        assert_eq!(q, want as f32, "m = {m}");
+    }
+    let mut i = 0;
+    for (m, &start) in RECURRENCE_START.iter().enumerate() {
+        assert_eq!(start, i, "m = {m}");
+        for l in m + 1..=MAX_DEGREE {
+            let (lf, mf) = (l as f64, m as f64);
+            let a = ((4.0 * lf * lf - 1.0) / (lf * lf - mf * mf)).sqrt();
+            let b = if l == m + 1 {
+                0.0
+            } else {
+                (((lf - 1.0).powi(2) - mf * mf) / (4.0 * (lf - 1.0).powi(2) - 1.0)).sqrt()
+            };
+            assert_eq!(RECURRENCE[i], (a as f32, b as f32), "l = {l}, m = {m}");
+            i += 1;
+        }
+    }
+    assert_eq!(i, RECURRENCE.len());
+}
+
+/// The textbook real harmonic in f64: the associated Legendre function by the classical
+/// recurrence in `l` from `P_m^m = (2m − 1)!!·sinᵐθ`, normalised by factorials, and the
+/// azimuth through `atan2` (no Condon–Shortley phase).
+fn textbook(l: usize, m: i64, v: [f64; 3]) -> f64 {
+    let am = m.unsigned_abs() as usize;
+    let (z, sin) = (v[2], v[0].hypot(v[1]));
+    let mut pmm = 1.0;
+    for i in 1..=am {
+        pmm *= (2 * i - 1) as f64 * sin;
+    }
+    let (mut prev, mut p) = (0.0, pmm);
+    for ll in am + 1..=l {
+        let next = ((2 * ll - 1) as f64 * z * p - (ll + am - 1) as f64 * prev) / (ll - am) as f64;
+        (prev, p) = (p, next);
+    }
+    let mut ratio = 1.0;
+    for j in (l - am + 1)..=(l + am) {
+        ratio /= j as f64;
+    }
+    let n = ((2 * l + 1) as f64 / (4.0 * core::f64::consts::PI) * ratio).sqrt();
+    let phi = v[1].atan2(v[0]);
+    match m {
+        0 => n * p,
+        m if m > 0 => 2f64.sqrt() * n * p * (m as f64 * phi).cos(),
+        m => 2f64.sqrt() * n * p * ((-m) as f64 * phi).sin(),
+    }
+}
+
+#[test]
+fn the_basis_is_the_textbook_real_harmonics() {
+    // Every degree ≤ 8, at scattered directions including the poles (the reference
+    // crate's `real_sh` is the same definition; the packaged crate's tests cannot use it).
+    let dirs = [
+        Vec3::new(0.3, -0.5, 0.812),
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::new(0.0, 0.0, -1.0),
+        Vec3::new(-0.7, 0.1, -0.2),
+        Vec3::new(1.0, 0.0, 0.0),
+    ];
+    for d in dirs {
+        let u = d.try_normalize().unwrap();
+        let mut y = [0.0f32; COEFFICIENTS];
+        basis(MAX_DEGREE, u, &mut y);
+        let v = [f64::from(u.x), f64::from(u.y), f64::from(u.z)];
+        for l in 0..=MAX_DEGREE {
+            for m in -(l as i64)..=(l as i64) {
+                let want = textbook(l, m, v);
+                let got = f64::from(y[((l * (l + 1)) as i64 + m) as usize]);
+                assert!((got - want).abs() < 2e-6, "l = {l}, m = {m}, {d:?}: {got} vs {want}");
+            }
+        }
+    }
+}
