@@ -49,15 +49,6 @@
 //!   their hemispherical and clamped-cosine integrals from build-time tables.
 //! - [`math`]: the f32 math backend (`libm` or `micromath`).
 //!
-//! # Feature flags
-//! - `libm` (default): accurate f32 math.
-//! - `micromath`: fast approximate f32 math; wins over `libm` when both are on. The final
-//!   binary's decision (see [`math`]).
-//! - `defmt`: `defmt::Format` on the public data types.
-//! - `fixed`: [`fixed_point`], integer-only BMC weighted sums for cores without an FPU.
-//! - `footprint-sweep`: also bake the footprint benchmark's Gaussian footprints (sharpness
-//!   N/16, N/8, N/4, N/2 for every size); flash is unaffected, the build script runs longer.
-//!
 //! # Accuracy
 //! Measured by the tests in `tests/` against the independent f64 reference crate:
 //! - Point sets: every spherical Fibonacci point is within 1.4·10⁻⁷ rad of the exact point for
@@ -110,7 +101,9 @@
 //! declare a compatible `rust-version`). The `fixed` feature uses fixed 1.29 (Rust 1.83).
 //!
 //! # Features
-//! - `micromath`: fast approximate f32 math instead of `libm` (the default backend).
+//! None is on by default; `libm` is always linked and is the default math backend.
+//! - `micromath`: fast approximate f32 math instead of `libm`; the final binary's choice (see
+//!   [`math`]).
 //! - `fixed`: [`fixed_point`] weighted sums on the `fixed` crate's `U16F16` / `I16F16`.
 //! - `mint`: [`interop`], `From`/`Into` between [`Vec3`]/[`Mat3`] and `mint` types (glam,
 //!   nalgebra, cgmath).
