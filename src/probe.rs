@@ -141,7 +141,7 @@
 //!   which moves an answer as any f32 perturbation of the samples does: measured from
 //!   `c = 10⁻³⁰` to `10³⁰`, 10⁻⁷–7·10⁻⁵ relative for members with `cond(Q) ≤ 10⁴`, up to
 //!   1.1·10⁻³ for the smoothest (`cond(Q)` 3·10⁴–3·10⁵: one ulp of input moves their
-//!   answers by up to 6·10⁻⁴; `tests/probe/scale.rs`).
+//!   answers by up to 6·10⁻⁴; `tests/hardening/scale.rs`).
 //! - A result beyond `f32::MAX` is `±∞`, never 0, NaN or a wrong finite value: the
 //!   variances once the samples spread over more than about 10¹⁹ (`σ̂_f² > f32::MAX`) or a
 //!   glossy amplitude times that spread does; a value when it exceeds `f32::MAX` itself (the

@@ -1,7 +1,5 @@
-//! The probes against independent f64 references: the probe form of Bayesian Monte Carlo
-//! (`probe`), footprint probes (`footprint`), missing samples (`missing`), radiance scale and
-//! channel covariance (`scale`), property tests (`properties`), spherical harmonics and the
-//! probe's SH export (`sh`), and the temporal probe (`temporal`).
+//! The probe form of Bayesian Monte Carlo against independent f64 references: point probes
+//! (`probe`), footprint probes (`footprint`) and missing samples (`missing`).
 //!
 //! One test binary, one module per concept: `cargo test --test probe missing::` runs one
 //! module.
@@ -15,7 +13,3 @@ mod calibration;
 mod footprint;
 mod missing;
 mod probe;
-mod properties;
-mod scale;
-mod sh;
-mod temporal;
