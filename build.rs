@@ -3,13 +3,13 @@
 //! `$OUT_DIR/bmc_tables.rs` (and as Q1.31 integers into `$OUT_DIR/bmc_fixed_tables.rs`, for
 //! the `fixed` feature), the glossy weights and the probe families, in f64, from the
 //! generators in `gen/` and the files in `tables/`. Plain std Rust with no build-dependencies;
-//! the output is deterministic (exact f32 bits, no timestamps or paths). `tests/sg_tables.rs`
-//! and `tests/bmc.rs` run the same generators and check the baked tables bit for bit.
+//! the output is deterministic (exact f32 bits, no timestamps or paths). `tests/bmc/sg_tables.rs`
+//! and `tests/bmc/bmc.rs` run the same generators and check the baked tables bit for bit.
 //!
 //! The bake of the crate's own tables is also stored in `baked/` (`gen/cache.rs`), keyed by a
 //! hash of `gen/`, `tables/` and this file: when the key matches, a family without a user
 //! table or feature sweep is expanded from there instead of baked (a dependant runs this
-//! script unoptimised); `tests/baked.rs` checks that the store equals a fresh bake.
+//! script unoptimised); `tests/bmc/baked.rs` checks that the store equals a fresh bake.
 
 // The host tests use more of the generator than the build does.
 #[allow(dead_code)]
@@ -48,7 +48,7 @@ fn main() {
     if cached.is_none() {
         println!(
             "cargo::warning={}/ does not hold this bake of gen/ and tables/: baking every table \
-             (refresh it: SPHERE_QUADRATURE_WRITE_BAKED=1 cargo test --release --test baked)",
+             (refresh it: SPHERE_QUADRATURE_WRITE_BAKED=1 cargo test --release --test bmc baked::)",
             gen::cache::DIR
         );
     }

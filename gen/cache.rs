@@ -3,7 +3,7 @@
 //! it ([`key`]: the generator in `gen/`, `build.rs` and the table files).
 //!
 //! `build.rs` expands them instead of baking when the key matches and the family has no user
-//! table or feature sweep; any other build bakes from `tables/` as before. `tests/baked.rs`
+//! table or feature sweep; any other build bakes from `tables/` as before. `tests/bmc/baked.rs`
 //! checks that the key is current and that the expansion equals a fresh bake byte for byte
 //! (and rewrites `baked/` with `SPHERE_QUADRATURE_WRITE_BAKED=1`).
 //!

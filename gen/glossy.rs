@@ -23,7 +23,7 @@
 //! kernel SG is an SG (closed form), and its clamped-cosine integral about `n` comes from the
 //! f64 generator of the crate's tables ([`super::sg::clamped_fraction`]). `∫p` is the fit's
 //! own integral, so constants are integrated exactly *for the fitted lobe*; the fit's relative
-//! L2 error is measured by `tests/glossy.rs` (e = 10: 5·10⁻⁴, e = 50: 8·10⁻⁶).
+//! L2 error is measured by `tests/bmc/glossy.rs` (e = 10: 5·10⁻⁴, e = 50: 8·10⁻⁶).
 //!
 //! Weights: `w = Q⁻¹z̃ + (∫p − 1ᵀQ⁻¹z̃)·Q⁻¹1/(1ᵀQ⁻¹1)` (GLS constant mean, as [`super::bmc`])
 //! with `z̃ = z + σ′²q`, the nugget read as a rough part of the radiance that the set's QMC
@@ -295,7 +295,7 @@ pub fn local_direction(j: usize, n: usize, e: u32) -> [f64; 3] {
 /// spaced like `√g` in `θₙ` near normal incidence (where the interpolation is exact) and 12.25
 /// times denser in `r·n` at grazing than at normal incidence (the horizon sweeps across the
 /// lobe there); the grading is the best of this form for e = 10 and is within a factor 2 of
-/// the optimal placement for e = 10 … 200 (`tests/glossy.rs` measures the error).
+/// the optimal placement for e = 10 … 200 (`tests/bmc/glossy.rs` measures the error).
 pub fn grid_angle(k: usize) -> f64 {
     let g = k as f64 / (GRID - 1) as f64;
     ((1.0 - g) / (1.0 + 2.5 * g)).acos()

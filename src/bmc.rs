@@ -80,7 +80,7 @@
 //! 2 304 bytes of weights in all ([`TABLE_BYTES`]).
 //!
 //! # Accuracy
-//! Measured by `tests/bmc.rs`, identical under `libm` and `micromath`:
+//! Measured by `tests/bmc/bmc.rs`, identical under `libm` and `micromath`:
 //! - The baked f32 weights agree with the independent f64 reference (other point formula,
 //!   `zᵢ` by I₀ₑ quadrature, LU solves) to 3.4–4.7·10⁻⁸ of the largest weight (f32
 //!   rounding); `Σw − 1` is below 1.3·10⁻⁸.

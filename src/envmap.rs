@@ -113,7 +113,7 @@
 //! Exact form against the reference crate's per-pixel adaptive quadrature
 //! (`reference::footprint::gaussian`, and `reference::truth::phong` for the cosine power),
 //! 3 directions on each of the ten bundled maps
-//! (`cargo test --release --test envmap_sampling -- --ignored --nocapture exact_accuracy_table`):
+//! (`cargo test --release --test envmap -- --ignored --nocapture exact_accuracy_table`):
 //!
 //! | lobe | worst error | time |
 //! |---|---|---|
@@ -126,11 +126,11 @@
 //! The errors are the f32 rounding of the sample plus the rule's. On a map sampled from an
 //! SG light the sample converges to the closed-form SG convolution as `h²` (the map's own
 //! discretisation), and Richardson extrapolation from 256×128 and 512×256 leaves 4·10⁻⁸
-//! (`tests/envmap_sampling.rs`).
+//! (`tests/envmap/envmap_sampling.rs`).
 //!
 //! Fast form against the exact form, 64 directions on each of the ten maps, raw and with each
 //! pixel's luminance capped at 30× the map's mean
-//! (`cargo test --release --test envmap_sampling -- --ignored --nocapture fast_accuracy_table`),
+//! (`cargo test --release --test envmap -- --ignored --nocapture fast_accuracy_table`),
 //! RMS / worst error and speed-up over the exact form:
 //!
 //! | lobe | raw, `r` = 2 | clamped, `r` = 2 | speed-up | raw, `r` = 4 | speed-up |
@@ -586,7 +586,7 @@ fn check_batch(dirs: &[Vec3], kind: Kind, out: &[[f32; 3]]) -> Result<(), Error>
 #[cfg(test)]
 mod tests {
     //! The private kernels against `libm` and brute force (the public API is tested against
-    //! the f64 reference crate in `tests/envmap_sampling.rs`).
+    //! the f64 reference crate in `tests/envmap/envmap_sampling.rs`).
     use super::*;
 
     #[test]

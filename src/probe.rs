@@ -141,7 +141,7 @@
 //!   which moves an answer as any f32 perturbation of the samples does: measured from
 //!   `c = 10⁻³⁰` to `10³⁰`, 10⁻⁷–7·10⁻⁵ relative for members with `cond(Q) ≤ 10⁴`, up to
 //!   1.1·10⁻³ for the smoothest (`cond(Q)` 3·10⁴–3·10⁵: one ulp of input moves their
-//!   answers by up to 6·10⁻⁴; `tests/scale.rs`).
+//!   answers by up to 6·10⁻⁴; `tests/hardening/scale.rs`).
 //! - A result beyond `f32::MAX` is `±∞`, never 0, NaN or a wrong finite value: the
 //!   variances once the samples spread over more than about 10¹⁹ (`σ̂_f² > f32::MAX`) or a
 //!   glossy amplitude times that spread does; a value when it exceeds `f32::MAX` itself (the
@@ -181,10 +181,10 @@
 //!   [`Probe::glossy`] and [`Probe::phong`] are σ̂_f² of the valid samples times the *full*
 //!   set's baked direction-averaged unit variance (and [`Estimate::unit_variance`] is that
 //!   average): they do not see the holes, which raise the variance near the missing
-//!   directions. Measured at `N = 64` (`λ = 4`, `tests/missing.rs`), the direction average
+//!   directions. Measured at `N = 64` (`λ = 4`, `tests/probe/missing.rs`), the direction average
 //!   of the exact variance is 3.5× the O(1) one with 3 samples missing, 55× with 16 and 160×
 //!   with 32: after a masked update, take error bars from the exact queries.
-//! - **Accuracy** (`tests/missing.rs`, against an f64 reference that builds `Q_VV` from the
+//! - **Accuracy** (`tests/probe/missing.rs`, against an f64 reference that builds `Q_VV` from the
 //!   valid directions and solves it by LU; every member, N = 16, 64, 256, 1 to 50 % missing):
 //!   irradiance within 10⁻⁵ RMS for members with `cond(Q) ≤ 10⁴` (measured ≤ 6·10⁻⁶), the
 //!   forward bound `cond(Q)·ε₃₂` for the smoother ones (measured 4·10⁻⁵–2·10⁻³, a few times

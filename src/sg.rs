@@ -49,7 +49,7 @@
 //! `C`) and `λ = 0` (`H = 2π`, `C = π`) take an exact path.
 //!
 //! # Accuracy
-//! Measured by `tests/sg.rs` against the reference crate's adaptive Gauss–Kronrod quadrature
+//! Measured by `tests/bmc/sg.rs` against the reference crate's adaptive Gauss–Kronrod quadrature
 //! of the defining integral, on a dense grid and 10⁵ random `(λ, t)` with `λ` up to 10⁴ and
 //! beyond: max absolute error of `H/F` 1.1·10⁻⁵ and of `C/F` 5·10⁻⁶ (`libm`). For comparison
 //! the closed forms, on the same points: Tokuyoshi 2022 (`H`) 4.9·10⁻³, Meder & Brüderlin 2018
@@ -84,7 +84,7 @@ use crate::vec3::Vec3;
 
 const TWO_PI: f32 = 2.0 * core::f32::consts::PI;
 
-/// Bytes of the two baked tables together (pinned by `tests/sg_tables.rs`).
+/// Bytes of the two baked tables together (pinned by `tests/bmc/sg_tables.rs`).
 pub const TABLE_BYTES: usize =
     core::mem::size_of::<[f32; SG_HEMI_LAMBDA_NODES * SG_HEMI_T_NODES]>()
         + core::mem::size_of::<[f32; SG_CLAMPED_LAMBDA_NODES * SG_CLAMPED_T_NODES]>();
@@ -343,9 +343,9 @@ fn inner_product_wide(g1: &SphericalGaussian, g2: &SphericalGaussian) -> f32 {
     (f64::from(g1.amplitude) * f64::from(g2.amplitude) * math::exp64(x) * full) as f32
 }
 
-/// Least-squares SG sharpness for the clamped cosine (re-derived by `tests/sg.rs`).
+/// Least-squares SG sharpness for the clamped cosine (re-derived by `tests/bmc/sg.rs`).
 const CLAMPED_COSINE_SHARPNESS: f32 = 2.143_77;
-/// Least-squares SG amplitude for the clamped cosine (re-derived by `tests/sg.rs`).
+/// Least-squares SG amplitude for the clamped cosine (re-derived by `tests/bmc/sg.rs`).
 const CLAMPED_COSINE_AMPLITUDE: f32 = 1.176_64;
 
 fn check_sharpness(lambda: f32) -> Result<(), Error> {

@@ -45,7 +45,7 @@
 //! indices 3, 1, 2), and degree 2, a trace-free quadratic form `xᵀAx`, by `A ↦ m·A·mᵀ`.
 //!
 //! # Engines
-//! Each conversion keeps the axes (see "Axes") and is checked in `tests/sh.rs` against that
+//! Each conversion keeps the axes (see "Axes") and is checked in `tests/sh/sh.rs` against that
 //! engine's published evaluation formula, written out in the test from the cited source.
 //! - **three.js** `SphericalHarmonics3` (`src/math/SphericalHarmonics3.js` in mrdoob/three.js:
 //!   `getBasisAt`, `getAt`, `getIrradianceAt`; the shader's `shGetIrradianceAt` in
@@ -107,7 +107,7 @@
 //! ```
 //!
 //! # Accuracy
-//! Against f64 references (`tests/sh.rs`, largest error over random coefficients and
+//! Against f64 references (`tests/sh/sh.rs`, largest error over random coefficients and
 //! directions, relative to `Σ|c_lm|`): the basis and [`ShL2::radiance`] 1.8·10⁻⁷,
 //! [`ShL2::irradiance`] against quadrature of the cosine integral 7·10⁻⁸, [`ShL2::rotated`]
 //! against the quadrature projection of the rotated function 4·10⁻⁸; the engines' formulas

@@ -1,4 +1,5 @@
-//! Shared by `examples/probe.rs`, `examples/qmc_compare.rs` and `tests/envmap.rs`: ground truth on environment maps and
+//! Shared by `examples/probe.rs`, `examples/qmc_compare.rs` and `tests/envmap/envmap.rs`: ground truth on
+//! environment maps and
 //! the relative RMSE of Monte Carlo, Sobol-QMC and this crate's QMC-SF.
 
 use reference::envmap::{luminance, EnvMap};

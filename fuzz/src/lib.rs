@@ -29,9 +29,9 @@ use sphere_quadrature::Vec3;
 /// product left f32 but the integral is within it.)
 #[must_use]
 pub fn known_defect(n: u32) -> bool {
-    // Defects 1–13 are fixed (tests/hardening.rs, `defect_NN_…`): their cases are checked in
-    // every build (14 and 15 were never skipped). A defect found later takes the next number
-    // and is skipped here until its fix lands.
+    // Defects 1–13 are fixed (tests/hardening/hardening.rs, `defect_NN_…`): their cases are
+    // checked in every build (14 and 15 were never skipped). A defect found later takes the
+    // next number and is skipped here until its fix lands.
     n > 15 && !cfg!(feature = "strict")
 }
 

@@ -13,10 +13,10 @@
 //! [`GlossyRenderer::estimate`] (O(N), no transcendental function) finds the interval from
 //! `r·n` and interpolates between its two weight rows with `sin(θₖ₊₁ − θₙ)` and
 //! `sin(θₙ − θₖ)`: exact while the horizon misses the lobe (there the weights are
-//! `A·cos θₙ + B·sin θₙ`), second order near grazing (error: `tests/glossy.rs`).
+//! `A·cos θₙ + B·sin θₙ`), second order near grazing (error: `tests/bmc/glossy.rs`).
 //! `zᵢ` comes from the seed's spherical-Gaussian route (a 5-SG fit of the lobe, SG products,
 //! the clamped-cosine integral's f64 generator), so constants are integrated exactly for the
-//! fitted lobe (fit error: `tests/glossy.rs`).
+//! fitted lobe (fit error: `tests/bmc/glossy.rs`).
 //!
 //! # Model and hyperparameters
 //! Squared-exponential kernel `exp(−|x − x′|²/l²)` plus a nugget σ′², constant prior mean by

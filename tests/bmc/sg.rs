@@ -2,7 +2,7 @@
 //! clamped-cosine integrals against the reference crate's adaptive quadrature, side by side
 //! with the published closed forms.
 //!
-//! `cargo test --test sg -- --nocapture` prints the accuracy tables per λ decade.
+//! `cargo test --test bmc sg:: -- --nocapture` prints the accuracy tables per λ decade.
 
 use reference::sg_closed_forms as cf;
 use reference::sg_reference as truth;
@@ -179,7 +179,7 @@ fn tables_beat_the_closed_forms_tenfold_against_adaptive_quadrature() {
         }
     }
     println!(
-        "{} points: {} on the dense grid, {} random (cargo test --release --test sg -- --nocapture)",
+        "{} points: {} on the dense grid, {} random (cargo test --release --test bmc sg:: -- --nocapture)",
         pts.len(),
         n_dense,
         pts.len() - n_dense

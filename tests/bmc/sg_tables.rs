@@ -1,11 +1,7 @@
 //! The baked spherical-Gaussian tables: bit-exact with the generator, footprint pinned,
 //! deterministic output, and the generator itself checked against the reference crate.
 
-#[allow(dead_code)] // build.rs uses the rest
-#[path = "../gen/mod.rs"]
-mod gen;
-
-use gen::sg;
+use crate::gen::sg;
 use reference::sg_reference as truth;
 
 fn config() -> sg::Config {

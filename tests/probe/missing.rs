@@ -260,7 +260,7 @@ fn valid_values(y: &[f32], valid: &[bool]) -> Vec<f64> {
     y.iter().zip(valid).filter(|(_, &ok)| ok).map(|(&v, _)| v as f64).collect()
 }
 
-/// The value bar of `tests/probe.rs`: 10⁻⁵ relative for members with `cond(Q) ≤ 10⁴`, the
+/// The value bar of `tests/probe/probe.rs`: 10⁻⁵ relative for members with `cond(Q) ≤ 10⁴`, the
 /// forward bound `cond(Q)·ε₃₂` for the smoother ones.
 fn value_bar(cond: f32) -> f64 {
     if cond <= 1e4 {
@@ -300,7 +300,7 @@ where
 
 /// Every member on one random field, rotation and mask of `missing` samples against the
 /// reference: irradiance (RMS over `queries` normals relative to the mean |E|, held to
-/// [`value_bar`]), its exact variance (10⁻², as `tests/probe.rs`), σ̂_f² and ℓ (10⁻⁴
+/// [`value_bar`]), its exact variance (10⁻², as `tests/probe/probe.rs`), σ̂_f² and ℓ (10⁻⁴
 /// relative, or [`value_bar`] if larger); each printed.
 fn compare<const N: usize, const M: usize>(rng: &mut Rng, missing: usize, queries: usize)
 where
@@ -980,7 +980,7 @@ fn masked_gaussian_footprint_matches_the_f64_reference() {
         );
         // The sample covariance here is the closed form, the probe's the baked Legendre
         // series of the deconvolved kernel (converged to 10⁻⁸ of K₀): the bars of
-        // `tests/probe.rs`, ten times the value bar for the single-query maximum.
+        // `tests/probe/probe.rs`, ten times the value bar for the single-query maximum.
         let bar = 10.0 * value_bar(m.condition);
         assert!(worst_e < bar, "ν = {}: E differs by {worst_e:e}", m.lambda);
         assert!(worst_v < 1e-2, "ν = {}: variance increase differs by {worst_v:e}", m.lambda);

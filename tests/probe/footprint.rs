@@ -14,12 +14,8 @@ use sphere_quadrature::sg::SphericalGaussian;
 use sphere_quadrature::{bmc::Size, Error, Mat3, Vec3};
 use std::f64::consts::PI;
 
-#[path = "support/calibration.rs"]
-mod calibration;
-#[allow(dead_code)]
-#[path = "../gen/mod.rs"]
-mod gen;
-use calibration::glossy_calibration;
+use crate::calibration::glossy_calibration;
+use crate::gen;
 
 fn legendre(l: usize, t: f64) -> f64 {
     let (mut p0, mut p1) = (1.0, t);
@@ -416,7 +412,7 @@ fn mat3(r: [[f64; 3]; 3]) -> Mat3 {
 /// Every member of `Probe<N, f32, F>` against its f64 twin: irradiance (RMS over queries,
 /// relative to the mean |E|), glossy values (worst query, relative) and both variances
 /// (worst, relative; glossy relative to the larger of |value| and the lobe's integral of the
-/// mean sample). Asserts the point probe's bars (`tests/probe.rs`): 10⁻⁵ for members
+/// mean sample). Asserts the point probe's bars (`tests/probe/probe.rs`): 10⁻⁵ for members
 /// with cond(Q) ≤ 10⁴, else the forward bound cond(Q)·ε₃₂; variances to 10⁻².
 fn compare_with_reference<const N: usize, F: Footprint>()
 where

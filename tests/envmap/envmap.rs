@@ -4,7 +4,7 @@
 //! The comparison is seeded, so it is deterministic; it guards the claim the README makes
 //! with the numbers of `cargo run --release --example qmc_compare`.
 
-#[path = "../examples/common/compare.rs"]
+#[path = "../../examples/common/compare.rs"]
 #[allow(dead_code)] // the example also uses the clamp tier
 mod compare;
 

@@ -2,11 +2,9 @@
 //! of baking: their key must be that of the current `gen/`, `tables/` and `build.rs`, and
 //! their expansion must equal a fresh bake of the crate's tables byte for byte (so every
 //! baked f32 is bit-identical to the generator's). `SPHERE_QUADRATURE_WRITE_BAKED=1 cargo test
-//! --release --test baked` rewrites `baked/` from a fresh bake.
+//! --release --test bmc baked::` rewrites `baked/` from a fresh bake.
 
-#[allow(dead_code)] // build.rs uses the rest
-#[path = "../gen/mod.rs"]
-mod gen;
+use crate::gen;
 
 use std::path::Path;
 
@@ -22,7 +20,7 @@ fn fresh() -> gen::Files {
     gen::default_files(&read).unwrap_or_else(|e| panic!("{}", gen::error_line(&e.file, &e.message)))
 }
 
-const REFRESH: &str = "SPHERE_QUADRATURE_WRITE_BAKED=1 cargo test --release --test baked";
+const REFRESH: &str = "SPHERE_QUADRATURE_WRITE_BAKED=1 cargo test --release --test bmc baked::";
 
 #[test]
 fn baked_tables_are_current_and_equal_a_fresh_bake() {

@@ -181,7 +181,7 @@ fn uniform(like: &Answers, value: f64, variance: f64) -> Answers {
 ///   `m·Y`, `m = c/2^k ∈ [1, 2)`: two f32 inputs that differ by rounding, which the BMC weights
 ///   of the smoothest members amplify like any f32 perturbation of the samples (one ulp moves
 ///   an answer of the Gaussian-footprint member of `cond(Q)` 2.8·10⁵ by 6·10⁻⁴). As in
-///   `tests/probe.rs`, members with `cond(Q)` above 10⁴ are held to the forward bound
+///   `tests/probe/probe.rs`, members with `cond(Q)` above 10⁴ are held to the forward bound
 ///   `cond(Q)·ε₃₂` for values instead; the worst deviation is printed.
 ///
 /// `Selection::Member`: with a `c` that is not a power of two, `c·Y` rounds differently from

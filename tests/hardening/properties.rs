@@ -71,9 +71,9 @@ proptest! {
     #![proptest_config(config(48))]
 
     /// Scale invariance: samples `c·Y` give `c` times every value and `c²` times every
-    /// variance, for any `c` over 30 decades. Tolerances as `tests/scale.rs` (10⁻⁴ on values,
-    /// 10⁻³ on variances; `c = m·10^k`, `k ∈ [−15, 15]`, so `c²·variance` stays inside the
-    /// f32 range): the probe normalises the samples by their scale, so only the
+    /// variance, for any `c` over 30 decades. Tolerances as `tests/hardening/scale.rs` (10⁻⁴
+    /// on values, 10⁻³ on variances; `c = m·10^k`, `k ∈ [−15, 15]`, so `c²·variance` stays
+    /// inside the f32 range): the probe normalises the samples by their scale, so only the
     /// rounding of `c·Y` and of the normalisation (a few ulp, amplified by the solve's
     /// cond(Q) up to 10⁴ in the value's cancellation) differs; the variance is a quadratic
     /// form in the samples (σ̂_f²), where the same rounding counts twice and cancels more.

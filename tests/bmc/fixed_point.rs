@@ -2,18 +2,11 @@
 //! generator, accuracy against the f64 sum with the f64 weights, saturation, constants.
 //!
 //! ```text
-//! cargo test --features fixed --test fixed_point -- --nocapture
+//! cargo test --features fixed --test bmc fixed_point:: -- --nocapture
 //! ```
 #![cfg(feature = "fixed")]
 
-#[allow(dead_code)]
-#[path = "../gen/mod.rs"]
-mod gen;
-
-#[macro_use]
-mod common;
-
-use gen::bmc;
+use crate::gen::bmc;
 use sphere_quadrature::bmc::Renderer;
 use sphere_quadrature::fixed_point::{
     i16f16_from_f32, u16f16_from_f32, u16f16_from_f64, weighted_sum, weighted_sum_signed, BmcFixed,

@@ -452,12 +452,8 @@ fn table_footprint_is_pinned() {
     }
 }
 
-#[path = "support/calibration.rs"]
-mod calibration;
-#[allow(dead_code)]
-#[path = "../gen/mod.rs"]
-mod gen;
-use calibration::glossy_calibration;
+use crate::calibration::glossy_calibration;
+use crate::gen;
 
 #[test]
 fn z_table_matches_the_reference_kernel_mean() {

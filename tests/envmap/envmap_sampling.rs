@@ -7,9 +7,9 @@
 //! `#[ignore]`d and print tables:
 //!
 //! ```text
-//! cargo test --release --test envmap_sampling -- --ignored --nocapture exact_accuracy_table
-//! cargo test --release --test envmap_sampling -- --ignored --nocapture fast_accuracy_table
-//! cargo test --release --test envmap_sampling -- --ignored --nocapture fis_comparison_table
+//! cargo test --release --test envmap -- --ignored --nocapture exact_accuracy_table
+//! cargo test --release --test envmap -- --ignored --nocapture fast_accuracy_table
+//! cargo test --release --test envmap -- --ignored --nocapture fis_comparison_table
 //! ```
 
 use core::f64::consts::PI;

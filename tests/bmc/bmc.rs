@@ -3,14 +3,7 @@
 //! exactness on constants, accuracy against QMC on SG lights, posterior variance, bad input
 //! and footprint.
 
-#[allow(dead_code)] // build.rs uses the rest
-#[path = "../gen/mod.rs"]
-mod gen;
-
-#[macro_use]
-mod common;
-
-use gen::bmc;
+use crate::gen::bmc;
 use reference::analytic::sg_queries;
 use reference::rng::Rng;
 use sphere_quadrature::bmc::{Renderer, BAKED_SIZES, TABLE_BYTES};

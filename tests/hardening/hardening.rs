@@ -1,9 +1,7 @@
 //! Regression tests for the defects of the adversarial pass (issue #16, item 4): one
 //! `defect_NN_…` test per defect, each failing before its fix (see the commit messages).
 
-#[allow(dead_code)] // build.rs uses the rest
-#[path = "../gen/mod.rs"]
-mod gen;
+use crate::gen;
 
 use sphere_quadrature::envmap::EquirectMap;
 use sphere_quadrature::metrics::{self, SobolevWeights};

@@ -658,12 +658,12 @@ fn check_members(label: &str, rows: &[(f32, f64, f64, f64, f64)]) {
             "{label} member {k} (cond {cond:.1e}): coefficients {c:.1e} of Σ|c|, variances \
              {v:.1e} relative, E − E_sh vs the degrees > 2: {t:.1e} of mean E (they are {size:.1e})"
         );
-        // As tests/probe.rs: 10⁻⁵ where cond(Q) ≤ 10⁴, else the forward bound cond(Q)·ε₃₂.
+        // As tests/probe/probe.rs: 10⁻⁵ where cond(Q) ≤ 10⁴, else the forward bound cond(Q)·ε₃₂.
         let bar = if cond <= 1e4 { 1e-5 } else { f64::from(cond) * f64::from(f32::EPSILON) };
         assert!(c < bar, "{label} member {k}: coefficients off by {c:e} (bar {bar:e})");
         assert!(t < 2.0 * bar, "{label} member {k}: truncation off by {t:e} (bar {bar:e})");
         // The variances subtract ζᵀQ⁻¹ζ through the baked f32 factors: 10⁻², as
-        // tests/probe.rs's exact variance (measured ≤ 5.3·10⁻⁴ for point and photodiode
+        // tests/probe/probe.rs's exact variance (measured ≤ 5.3·10⁻⁴ for point and photodiode
         // probes, ≤ 4.2·10⁻³ for the Gaussian footprint, also at cond(Q) = 9·10³).
         let v_bar = 1e-2;
         assert!(v < v_bar, "{label} member {k}: variances off by {v:e} (bar {v_bar:e})");

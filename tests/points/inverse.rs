@@ -14,7 +14,7 @@
 //! at every `N`; `fast_search_agrees_with_reference_brute_force` checks it against the
 //! reference brute force (sphere and hemisphere) and the reference lattice points.
 //!
-//! Statistics are printed with `cargo test --test inverse -- --nocapture`.
+//! Statistics are printed with `cargo test --test points inverse:: -- --nocapture`.
 
 use std::f64::consts::{PI, TAU};
 

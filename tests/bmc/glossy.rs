@@ -10,9 +10,7 @@ use sphere_quadrature::qmc::LobeSampler;
 use sphere_quadrature::{Error, Lobe, Vec3};
 use std::f64::consts::PI;
 
-#[allow(dead_code)]
-#[path = "../gen/mod.rs"]
-mod gen;
+use crate::gen;
 
 fn v32(d: [f64; 3]) -> Vec3 {
     Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32)
@@ -453,8 +451,8 @@ where
     e
 }
 
-/// The interpolation in `θₙ` loses little. Measured (`cargo test --release --test glossy
-/// interpolation -- --nocapture`; largest over the 1 000 angles, relative):
+/// The interpolation in `θₙ` loses little. Measured (`cargo test --release --test bmc
+/// glossy::interpolation -- --nocapture`; largest over the 1 000 angles, relative):
 ///
 /// | set | weights L1 | constant | smooth lights | plain-BMC weights (before the rough part): L1 | 49 nodes, quadratic: L1 |
 /// |---|---|---|---|---|---|

@@ -1,4 +1,5 @@
-//! Helpers shared by the integration tests (`#[macro_use] mod common;`).
+//! Helpers shared by the modules of this test binary (`#[macro_use] mod common;` in `main.rs`,
+//! before the modules that use them).
 
 /// The BMC sizes baked by default (`tables/bmc.txt`).
 /// Runs `$body` with `$n` bound to each baked size as a const.

@@ -1,0 +1,14 @@
+//! Robustness: the regression tests of the adversarial pass's defects (`hardening`), property
+//! tests of the probe's invariances (`properties`), and radiance at any scale with the
+//! channel covariance (`scale`).
+//!
+//! One test binary, one module per concept: `cargo test --test hardening properties::` runs one
+//! module.
+
+#[allow(dead_code)] // build.rs uses the rest
+#[path = "../../gen/mod.rs"]
+mod gen;
+
+mod hardening;
+mod properties;
+mod scale;

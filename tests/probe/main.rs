@@ -1,0 +1,15 @@
+//! The probe form of Bayesian Monte Carlo against independent f64 references: point probes
+//! (`probe`), footprint probes (`footprint`) and missing samples (`missing`).
+//!
+//! One test binary, one module per concept: `cargo test --test probe missing::` runs one
+//! module.
+
+#[allow(dead_code)] // build.rs uses the rest
+#[path = "../../gen/mod.rs"]
+mod gen;
+
+mod calibration;
+
+mod footprint;
+mod missing;
+mod probe;
