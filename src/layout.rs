@@ -115,7 +115,7 @@
 //!
 //! # Cortex-M4
 //! Instructions per call on a Cortex-M4F (QEMU `mps2-an386`, `-icount shift=0`, `libm`
-//! backend; `examples/cortex-m4`, whose output CI checks these lines against), one channel
+//! backend; [`examples/cortex-m4`], whose output CI checks these lines against), one channel
 //! (`LayoutProbe<K, f32>`), cosine photodiodes on the faces of a cube (`K = 6`) and on the
 //! directions of `Probe::<16, f32, CosinePower<1>>` (`K = 16`), [`Prior::ENVIRONMENT`], a
 //! relative noise of 1 % and readings of a real environment map:
@@ -146,6 +146,8 @@
 //! - `ram:layout_rgb K=6`: 3 960 bytes (`LayoutProbe<6, [f32; 3]>`)
 //! - `ram:layout_f32 K=16`: 7 196 bytes (`LayoutProbe<16, f32>`)
 //! - `ram:layout_rgb K=16`: 7 492 bytes (`LayoutProbe<16, [f32; 3]>`)
+//!
+//! [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
 
 // Matrix code reads clearer with its indices.
 #![allow(clippy::needless_range_loop)]

@@ -25,7 +25,7 @@
 //!   irradiance, and the Phong lobe with the cosine factor ([`bmc::GlossyRenderer`]).
 //! - [`probe`]: a Bayesian Monte Carlo lighting probe: N samples in, irradiance with a
 //!   posterior variance for any normal out, with per-probe kernel selection by marginal
-//!   likelihood. On the held-out maps of `eval/src/bin/accuracy.rs` it has 0.81–0.92× the error of
+//!   likelihood. On the held-out maps of [`eval/src/bin/accuracy.rs`] it has 0.81–0.92× the error of
 //!   the cosine-weighted average at N = 16…64 (`clamp` tier; mean of per-map ratios, 0.75–0.86×
 //!   as a ratio of mean errors) and 0.68–0.89× the best of that average and SH L2 (`smooth`
 //!   tier). Samples may be points or have a known footprint
@@ -109,6 +109,8 @@
 //!   nalgebra, cgmath).
 //! - `defmt`: `defmt::Format` on the public data types.
 //! - `footprint-sweep`, `renderer-sweep`: extra baked tables for the evaluation programs.
+//!
+//! [`eval/src/bin/accuracy.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/accuracy.rs
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]

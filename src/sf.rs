@@ -537,14 +537,17 @@ macro_rules! const_set {
             ///
             /// # Cost
             /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm`
-            /// backend; `examples/cortex-m4`, whose output CI checks these lines against):
+            /// backend; [`examples/cortex-m4`], whose output CI checks these lines against):
             /// - `m4:sf_points N=16`: 4 486 instructions (`SphericalFibonacci`)
             /// - `m4:sf_points N=64`: 12 104 instructions (`SphericalFibonacci`)
             /// - `m4:sf_points N=256`: 48 300 instructions (`SphericalFibonacci`)
             ///
-            /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+            /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
             /// these lines against):
             /// - `flash:sf_points N=64`: 1 632 bytes of code and 256 bytes of tables
+            ///
+            /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
+            /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
             #[must_use]
             pub fn points(&self) -> [Vec3; N] {
                 core::array::from_fn(|j| self.set.point_unchecked(j))

@@ -45,7 +45,7 @@
 //! indices 3, 1, 2), and degree 2, a trace-free quadratic form `xᵀAx`, by `A ↦ m·A·mᵀ`.
 //!
 //! # Engines
-//! Each conversion keeps the axes (see "Axes") and is checked in `tests/sh/sh.rs` against that
+//! Each conversion keeps the axes (see "Axes") and is checked in [`tests/sh/sh.rs`] against that
 //! engine's published evaluation formula, written out in the test from the cited source.
 //! - **three.js** `SphericalHarmonics3` (`src/math/SphericalHarmonics3.js` in mrdoob/three.js:
 //!   `getBasisAt`, `getAt`, `getIrradianceAt`; the shader's `shGetIrradianceAt` in
@@ -107,7 +107,7 @@
 //! ```
 //!
 //! # Accuracy
-//! Against f64 references (`tests/sh/sh.rs`, largest error over random coefficients and
+//! Against f64 references ([`tests/sh/sh.rs`], largest error over random coefficients and
 //! directions, relative to `Σ|c_lm|`): the basis and [`ShL2::radiance`] 1.8·10⁻⁷,
 //! [`ShL2::irradiance`] against quadrature of the cosine integral 7·10⁻⁸, [`ShL2::rotated`]
 //! against the quadrature projection of the rotated function 4·10⁻⁸; the engines' formulas
@@ -115,7 +115,7 @@
 //! have 6 digits). [`crate::probe::Probe::radiance_sh`] matches an f64 solve of the probe's
 //! model to 10⁻⁷–10⁻⁶ of `Σ|c_lm|` for members with `cond(Q) ≤ 10⁴`.
 //!
-//! On the benchmark's real maps (`docs/accuracy.md`) the irradiance of the export has the
+//! On the benchmark's real maps ([`docs/accuracy.md`]) the irradiance of the export has the
 //! probe's own error wherever that error is large against what 9 coefficients cannot hold:
 //! the SH L2 projection of the exact maps is off by 1.8 % (`clamp` tier) and 0.6 % (`smooth`),
 //! so the export's error is within 1 % of the probe's at N ≤ 128 on `clamp` and N = 16 on
@@ -126,6 +126,9 @@
 //! A zero, NaN or infinite direction gives [`Error::InvalidDirection`]; slices of different
 //! lengths give [`Error::LengthMismatch`]. Coefficients, weights, gains and matrices are used
 //! as given in plain f32 arithmetic: NaN propagates, and a result beyond `f32::MAX` is `±∞`.
+//!
+//! [`tests/sh/sh.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/sh/sh.rs
+//! [`docs/accuracy.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/accuracy.md
 
 use crate::error::Error;
 use crate::math;
@@ -324,17 +327,20 @@ impl<T: Radiance> ShL2<T> {
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// `examples/cortex-m4`, whose output CI checks these lines against):
+    /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_sh_irradiance N=64`: 57 instructions (one channel, unit normal)
     /// - `m4:probe_sh_irradiance_non_unit N=64`: 89 instructions (one channel, to normalise)
     /// - `m4:sh_irradiance_rgb N=9`: 103 instructions (RGB, unit normal)
     ///
-    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
     /// - `flash:probe_sh_irradiance N=64`: 944 bytes of code and 256 bytes of tables (one channel)
     ///
     /// The counts include the harness's closure, which loads the captured normal and stores
     /// the `Result`.
+    ///
+    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
+    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     #[inline]
     pub fn irradiance(&self, n: Vec3) -> Result<T, Error> {
         self.evaluate(n, &IRRADIANCE)
@@ -407,7 +413,7 @@ impl<T: Radiance> ShL2<T> {
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// `examples/cortex-m4`, whose output CI checks these lines against):
+    /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:sh_rotated_rgb N=9`: 349 instructions (RGB)
     ///
     /// # Examples
@@ -422,6 +428,8 @@ impl<T: Radiance> ShL2<T> {
     /// assert!((turned.radiance(Vec3::Y)? - sh.radiance(Vec3::X)?).abs() < 1e-5);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
+    ///
+    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
     #[must_use]
     pub fn rotated(&self, m: &Mat3) -> Self {
         let [c0, c1, c2, c3, c4, c5, c6, c7, c8] = self.coefficients;

@@ -35,7 +35,7 @@
 //!   `Σ_l (A_l/g_l)²·s_l·(v/k)·(2l + 1)/(4π)`, the same for every normal. The degrees above
 //!   `L` are not in the state; on the training maps they change the irradiance by 0.1–1 %
 //!   at `L = 4` and 0.07–0.4 % at `L = 8` on `clamp` light, by less than 0.02 % at `L ≥ 6` on
-//!   `smooth` light (`eval/src/bin/temporal.rs`). [`TemporalProbe::radiance_sh`] exports the
+//!   `smooth` light ([`eval/src/bin/temporal.rs`]). [`TemporalProbe::radiance_sh`] exports the
 //!   degrees `l ≤ 2` for a renderer.
 //!
 //! # Change
@@ -72,7 +72,7 @@
 //!   the sentinel reports only larger changes. A change that stays (one only the sentinels
 //!   see) is never learned as flicker, so the changes after it stay visible.
 //! - **The price**: sentinels are rays that add nothing to the estimate. Measured
-//!   (`eval/src/bin/temporal.rs`, `docs/temporal.md`), 1–4 sentinels of 16–256 rays detect
+//!   ([`eval/src/bin/temporal.rs`], [`docs/temporal.md`]), 1–4 sentinels of 16–256 rays detect
 //!   most changes of the light within an update, where the innovation alone misses most
 //!   switches between maps on `clamp` light; on `smooth` light at `N = 16` the one sentinel
 //!   costs about 5–10 % of static accuracy.
@@ -105,6 +105,9 @@
 //! directions unchanged (retake the samples). A zero or non-finite normal:
 //! [`Error::InvalidDirection`]. A hazard outside `(0, 1)`: [`Error::InvalidParameter`]. Before
 //! the first update every query returns zero with zero variance.
+//!
+//! [`eval/src/bin/temporal.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/temporal.rs
+//! [`docs/temporal.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/temporal.md
 
 use crate::error::Error;
 use crate::footprint::{Footprint, Point};
@@ -469,7 +472,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// `examples/cortex-m4`, whose output CI checks these lines against), one channel, a budget
+    /// [`examples/cortex-m4`], whose output CI checks these lines against), one channel, a budget
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
     /// - `m4:temporal_update_S1 N=16`: 24 144 instructions (15 rotated, 1 sentinel)
     /// - `m4:temporal_update_S2 N=64`: 102 830 instructions (62 rotated, 2 sentinels)
@@ -491,6 +494,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// assert_eq!(probe.updates(), 1);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
+    ///
+    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
     pub fn update(&mut self, samples: &[T; N], sentinels: &[T; S]) -> Result<Change, Error> {
         let finite = |y: &T| (0..T::CHANNELS).all(|c| y.channel(c).is_finite());
         if !samples.iter().all(finite) || !sentinels.iter().all(finite) {

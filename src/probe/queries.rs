@@ -14,7 +14,7 @@ where
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// `examples/cortex-m4`, whose output CI checks these lines against):
+    /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_irradiance N=16`: 836 instructions
     /// - `m4:probe_irradiance N=32`: 1 562 instructions
     /// - `m4:probe_irradiance N=64`: 2 916 instructions
@@ -22,7 +22,7 @@ where
     /// - `m4:gaussian8_probe_irradiance N=64`: 2 953 instructions (`Gaussian<8>` footprint)
     /// - `m4:photodiode_probe_irradiance N=16`: 840 instructions (`CosinePower<1>`)
     ///
-    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
     /// - `flash:probe_irradiance N=64`: 1 772 bytes of code and 24 096 bytes of tables
     ///   (on top of `Probe::new`)
@@ -43,6 +43,9 @@ where
     /// assert!(plus.variance >= 0.0);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
+    ///
+    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
+    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let f = self.member_in_use()?;
@@ -117,7 +120,7 @@ where
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// `examples/cortex-m4`, whose output CI checks these lines against):
+    /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_masked_posterior_variance_M16_m0 N=64`: 261 690 instructions (none missing)
     /// - `m4:probe_masked_posterior_variance_M8_m8 N=64`: 518 420 instructions (8 missing)
     /// - `m4:probe_masked_posterior_variance_M16_m16 N=64`: 547 330 instructions (16 missing)
@@ -136,6 +139,8 @@ where
     /// assert!(exact >= 0.0 && averaged >= 0.0);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
+    ///
+    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
     pub fn posterior_variance(&self, normal: Vec3) -> Result<T, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let f = self.member_in_use()?;
@@ -155,7 +160,7 @@ where
     /// Phong lobe's first Legendre moment) this is the normalised Phong-lobe average of the
     /// radiance about the mirror direction `r`: the glossy term of a prefiltered environment.
     /// The SG stands in for the Phong lobe: on smooth lighting that leaves an error floor of
-    /// about 1 % at `e = 5` (`eval/src/bin/glossy.rs`, `docs/glossy.md`), less for sharper lobes.
+    /// about 1 % at `e = 5` ([`eval/src/bin/glossy.rs`], [`docs/glossy.md`]), less for sharper lobes.
     /// The lobe is integrated over the whole sphere (no horizon clipping, no cosine factor:
     /// below the horizon a lobe of `μ = 22` keeps `e^(−22)` of its peak).
     ///
@@ -183,7 +188,7 @@ where
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// `examples/cortex-m4`, whose output CI checks these lines against):
+    /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_glossy N=16`: 2 690 instructions (SG lobe of Phong e = 20)
     /// - `m4:probe_glossy N=32`: 4 906 instructions (SG lobe of Phong e = 20)
     /// - `m4:probe_glossy N=64`: 9 338 instructions (SG lobe of Phong e = 20)
@@ -191,7 +196,7 @@ where
     /// - `m4:gaussian8_probe_glossy N=64`: 9 453 instructions (`Gaussian<8>`)
     /// - `m4:photodiode_probe_glossy N=16`: 11 547 instructions (photodiodes)
     ///
-    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
     /// - `flash:probe_glossy N=64`: 3 768 bytes of code and 24 104 bytes of tables
     ///   (on top of `Probe::new`)
@@ -208,6 +213,11 @@ where
     /// assert!((e.value - 2.0).abs() < 1e-3 && e.variance >= 0.0);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
+    ///
+    /// [`eval/src/bin/glossy.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/glossy.rs
+    /// [`docs/glossy.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/glossy.md
+    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
+    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn glossy(&self, lobe: &SphericalGaussian) -> Result<Estimate<T>, Error> {
         let (r, mu, amp) = check_lobe(lobe)?;
         let f = self.member_in_use()?;
@@ -262,16 +272,19 @@ where
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// `examples/cortex-m4`, whose output CI checks these lines against):
+    /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_glossy_variance N=16`: 773 834 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=32`: 894 020 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=64`: 1 217 180 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=256`: 5 494 600 instructions (soft f64 quadrature)
     ///
-    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
     /// - `flash:probe_glossy_variance N=64`: 19 448 bytes of code and 24 112 bytes of tables
     ///   (on top of `Probe::new`)
+    ///
+    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
+    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn glossy_variance(&self, lobe: &SphericalGaussian) -> Result<T, Error> {
         let (r, mu, amp) = check_lobe(lobe)?;
         let f = self.member_in_use()?;
@@ -345,13 +358,13 @@ where
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// `examples/cortex-m4`, whose output CI checks these lines against):
+    /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_phong N=16`: 9 457 instructions (e = 20)
     /// - `m4:probe_phong N=32`: 13 449 instructions (e = 20)
     /// - `m4:probe_phong N=64`: 21 314 instructions (e = 20)
     /// - `m4:probe_phong N=256`: 66 520 instructions (e = 20)
     ///
-    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
     /// - `flash:probe_phong N=64`: 9 468 bytes of code and 24 096 bytes of tables
     ///   (on top of `Probe::new`)
@@ -368,6 +381,9 @@ where
     /// assert_eq!(probe.phong(Vec3::Z, f32::NAN), Err(Error::InvalidExponent));
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
+    ///
+    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
+    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn phong(&self, axis: Vec3, exponent: f32) -> Result<Estimate<T>, Error> {
         let r = axis.try_normalize().ok_or(Error::InvalidDirection)?;
         if !(0.0..=MAX_GLOSSY_SHARPNESS).contains(&exponent) {
@@ -404,16 +420,19 @@ where
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// `examples/cortex-m4`, whose output CI checks these lines against):
+    /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_phong_variance N=16`: 422 712 instructions (e = 20)
     /// - `m4:probe_phong_variance N=32`: 778 064 instructions (e = 20)
     /// - `m4:probe_phong_variance N=64`: 1 568 670 instructions (e = 20)
     /// - `m4:probe_phong_variance N=256`: 8 657 040 instructions (e = 20)
     ///
-    /// Flash, one call in a release build with LTO (`.ci/m4-flash.sh`, which CI checks
+    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
     /// - `flash:probe_phong_variance N=64`: 20 892 bytes of code and 24 096 bytes of tables
     ///   (on top of `Probe::new`)
+    ///
+    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
+    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn phong_variance(&self, axis: Vec3, exponent: f32) -> Result<T, Error> {
         let r = axis.try_normalize().ok_or(Error::InvalidDirection)?;
         if !(0.0..=MAX_GLOSSY_SHARPNESS).contains(&exponent) {
