@@ -80,7 +80,7 @@ where
         probe.update(&samples).expect("finite samples");
         for (&n, &t) in normals.iter().zip(truth) {
             let e = probe.irradiance(v32(n)).expect("unit normal");
-            let y = probe.combine(&e, LUMA);
+            let y = probe.combine(&e, LUMA).expect("finite weights");
             // The cosine-weighted average of the same samples, times π.
             let (mut num, mut den) = (0.0, 0.0);
             for (d, s) in probe.directions().iter().zip(&samples) {

@@ -22,7 +22,7 @@
 //! about the normals and Phong glossy (`SphericalGaussian::phong_moments`) about the
 //! reflection directions — next to the weighted averages of the same N samples (the cheap
 //! probe peer: weights `max(0, n·x)` and `max(0, r·x)ᵉ`), with the fraction of queries whose
-//! error is within two posterior standard deviations (`posterior_variance`,
+//! error is within two posterior standard deviations (`irradiance_variance`,
 //! `glossy_variance`).
 //!
 //! Printed: relative RMSE of luminance = RMSE / mean |truth|, per map and averaged over the
@@ -118,7 +118,7 @@ where
                 let (bmc, var, power) = if kind == 0 {
                     let n = v32(*a);
                     let e = probe.irradiance(n).expect("unit normal");
-                    let var = probe.posterior_variance(n).expect("unit normal");
+                    let var = probe.irradiance_variance(n).expect("unit normal");
                     (e.value as f64, var as f64, 1.0)
                 } else {
                     let lobe = SphericalGaussian::phong_moments(v32(*a), PHONG_EXPONENT as f32)

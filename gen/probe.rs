@@ -1085,7 +1085,7 @@ pub fn render_size_trait(specs: &[Spec]) -> String {
         "/// where",
         "///     Size<N>: ProbeSize,",
         "/// {",
-        "///     Probe::<N>::table_bytes()",
+        "///     Probe::<N>::TABLE_BYTES",
         "/// }",
         "/// assert!(table_bytes::<16>() < table_bytes::<64>());",
         "/// assert!(BAKED_SIZES.contains(&64));",

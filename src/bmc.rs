@@ -47,7 +47,7 @@
 //!
 //! let r = Renderer::<64>::new();
 //! let mut dirs = [Vec3::Z; 64];
-//! r.directions(Vec3::new(0.0, 0.6, 0.8), 0x1234, &mut dirs)?;
+//! r.fill_directions(Vec3::new(0.0, 0.6, 0.8), 0x1234, &mut dirs)?;
 //! // Trace the directions; here a sky brighter towards +z.
 //! let samples = dirs.map(|d| 1.0 + 0.5 * d.z);
 //! let e = r.estimate(&samples);
@@ -202,7 +202,7 @@ pub const TABLE_BYTES: usize = {
 /// let r = Renderer::<64>::new();
 /// let n = Vec3::new(0.0, 0.6, 0.8);
 /// let mut dirs = [Vec3::ZERO; 64];
-/// r.directions(n, 0, &mut dirs)?;
+/// r.fill_directions(n, 0, &mut dirs)?;
 /// assert!(dirs.iter().all(|d| d.dot(n) > 0.0)); // all above the surface
 /// // The radiance along each direction, then E = π·Σ wᵢYᵢ: a constant 1 gives π.
 /// let samples = dirs.map(|_| 1.0f32);
@@ -241,7 +241,7 @@ where
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite normal.
-    pub fn directions(
+    pub fn fill_directions(
         &self,
         normal: Vec3,
         phase_bits: u64,
@@ -257,7 +257,7 @@ where
         Self::LOBE
     }
 
-    /// The weights `w` (`Σw = 1` to f32 rounding), in the order of [`Renderer::directions`].
+    /// The weights `w` (`Σw = 1` to f32 rounding), in the order of [`Renderer::fill_directions`].
     #[must_use]
     pub const fn weights() -> &'static [f32; N] {
         Self::WEIGHTS
@@ -269,8 +269,8 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:renderer_w_dot_y N=16`: 37 instructions (one channel)
-    /// - `m4:renderer_w_dot_y N=64`: 175 instructions (one channel)
-    /// - `m4:renderer_w_dot_y N=256`: 857 instructions (one channel)
+    /// - `m4:renderer_w_dot_y N=64`: 174 instructions (one channel)
+    /// - `m4:renderer_w_dot_y N=256`: 856 instructions (one channel)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
@@ -289,7 +289,7 @@ where
             .scale(core::f32::consts::PI)
     }
 
-    /// Irradiance with radiance from a callback, directions as in [`Renderer::directions`].
+    /// Irradiance with radiance from a callback, directions as in [`Renderer::fill_directions`].
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite normal.

@@ -154,7 +154,7 @@
 //! once there, so no sample ever sees them; negative radiance is allowed). Zero or non-finite
 //! directions give [`Error::InvalidDirection`] (any other length is fine: crate docs,
 //! "Directions"); a
-//! sharpness or exponent of 0 or above [`MAX_PARAMETER`] gives [`Error::InvalidParameter`];
+//! sharpness or exponent of 0 or above [`MAX_PARAMETER`] gives [`Error::InvalidResponse`];
 //! a pyramid buffer shorter than [`MipPyramid::buffer_len`], or batch slices of different
 //! lengths, give [`Error::LengthMismatch`] (the batch forms check everything before writing).
 //!
@@ -333,7 +333,7 @@ impl<'a> EquirectMap<'a> {
     /// `dir` (see the module docs); [`Kind::Point`] gives [`radiance`](Self::radiance).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] for a sharpness or exponent of 0 or above
+    /// [`Error::InvalidResponse`] for a sharpness or exponent of 0 or above
     /// [`MAX_PARAMETER`]; [`Error::InvalidDirection`] for a zero or non-finite
     /// `dir`.
     pub fn footprint_sample(&self, dir: Vec3, kind: Kind) -> Result<[f32; 3], Error> {

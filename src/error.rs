@@ -30,11 +30,6 @@ pub enum Error {
     /// A point-set size is zero, too large, or not allowed for that set (for example not a
     /// Fibonacci number for the Fibonacci lattice).
     InvalidSize,
-    /// A numeric parameter is outside its documented range (for example a Sobolev
-    /// smoothness `s` outside `(1, 2)`, a negative or NaN tolerance, a non-finite
-    /// interval length, a NaN or negative spectrum entry), or a matrix is not a valid rotation
-    /// (`Mat3::validate_rotation`: finite, orthonormal within 10⁻³, determinant `+1`).
-    InvalidParameter,
     /// A spherical-Gaussian sharpness is negative, NaN or infinite.
     InvalidSharpness,
     /// A radiance sample has a NaN or infinite channel (where a computation keeps state, such
@@ -44,6 +39,46 @@ pub enum Error {
     /// probe's capacity `M`, or fewer than two valid samples (or, never seen with the baked
     /// families, a missing block the f32 arithmetic finds singular for every member).
     TooManyMissing,
+    /// A matrix is not a rotation: a NaN or infinite entry, not orthonormal within
+    /// [`ROTATION_TOLERANCE`](crate::rotation::ROTATION_TOLERANCE), or a reflection
+    /// ([`Mat3::validate_rotation`](crate::Mat3::validate_rotation)).
+    InvalidRotation,
+    /// A probe family member index past the end of the baked family
+    /// ([`Selection::Member`](crate::probe::Selection::Member)).
+    InvalidMember,
+    /// A channel index past the radiance type's last channel, or a radiance type with more
+    /// channels than a probe supports.
+    InvalidChannel,
+    /// The weights of a linear combination (of channels, or a glossy lobe's amplitude) have a
+    /// NaN or infinite entry, or are all zero where a combination must be non-trivial.
+    InvalidWeights,
+    /// A footprint or sensor response outside its range: a footprint parameter of zero or
+    /// above [`footprint::MAX_PARAMETER`](crate::footprint::MAX_PARAMETER), a cosine power
+    /// outside `[0, 4096]`, a response table that is not finite or never positive, more
+    /// distinct responses than a layout holds, or a Legendre degree above 1024.
+    InvalidResponse,
+    /// A noise level is negative or not finite, or a sensor's noise scale is not positive.
+    InvalidNoise,
+    /// A layout prior is not a valid covariance: a negative or non-finite spectrum entry, no
+    /// positive one, a non-positive variance scale, zonal covariances that do not form a
+    /// positive semi-definite matrix, a mean with no non-zero finite coefficient, or a
+    /// squared-exponential `λ` outside `(0, 64]`.
+    InvalidPrior,
+    /// A Sobolev smoothness `s` outside `(1, 2)`.
+    InvalidSmoothness,
+    /// A tolerance that is negative or NaN.
+    InvalidTolerance,
+    /// A change hazard (prior probability of a change per update) outside `(0, 1)`.
+    InvalidHazard,
+    /// A mip-pyramid resolution factor outside `[0.5, 64]`.
+    InvalidResolution,
+    /// A spectrum entry (a point set's energy per degree) that is negative, NaN or infinite.
+    InvalidSpectrum,
+    /// A numeric argument that must be finite is NaN or infinite (a circle pattern's offset).
+    NonFinite,
+    /// An internal consistency check of the baked tables failed. Never seen with the tables
+    /// this crate ships or bakes; report it as a bug.
+    Internal,
 }
 
 impl fmt::Display for Error {
@@ -54,13 +89,26 @@ impl fmt::Display for Error {
             Error::LengthMismatch => "slice lengths do not match or a slice is empty",
             Error::InvalidSize => "point-set size is zero, too large, or not valid for this set",
             Error::InvalidSharpness => "SG sharpness must be finite and non-negative",
-            Error::InvalidParameter => {
-                "parameter is outside its documented range (or a matrix is not a valid rotation)"
-            }
             Error::InvalidRadiance => "radiance sample is NaN or infinite",
             Error::TooManyMissing => {
                 "more samples missing than the probe's capacity M, or fewer than two valid"
             }
+            Error::InvalidRotation => "matrix is not a rotation",
+            Error::InvalidMember => "family member index is past the baked family",
+            Error::InvalidChannel => "channel index is past the last channel, or too many channels",
+            Error::InvalidWeights => "combination weights are not finite, or all zero",
+            Error::InvalidResponse => "footprint or sensor response is outside its range",
+            Error::InvalidNoise => {
+                "noise level is negative or not finite, or a noise scale is not positive"
+            }
+            Error::InvalidPrior => "layout prior is not a valid covariance",
+            Error::InvalidSmoothness => "Sobolev smoothness must lie in (1, 2)",
+            Error::InvalidTolerance => "tolerance must be non-negative",
+            Error::InvalidHazard => "hazard must lie in (0, 1)",
+            Error::InvalidResolution => "mip-pyramid resolution must lie in [0.5, 64]",
+            Error::InvalidSpectrum => "spectrum entry is negative or not finite",
+            Error::NonFinite => "numeric argument is NaN or infinite",
+            Error::Internal => "internal table check failed (a bug: please report it)",
         })
     }
 }

@@ -243,7 +243,7 @@ where
     }
 
     /// The Q1.31 weights (`Σ = 2³¹` exactly), in the order of
-    /// [`crate::bmc::Renderer::directions`].
+    /// [`crate::bmc::Renderer::fill_directions`].
     #[must_use]
     pub const fn weights_q31() -> &'static [u32; N] {
         Self::WEIGHTS

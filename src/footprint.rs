@@ -100,11 +100,11 @@ impl Kind {
     /// form (a product of `l/2` rational factors).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] for a parameter of zero or above [`MAX_PARAMETER`], or
+    /// [`Error::InvalidResponse`] for a parameter of zero or above [`MAX_PARAMETER`], or
     /// `l > 1024`.
     pub fn gain(self, l: usize) -> Result<f64, Error> {
         if l > 1024 {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidResponse);
         }
         match self {
             Kind::Point => Ok(1.0),
@@ -114,7 +114,7 @@ impl Kind {
             Kind::CosinePower { exponent: p } if (1..=MAX_PARAMETER).contains(&p) => {
                 Ok(cosine_power_gain(p, l))
             }
-            _ => Err(Error::InvalidParameter),
+            _ => Err(Error::InvalidResponse),
         }
     }
 }

@@ -120,19 +120,19 @@
 //! directions of `Probe::<16, f32, CosinePower<1>>` (`K = 16`), [`Prior::ENVIRONMENT`], a
 //! relative noise of 1 % and readings of a real environment map:
 //! - `m4:layout_init K=6`: 77 760 instructions ([`LayoutProbe::new`])
-//! - `m4:layout_init K=16`: 369 600 instructions
+//! - `m4:layout_init K=16`: 369 620 instructions
 //! - `m4:layout_update K=6`: 4 000 instructions ([`LayoutProbe::update`])
 //! - `m4:layout_update K=16`: 19 270 instructions
 //! - `m4:layout_update_rgb K=6`: 12 400 instructions (`LayoutProbe<6, [f32; 3]>`)
 //! - `m4:layout_update_rgb K=16`: 63 620 instructions (`LayoutProbe<16, [f32; 3]>`)
-//! - `m4:layout_update_absolute K=6`: 3 020 instructions (an absolute noise of 1 % of the
+//! - `m4:layout_update_absolute K=6`: 3 000 instructions (an absolute noise of 1 % of the
 //!   mean reading instead: no per-reading solve)
-//! - `m4:layout_update_absolute K=16`: 6 880 instructions
-//! - `m4:layout_irradiance K=6`: 358 instructions ([`LayoutProbe::irradiance`])
-//! - `m4:layout_irradiance K=16`: 795 instructions
-//! - `m4:layout_irradiance_variance K=6`: 625 instructions
+//! - `m4:layout_update_absolute K=16`: 6 870 instructions
+//! - `m4:layout_irradiance K=6`: 369 instructions ([`LayoutProbe::irradiance`])
+//! - `m4:layout_irradiance K=16`: 796 instructions
+//! - `m4:layout_irradiance_variance K=6`: 624 instructions
 //!   ([`LayoutProbe::irradiance_variance`])
-//! - `m4:layout_irradiance_variance K=16`: 1 926 instructions
+//! - `m4:layout_irradiance_variance K=16`: 1 925 instructions
 //!
 //! Flash (release, LTO) that one call adds, the first on top of an empty program and the
 //! others on top of [`LayoutProbe::new`] (`K = 6`, one channel):
@@ -212,7 +212,7 @@ pub enum Response {
 
 impl Response {
     /// The Legendre gains `g_l = 2π∫ f(t)·P_l(t) dt`, `l < DEGREES`, computed in f64 and
-    /// rounded once. [`Error::InvalidParameter`] for a parameter out of range or gains that
+    /// rounded once. [`Error::InvalidResponse`] for a parameter out of range or gains that
     /// are not finite, do not start with `g₀ = 1` or exceed 1 in magnitude.
     ///
     /// ```
@@ -228,7 +228,7 @@ impl Response {
         match *self {
             Response::CosinePower(p) => {
                 if !(p.is_finite() && p >= 0.0 && p <= 4096.0) {
-                    return Err(Error::InvalidParameter);
+                    return Err(Error::InvalidResponse);
                 }
                 // I_l = ∫₀¹ tᴾ P_l(t) dt: (P + l + 1)·I_l = (P − l + 2)·I_{l−2}.
                 let p = p as f64;
@@ -249,7 +249,7 @@ impl Response {
             }
             Response::Gaussian(s) => {
                 if !(s.is_finite() && s > 0.0 && s <= 4096.0) {
-                    return Err(Error::InvalidParameter);
+                    return Err(Error::InvalidResponse);
                 }
                 // g_l = i_l(S)/i₀(S): ratios r_l = i_l/i_{l−1} by the backward recurrence
                 // r_l = 1/((2l + 1)/S + r_{l+1}), started far enough above DEGREES.
@@ -273,12 +273,12 @@ impl Response {
             }
             Response::Gains(values) => {
                 if absolute(values[0] - 1.0) > 1e-6 {
-                    return Err(Error::InvalidParameter);
+                    return Err(Error::InvalidResponse);
                 }
                 let mut l = 0;
                 while l < DEGREES {
                     if !values[l].is_finite() || absolute(values[l]) > 1.0 + 1e-6 {
-                        return Err(Error::InvalidParameter);
+                        return Err(Error::InvalidResponse);
                     }
                     l += 1;
                 }
@@ -296,7 +296,7 @@ impl Response {
 
     /// Gains from a measured response: `values[k]` at angle `angles_deg[k]` from the axis
     /// (increasing, from 0 to at most 180°; zero beyond the last angle, linear between),
-    /// normalised so that `g₀ = 1`. [`Error::InvalidParameter`] for non-finite, negative or
+    /// normalised so that `g₀ = 1`. [`Error::InvalidResponse`] for non-finite, negative or
     /// unsorted input, fewer than two points, or a response that integrates to zero;
     /// [`Error::LengthMismatch`] when the slices differ in length.
     ///
@@ -325,7 +325,7 @@ impl Response {
             || angles_deg[0] < 0.0
             || angles_deg[angles_deg.len() - 1] > 180.0
         {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidResponse);
         }
         let mut sums = [0.0f64; DEGREES];
         for (a, v) in angles_deg.windows(2).zip(values.windows(2)) {
@@ -352,7 +352,7 @@ impl Response {
             }
         }
         if sums[0] <= 0.0 || !sums[0].is_finite() {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidResponse);
         }
         let norm = sums[0];
         Ok(Response::Gains(sums.map(|s| (s / norm) as f32)))
@@ -538,7 +538,7 @@ impl Prior {
     /// mean: `K_l = 4π·e^{−λ}·i_l(λ)`, computed in f64.
     pub fn squared_exponential(lambda: f32) -> Result<Prior, Error> {
         if !(lambda.is_finite() && lambda > 0.0 && lambda <= 64.0) {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidPrior);
         }
         let g = Response::Gaussian(lambda).gains()?;
         let x = f64::from(lambda);

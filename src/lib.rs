@@ -35,6 +35,10 @@
 //!   samples (a cut ray budget, a silent sensor) take a validity mask
 //!   ([`probe::Probe::update_masked`]): the valid ones are fitted exactly, up to a capacity
 //!   `M` fixed in the type.
+//! - [`temporal`]: a probe updated as a stream under fresh rotations, pooling the evidence of
+//!   every sample and detecting changes of the lighting.
+//! - [`layout`]: a probe on the hardware's own sensor directions, angular responses and noise,
+//!   with its tables computed at run time (or in a `static`).
 //! - [`sh`]: spherical harmonics up to degree 2 (`ShL2`): a probe's posterior mean as the 9
 //!   coefficients renderers take ([`probe::Probe::radiance_sh`]), O(9) irradiance, rotation,
 //!   and the conventions of three.js, Filament and Unity.
@@ -47,13 +51,33 @@
 //!   covering radius, spectra, design strength) and the circle view.
 //! - [`sg`]: spherical Gaussians (product, integrals, rotation, Phong and cosine fits) and
 //!   their hemispherical and clamped-cosine integrals from build-time tables.
-//! - [`math`]: the f32 math backend (`libm` or `micromath`).
+//! - [`radiance`] and [`Vec3`]: the sample values (`f32` or RGB) and directions.
+//! - [`fixed_point`] (feature `fixed`) and [`interop`] (feature `mint`).
+//!
+//! # Conventions
+//! - `directions()` returns a probe's stored sample directions by reference; `fill` and
+//!   `fill_directions` write computed directions into a buffer of exactly the right length
+//!   and return a `Result` ([`Error::LengthMismatch`] otherwise).
+//! - A query `q` has its posterior variance in `q_variance` (`irradiance_variance`,
+//!   `glossy_variance`, `phong_variance`, `radiance_sh_variance`), and `q` itself returns an
+//!   [`Estimate`] with both. The fitted prior's scale is `signal_variance`,
+//!   `signal_covariance` (of two channels) and `signal_variance_of` (of a combination).
+//! - `TABLE_BYTES` on a type is the flash that using the type links
+//!   ([`probe::Probe::TABLE_BYTES`]); on a module it is the sum over every size that module
+//!   bakes ([`bmc::TABLE_BYTES`], [`sg::TABLE_BYTES`]). A module's `BAKED_SIZES` lists the
+//!   sizes baked for that module's type.
+//! - Generic code over sizes writes the bound on [`Size`]: `Size<N>: probe::ProbeTables<F>`
+//!   for a probe, `Size<N>: bmc::BakedSize` for the renderer.
+//! - Constructors that need no run-time work are `const fn`, so probes and point sets can
+//!   live in a `static`.
+//! - Every refusal is an [`Error`] naming its cause (a direction, a rotation, a channel, a
+//!   response, a noise level, …); nothing panics on data the caller passes.
 //!
 //! # Accuracy
 //! Measured by the tests in `tests/` against the independent f64 reference crate:
 //! - Point sets: every spherical Fibonacci point is within 1.4·10⁻⁷ rad of the exact point for
-//!   all N ≤ 2²⁴, under both math backends (the azimuth's sine and cosine come from
-//!   [`math::sin_cos_turns`], exact integer range reduction and f32 polynomials).
+//!   all N ≤ 2²⁴, under both math backends (the azimuth's sine and cosine come from exact
+//!   integer range reduction and f32 polynomials).
 //! - QMC irradiance of a constant is π to 2 ulp; of a smooth spherical-Gaussian light the
 //!   relative RMS error falls as N^−1.08 over N = 64…4096 (random points: N^−0.53), reaching
 //!   1.8·10⁻⁴ at N = 4096, under both backends.
@@ -82,7 +106,7 @@
 //! [`rotation::ROTATION_TOLERANCE`] (10⁻³ on each entry of `MᵀM − I`) and of determinant `+1`
 //! ([`Mat3::validate_rotation`]). Where a rotation enters a point set or a probe
 //! ([`FibonacciPoints::with_rotation`], [`SphericalFibonacci::with_rotation`],
-//! [`probe::Probe::set_rotation`]) anything else is refused with [`Error::InvalidParameter`].
+//! [`probe::Probe::set_rotation`]) anything else is refused with [`Error::InvalidRotation`].
 //! The crate's own rotations ([`RotationSequence`], [`Mat3::from_quaternion`], …) are valid.
 //!
 //! # Bad input
@@ -102,8 +126,9 @@
 //!
 //! # Features
 //! None is on by default; `libm` is always linked and is the default math backend.
-//! - `micromath`: fast approximate f32 math instead of `libm`; the final binary's choice (see
-//!   [`math`]).
+//! - `micromath`: fast approximate `sin`, `cos`, `atan2` and `exp` instead of `libm`'s
+//!   (everything else stays `libm`: `micromath`'s other functions are too coarse for
+//!   quadrature); the final binary's choice, which a library should leave off.
 //! - `fixed`: [`fixed_point`] weighted sums on the `fixed` crate's `U16F16` / `I16F16`.
 //! - `mint`: [`interop`], `From`/`Into` between [`Vec3`]/[`Mat3`] and `mint` types (glam,
 //!   nalgebra, cgmath).
@@ -135,6 +160,7 @@ pub mod footprint;
 #[cfg_attr(docsrs, doc(cfg(feature = "mint")))]
 pub mod interop;
 pub mod layout;
+#[doc(hidden)]
 pub mod math;
 pub mod metrics;
 pub mod probe;
@@ -154,7 +180,9 @@ pub mod warp;
 #[doc = include_str!("../README.md")]
 pub struct ReadmeDoctests;
 
+pub use bmc::Size;
 pub use error::Error;
+pub use probe::Estimate;
 pub use radiance::Radiance;
 pub use rotation::{Mat3, RotationSequence};
 pub use sf::{FibonacciLattice, FibonacciPoints, HemisphericalFibonacci, SphericalFibonacci};

@@ -1,5 +1,9 @@
 //! Every transcendental function the crate uses, as free functions over one backend.
 //!
+//! Internal: hidden from the documentation and outside the semver contract. It is public only
+//! so that the crate's own tests and device examples can evaluate bit for bit what the library
+//! evaluates.
+//!
 //! All f32 math in the crate goes through these functions (never method syntax on `f32`), so
 //! the backend is chosen in one place:
 //!
@@ -77,6 +81,42 @@ mod backend {
 #[must_use]
 pub fn sqrt(x: f32) -> f32 {
     libm::sqrtf(x)
+}
+
+/// Square root of a positive normal `x`, correctly rounded (so equal to [`sqrt`] bit for
+/// bit), usable in constant evaluation: the integer square root of the significand shifted
+/// by 38 bits, with a sticky bit for inexact roots, rounded once by the cast to f32. Outside
+/// the positive normal numbers the result is meaningless; callers check `x` first.
+#[must_use]
+pub const fn sqrt_const(x: f32) -> f32 {
+    let bits = x.to_bits();
+    let mut e = ((bits >> 23) & 0xff) as i32 - 150;
+    let mut m = (bits & 0x7f_ffff | 0x80_0000) as u64;
+    if e & 1 != 0 {
+        m <<= 1;
+        e -= 1;
+    }
+    // x = m·2^e with e even and m < 2²⁵; √x = √(m·2³⁸)·2^(e/2 − 19), the root of 31 or 32
+    // bits: 7 or more below the rounding position, the last one sticky.
+    // Digit by digit (no table: `u64::isqrt` links a 256-byte one): r = ⌊√(m·2³⁸)⌋, and
+    // `rest` the remainder.
+    let mut rest = m << 38;
+    let mut r = 0u64;
+    let mut bit = 1u64 << 62;
+    while bit != 0 {
+        if rest >= r + bit {
+            rest -= r + bit;
+            r = (r >> 1) + bit;
+        } else {
+            r >>= 1;
+        }
+        bit >>= 2;
+    }
+    if rest != 0 {
+        r |= 1;
+    }
+    let p = e / 2 - 19;
+    r as f32 * f32::from_bits(((127 + p) as u32) << 23)
 }
 
 /// `1/√x` for `2⁻¹²⁵ ≤ x ≤ f32::MAX` (so that `x/2` is a normal number), in plain f32
@@ -351,7 +391,7 @@ pub fn round64(x: f64) -> f64 {
 /// ```
 #[inline]
 #[must_use]
-pub fn sin_cos_turns(phase: u64) -> (f32, f32) {
+pub const fn sin_cos_turns(phase: u64) -> (f32, f32) {
     const QUARTER: u64 = 1 << 62;
     // Nearest quarter turn k and the signed remainder d in [−2⁶¹, 2⁶¹).
     let k = (phase.wrapping_add(QUARTER / 2) >> 62) & 3;

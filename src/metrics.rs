@@ -60,7 +60,8 @@
 //! # Errors
 //! An empty slice gives [`Error::LengthMismatch`]; a zero, NaN or infinite direction gives
 //! [`Error::InvalidDirection`]; `s ∉ (1, 2)`, a NaN or negative tolerance give
-//! [`Error::InvalidParameter`]. Nothing panics.
+//! [`Error::InvalidSmoothness`] and [`Error::InvalidTolerance`]; a negative or non-finite
+//! spectrum entry [`Error::InvalidSpectrum`]. Nothing panics.
 //!
 //! # Example
 //! ```
@@ -196,7 +197,7 @@ fn centred_pair_mean(points: &[Vec3], v: f64, g: impl Fn(f64) -> f64) -> f64 {
 /// `V_s = ∫∫ |x − y|^(2s−2) dσ dσ = 2^(2s−2)/s`, after checking `1 < s < 2`.
 fn kernel_mean(s: f64) -> Result<f64, Error> {
     if !(s > 1.0 && s < 2.0) {
-        return Err(Error::InvalidParameter);
+        return Err(Error::InvalidSmoothness);
     }
     Ok(math::pow64(2.0, 2.0 * s - 2.0) / s)
 }
@@ -294,7 +295,7 @@ pub fn cap_discrepancy(points: &[Vec3]) -> Result<f64, Error> {
 /// O(N²) in f64.
 ///
 /// # Errors
-/// [`Error::InvalidParameter`] unless `1 < s < 2`; otherwise as [`energy`].
+/// [`Error::InvalidSmoothness`] unless `1 < s < 2`; otherwise as [`energy`].
 pub fn wce(points: &[Vec3], s: f64) -> Result<f64, Error> {
     let v = kernel_mean(s)?;
     validate(points)?;

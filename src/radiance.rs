@@ -35,6 +35,8 @@
 pub trait Radiance: Copy {
     /// The zero value.
     const ZERO: Self;
+    /// One in every channel.
+    const ONE: Self;
     /// Number of channels (1 for `f32`, `C` for `[f32; C]`).
     const CHANNELS: usize;
     /// Channel `k` (0 past the last channel).
@@ -63,6 +65,7 @@ pub trait Radiance: Copy {
 
 impl Radiance for f32 {
     const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
     const CHANNELS: usize = 1;
     #[inline]
     fn channel(self, k: usize) -> f32 {
@@ -92,6 +95,7 @@ impl Radiance for f32 {
 
 impl<const C: usize> Radiance for [f32; C] {
     const ZERO: Self = [0.0; C];
+    const ONE: Self = [1.0; C];
     const CHANNELS: usize = C;
     #[inline]
     fn channel(self, k: usize) -> f32 {

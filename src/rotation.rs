@@ -192,7 +192,7 @@ impl Mat3 {
     /// f32 rounding (about 10⁻⁷), far inside the tolerance.
     ///
     /// # Errors
-    /// [`crate::Error::InvalidParameter`] otherwise (a NaN or infinite entry, a scaled, sheared
+    /// [`crate::Error::InvalidRotation`] otherwise (a NaN or infinite entry, a scaled, sheared
     /// or reflecting matrix).
     pub fn validate_rotation(&self) -> Result<(), crate::Error> {
         let r = self.rows;
@@ -209,7 +209,7 @@ impl Mat3 {
         if finite && orthonormal && det > 0.0 {
             Ok(())
         } else {
-            Err(crate::Error::InvalidParameter)
+            Err(crate::Error::InvalidRotation)
         }
     }
 

@@ -267,7 +267,7 @@ impl FibonacciPoints {
     /// The same set followed by an arbitrary rotation `r` (applied after the pole phase).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] unless `r` is a valid rotation: finite, orthonormal within
+    /// [`Error::InvalidRotation`] unless `r` is a valid rotation: finite, orthonormal within
     /// [`crate::rotation::ROTATION_TOLERANCE`] and of determinant `+1`
     /// ([`Mat3::validate_rotation`]). A NaN or scaled matrix would otherwise leave the
     /// nearest-point search ([`Self::nearest_index`]) without an answer.
@@ -286,13 +286,13 @@ impl FibonacciPoints {
     /// Phase of point `j` as a 64-bit fraction of a turn, including the pole rotation.
     #[inline]
     #[must_use]
-    pub(crate) fn phase_of(&self, j: usize) -> u64 {
+    pub(crate) const fn phase_of(&self, j: usize) -> u64 {
         let base = match self.step {
             Step::Golden => (j as u64).wrapping_mul(GOLDEN_PHASE),
             Step::Fibonacci { prev } => {
-                // `n ≥ 1` for every set that can be built; `max(1)` (a no-op) lets the
+                // `n ≥ 1` for every set that can be built; the (no-op) guard lets the
                 // optimiser drop the division-by-zero panic paths of `%` and `/`.
-                let n = (self.n as u64).max(1);
+                let n = if self.n == 0 { 1 } else { self.n as u64 };
                 let r = ((j as u64) % n) * prev % n;
                 (((r as u128) << 64) / (n as u128)) as u64
             }
@@ -302,7 +302,7 @@ impl FibonacciPoints {
 
     /// Denominator of the heights: `1 − zⱼ = (2j+1)/d`.
     #[inline]
-    fn height_denominator(&self) -> u64 {
+    const fn height_denominator(&self) -> u64 {
         match self.domain {
             Domain::Sphere => self.n as u64,
             Domain::Hemisphere => 2 * self.n as u64,
@@ -319,12 +319,36 @@ impl FibonacciPoints {
     /// poles keep full relative accuracy.
     #[inline]
     fn z_sin(&self, j: usize) -> (f32, f32) {
+        let (z, sin_squared) = self.z_sin_squared(j);
+        (z, math::sqrt(sin_squared))
+    }
+
+    /// `(zⱼ, (1 − zⱼ)(1 + zⱼ))`, the latter a positive normal number.
+    #[inline]
+    const fn z_sin_squared(&self, j: usize) -> (f32, f32) {
         let d = self.height_denominator();
         let k = 2 * j as u64 + 1;
         let a = k as f32 / d as f32;
         let b = (2 * d - k) as f32 / d as f32;
         let z = if k <= d { 1.0 - a } else { b - 1.0 };
-        (z, math::sqrt(a * b))
+        (z, a * b)
+    }
+
+    /// The `N` points of this set without its arbitrary rotation, in constant evaluation:
+    /// bit for bit those of [`Self::iter`] for an unrotated set (the square root is
+    /// [`math::sqrt_const`], correctly rounded as `math::sqrt` is). For `N > len()`, the
+    /// points past the end are zero.
+    pub(crate) const fn unrotated_points<const N: usize>(&self) -> [Vec3; N] {
+        let mut out = [Vec3::ZERO; N];
+        let mut j = 0;
+        while j < N && j < self.n {
+            let (z, sin_squared) = self.z_sin_squared(j);
+            let sin_theta = math::sqrt_const(sin_squared);
+            let (sin_phi, cos_phi) = math::sin_cos_turns(self.phase_of(j));
+            out[j] = Vec3::new(sin_theta * cos_phi, sin_theta * sin_phi, z);
+            j += 1;
+        }
+        out
     }
 
     /// Point `j` in height/azimuth form (before any arbitrary rotation), or `None` when
@@ -364,28 +388,31 @@ impl FibonacciPoints {
         Points { set: self, next: 0, end: self.n }
     }
 
-    /// Writes the first `out.len()` points into `out` and returns how many were written
-    /// (`min(out.len(), len())`).
+    /// Writes the points into `out`, in index order (as every `fill` of the crate: a buffer
+    /// of exactly the set's length).
+    ///
+    /// # Errors
+    /// [`Error::LengthMismatch`] when `out.len() != len()`; `out` is then unchanged.
     ///
     /// # Examples
     /// ```
-    /// use sphere_quadrature::{sf::FibonacciPoints, Vec3};
+    /// use sphere_quadrature::{sf::FibonacciPoints, Error, Vec3};
     ///
-    /// // Writes min(len, out.len()) points and returns how many.
     /// let set = FibonacciPoints::sphere(5)?;
-    /// let mut out = [Vec3::ZERO; 8];
-    /// assert_eq!(set.fill(&mut out), 5);
+    /// let mut out = [Vec3::ZERO; 5];
+    /// set.fill(&mut out)?;
     /// assert_eq!(out[4], set.point(4).unwrap());
-    /// assert_eq!(out[5], Vec3::ZERO);
+    /// assert_eq!(set.fill(&mut [Vec3::ZERO; 8]), Err(Error::LengthMismatch));
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
-    pub fn fill(&self, out: &mut [Vec3]) -> usize {
-        let mut k = 0;
+    pub fn fill(&self, out: &mut [Vec3]) -> Result<(), Error> {
+        if out.len() != self.n {
+            return Err(Error::LengthMismatch);
+        }
         for (slot, p) in out.iter_mut().zip(self.iter()) {
             *slot = p;
-            k += 1;
         }
-        k
+        Ok(())
     }
 }
 
@@ -514,7 +541,7 @@ macro_rules! const_set {
             /// The same set followed by an arbitrary rotation (after the pole phase).
             ///
             /// # Errors
-            /// [`Error::InvalidParameter`] unless `r` is a valid rotation
+            /// [`Error::InvalidRotation`] unless `r` is a valid rotation
             /// ([`Mat3::validate_rotation`]).
             pub fn with_rotation(self, r: Mat3) -> Result<Self, Error> {
                 Ok(Self { set: self.set.with_rotation(r)?, _n: PhantomData })
@@ -538,9 +565,9 @@ macro_rules! const_set {
             /// # Cost
             /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm`
             /// backend; [`examples/cortex-m4`], whose output CI checks these lines against):
-            /// - `m4:sf_points N=16`: 4 486 instructions (`SphericalFibonacci`)
-            /// - `m4:sf_points N=64`: 12 104 instructions (`SphericalFibonacci`)
-            /// - `m4:sf_points N=256`: 48 300 instructions (`SphericalFibonacci`)
+            /// - `m4:sf_points N=16`: 4 482 instructions (`SphericalFibonacci`)
+            /// - `m4:sf_points N=64`: 12 240 instructions (`SphericalFibonacci`)
+            /// - `m4:sf_points N=256`: 48 810 instructions (`SphericalFibonacci`)
             ///
             /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
             /// these lines against):

@@ -94,7 +94,8 @@ pub const TABLE_BYTES: usize =
         + core::mem::size_of::<[f32; SG_CLAMPED_LAMBDA_NODES * SG_CLAMPED_T_NODES]>();
 
 /// The baked tables `(R, Z)`, row-major with λ rows (see the module docs and `gen/sg.rs`),
-/// for inspection and for the bit-exactness test.
+/// for the bit-exactness test. Internal: hidden, outside the semver contract.
+#[doc(hidden)]
 #[must_use]
 pub fn tables() -> (&'static [f32], &'static [f32]) {
     (&SG_HEMI, &SG_CLAMPED)
@@ -441,7 +442,7 @@ pub fn hemispherical_fraction(lambda: f32, t: f32) -> Result<f32, Error> {
 /// # Cost
 /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
 /// [`examples/cortex-m4`], whose output CI checks these lines against):
-/// - `m4:sg_clamped_cosine_fraction N=1`: 417 instructions (one table lookup)
+/// - `m4:sg_clamped_cosine_fraction N=1`: 418 instructions (one table lookup)
 ///
 /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
 /// these lines against):

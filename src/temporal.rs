@@ -103,7 +103,7 @@
 //! # Bad input
 //! A non-finite sample or sentinel reading: [`Error::InvalidRadiance`], the state and the
 //! directions unchanged (retake the samples). A zero or non-finite normal:
-//! [`Error::InvalidDirection`]. A hazard outside `(0, 1)`: [`Error::InvalidParameter`]. Before
+//! [`Error::InvalidDirection`]. A hazard outside `(0, 1)`: [`Error::InvalidHazard`]. Before
 //! the first update every query returns zero with zero variance.
 //!
 //! [`eval/src/bin/temporal.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/temporal.rs
@@ -415,7 +415,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// higher resets sooner on weak evidence, lower needs stronger evidence.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] unless `0 < h < 1`.
+    /// [`Error::InvalidHazard`] unless `0 < h < 1`.
     ///
     /// # Examples
     /// ```
@@ -423,12 +423,12 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     ///
     /// let probe = TemporalProbe::<16>::new(0).with_hazard(0.001)?;
     /// assert_eq!(probe.updates(), 0);
-    /// assert_eq!(TemporalProbe::<16>::new(0).with_hazard(1.0).err(), Some(Error::InvalidParameter));
+    /// assert_eq!(TemporalProbe::<16>::new(0).with_hazard(1.0).err(), Some(Error::InvalidHazard));
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
     pub fn with_hazard(mut self, h: f32) -> Result<Self, Error> {
         if !(h > 0.0 && h < 1.0) {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidHazard);
         }
         self.prior_log_odds = log_odds(h);
         Ok(self)
@@ -474,9 +474,9 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against), one channel, a budget
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
-    /// - `m4:temporal_update_S1 N=16`: 24 144 instructions (15 rotated, 1 sentinel)
-    /// - `m4:temporal_update_S2 N=64`: 102 830 instructions (62 rotated, 2 sentinels)
-    /// - `m4:temporal_update_S0 N=64`: 105 070 instructions (64 rotated)
+    /// - `m4:temporal_update_S1 N=16`: 24 140 instructions (15 rotated, 1 sentinel)
+    /// - `m4:temporal_update_S2 N=64`: 102 840 instructions (62 rotated, 2 sentinels)
+    /// - `m4:temporal_update_S0 N=64`: 105 080 instructions (64 rotated)
     /// - `m4:temporal_update_S4 N=256`: 570 920 instructions (252 rotated, 4 sentinels)
     ///
     /// # Examples
@@ -822,7 +822,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// # Cost
     /// Cortex-M4F instructions per call (as [`TemporalProbe::update`]'s), one channel: the
     /// harmonics of degree `L` at the normal and a dot product.
-    /// - `m4:temporal_irradiance_S1 N=16`: 917 instructions (`L = 4`)
+    /// - `m4:temporal_irradiance_S1 N=16`: 918 instructions (`L = 4`)
     /// - `m4:temporal_irradiance_S2 N=64`: 1 454 instructions (`L = 6`)
     /// - `m4:temporal_irradiance_S4 N=256`: 2 132 instructions (`L = 8`)
     pub fn irradiance(&self, normal: Vec3) -> Result<Accumulated<T>, Error> {

@@ -1,6 +1,7 @@
 //! Point-set metrics on arbitrary f32/f64 bits (`metrics` module docs, "Errors"): an empty
 //! slice gives `LengthMismatch`, a zero, NaN or infinite direction `InvalidDirection`, `s ∉
-//! (1, 2)` and a NaN or negative tolerance `InvalidParameter`, nothing panics; Ok results are
+//! (1, 2)` `InvalidSmoothness`, a NaN or negative tolerance `InvalidTolerance`, a bad spectrum
+//! entry `InvalidSpectrum`, a non-finite circle offset `NonFinite`, nothing panics; Ok results are
 //! finite and in range (`E_N ∈ [0, √(4/3)]`, `L₂ = E_N/2`, `wce(3/2) = E_N`, `energy_f32`
 //! close to `energy`, separations and covering radii in `[0, 2]`, `C₀ = 1/(4π)` and
 //! `0 ≤ C_l ≤ C₀`, `Σₘ Y_lm² = (2l+1)/(4π)`, `Σₘ c_lm² = (2l+1)·C_l`); `sh_index` is
@@ -109,7 +110,7 @@ fuzz_target!(|data: &[u8]| {
         1 => {
             let s = s_param(&mut b);
             let r = metrics::wce(&points, s);
-            let mut checks = vec![(Some(s_bad(s)), Error::InvalidParameter)];
+            let mut checks = vec![(Some(s_bad(s)), Error::InvalidSmoothness)];
             checks.extend(dir_check);
             if check("wce", &r, &checks) {
                 let w = r.unwrap();
@@ -168,7 +169,7 @@ fuzz_target!(|data: &[u8]| {
                 let tol = b.f64();
                 let r = metrics::design_strength(&points, tol, &mut out);
                 if tol.is_nan() || tol < 0.0 {
-                    assert_eq!(r, Err(Error::InvalidParameter));
+                    assert_eq!(r, Err(Error::InvalidTolerance));
                 } else {
                     assert!(r.unwrap() < len);
                 }
@@ -177,7 +178,7 @@ fuzz_target!(|data: &[u8]| {
                     if b.bool() { SobolevWeights::Exact } else { SobolevWeights::Asymptotic };
                 let r = metrics::wce_spectral(&points, s, kind, &mut out);
                 if s_bad(s) {
-                    assert_eq!(r, Err(Error::InvalidParameter));
+                    assert_eq!(r, Err(Error::InvalidSmoothness));
                 } else {
                     let w = r.unwrap();
                     assert!(w.is_finite() && w >= 0.0, "wce_spectral {w}");
@@ -213,14 +214,14 @@ fuzz_target!(|data: &[u8]| {
             let kind = if b.bool() { SobolevWeights::Exact } else { SobolevWeights::Asymptotic };
             let r = metrics::wce_from_spectrum(&spectrum, s, kind);
             if s_bad(s) {
-                assert_eq!(r, Err(Error::InvalidParameter), "wce_from_spectrum s = {s}");
+                assert_eq!(r, Err(Error::InvalidSmoothness), "wce_from_spectrum s = {s}");
                 return;
             }
             // A spectrum is finite and non-negative (every entry, C₀ included): anything else
             // is refused (defect 2).
             let invalid = spectrum.iter().any(|&c| !c.is_finite() || c < 0.0);
             if invalid {
-                assert_eq!(r, Err(Error::InvalidParameter), "wce_from_spectrum({spectrum:?})");
+                assert_eq!(r, Err(Error::InvalidSpectrum), "wce_from_spectrum({spectrum:?})");
             } else {
                 let w = r.expect("valid spectrum");
                 assert!(!w.is_nan() && w >= 0.0, "wce_from_spectrum {w}");
@@ -264,11 +265,11 @@ fuzz_target!(|data: &[u8]| {
             let n_max = usize::from(b.u8());
             let r = metrics::circle_strength(&xs, tol, n_max);
             if xs.is_empty() && (tol.is_nan() || tol < 0.0) {
-                assert!(matches!(r, Err(Error::LengthMismatch | Error::InvalidParameter)), "{r:?}");
+                assert!(matches!(r, Err(Error::LengthMismatch | Error::InvalidTolerance)), "{r:?}");
             } else if xs.is_empty() {
                 assert_eq!(r, Err(Error::LengthMismatch));
             } else if tol.is_nan() || tol < 0.0 {
-                assert_eq!(r, Err(Error::InvalidParameter));
+                assert_eq!(r, Err(Error::InvalidTolerance));
             } else {
                 assert!(r.unwrap() <= n_max);
             }
@@ -277,11 +278,11 @@ fuzz_target!(|data: &[u8]| {
             let r = metrics::uniform_circle_nodes(a, &mut out);
             // Both errors documented, in no stated order.
             if len == 0 && !a.is_finite() {
-                assert!(matches!(r, Err(Error::LengthMismatch | Error::InvalidParameter)), "{r:?}");
+                assert!(matches!(r, Err(Error::LengthMismatch | Error::NonFinite)), "{r:?}");
             } else if len == 0 {
                 assert_eq!(r, Err(Error::LengthMismatch));
             } else if !a.is_finite() {
-                assert_eq!(r, Err(Error::InvalidParameter));
+                assert_eq!(r, Err(Error::NonFinite));
             } else {
                 assert_eq!(r, Ok(()));
             }
@@ -290,7 +291,7 @@ fuzz_target!(|data: &[u8]| {
             if k == 0 {
                 assert_eq!(r, Err(Error::InvalidSize));
             } else if !a.is_finite() {
-                assert_eq!(r, Err(Error::InvalidParameter));
+                assert_eq!(r, Err(Error::NonFinite));
             } else {
                 // Any n and finite a, however large n·a (defect 11: NaN once n·a overflowed).
                 let c = r.unwrap();

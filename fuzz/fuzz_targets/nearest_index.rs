@@ -89,7 +89,7 @@ fuzz_target!(|data: &[u8]| {
             let q = [b.f32(), b.f32(), b.f32(), b.f32()];
             let m = check_quaternion(q);
             // Any matrix: a valid rotation (`Mat3::validate_rotation`) is taken, anything else
-            // (NaN, scaled, a reflection) is refused with InvalidParameter (defect 8).
+            // (NaN, scaled, a reflection) is refused with InvalidRotation (defect 8).
             let m = if b.u8() % 8 == 0 { Mat3::from_rows(b.vec3(), b.vec3(), b.vec3()) } else { m };
             match set.with_rotation(m) {
                 Ok(s) => {
@@ -98,7 +98,7 @@ fuzz_target!(|data: &[u8]| {
                     rotated = true;
                 }
                 Err(e) => {
-                    assert_eq!(e, Error::InvalidParameter, "with_rotation({m:?})");
+                    assert_eq!(e, Error::InvalidRotation, "with_rotation({m:?})");
                     assert!(m.validate_rotation().is_err(), "with_rotation refused {m:?}");
                 }
             }

@@ -139,7 +139,7 @@ where
                 if proper {
                     assert_eq!(r, Ok(()), "set_rotation of a proper rotation {m:?}");
                 } else if clearly_not_rotation(&m) {
-                    assert_eq!(r, Err(Error::InvalidParameter), "set_rotation({m:?})");
+                    assert_eq!(r, Err(Error::InvalidRotation), "set_rotation({m:?})");
                 }
                 match r {
                     Ok(()) => {
@@ -166,7 +166,7 @@ where
                 let expected = if !finite {
                     Err(Error::InvalidRadiance)
                 } else if matches!(selection, Selection::Member(k) if k >= members) {
-                    Err(Error::InvalidParameter)
+                    Err(Error::InvalidMember)
                 } else {
                     Ok(())
                 };
@@ -242,14 +242,14 @@ where
                     check_variance("irradiance variance", e.variance, state, true);
                     assert!(e.unit_variance >= 0.0 && e.unit_variance.is_finite());
                 }
-                let r = probe.posterior_variance(n);
+                let r = probe.irradiance_variance(n);
                 check_errors(
-                    "posterior_variance",
+                    "irradiance_variance",
                     &r,
                     &[(direction_rejected(n), Error::InvalidDirection)],
                 );
                 if let Ok(v) = r {
-                    check_variance("posterior_variance", v, state, true);
+                    check_variance("irradiance_variance", v, state, true);
                 }
             }
             op @ (6 | 7) => {
@@ -263,7 +263,7 @@ where
                 let checks = [
                     (direction_rejected(axis), Error::InvalidDirection),
                     (Some(bad_sharpness), Error::InvalidSharpness),
-                    (Some(!amplitude.is_finite()), Error::InvalidParameter),
+                    (Some(!amplitude.is_finite()), Error::InvalidWeights),
                 ];
                 let bounded = amplitude.abs() <= 1e3;
                 if op == 6 {
@@ -306,11 +306,12 @@ where
             }
             9 => {
                 let (a, c) = (usize::from(b.u8() % 5), usize::from(b.u8() % 5));
-                let s = probe.channel_covariance(a, c);
+                let r = probe.signal_covariance(a, c);
                 if a >= T::CHANNELS || c >= T::CHANNELS {
-                    assert_eq!(s, 0.0, "channel_covariance({a}, {c}) past the channels");
+                    assert_eq!(r, Err(Error::InvalidChannel), "signal_covariance({a}, {c})");
                 } else {
-                    assert!(!s.is_nan(), "channel_covariance({a}, {c}) NaN");
+                    let s = r.expect("channels in range");
+                    assert!(!s.is_nan(), "signal_covariance({a}, {c}) NaN");
                     if a == c {
                         assert!(s >= 0.0);
                         assert_eq!(s.to_bits(), probe.signal_variance().channel(a).to_bits());
@@ -322,11 +323,17 @@ where
                 let w = T::read(b);
                 let v = probe.signal_variance_of(w);
                 if all_finite(w) {
+                    let v = v.expect("finite weights");
                     assert!(!v.is_nan() && v >= 0.0, "signal_variance_of({w:?}) = {v}");
+                } else {
+                    assert_eq!(v, Err(Error::InvalidWeights));
                 }
                 if let Ok(e) = probe.irradiance(Vec3::Z) {
                     let c = probe.combine(&e, w);
-                    if all_finite(w) {
+                    if !all_finite(w) {
+                        assert_eq!(c, Err(Error::InvalidWeights));
+                    } else {
+                        let c = c.expect("finite weights");
                         assert!(
                             !c.variance.is_nan() && c.variance >= 0.0,
                             "combine variance {c:?}"
@@ -353,7 +360,7 @@ where
         }
         let now = format!("{probe:?}");
         let _ = probe.irradiance(Vec3::Z);
-        let _ = probe.posterior_variance(Vec3::X);
+        let _ = probe.irradiance_variance(Vec3::X);
         assert_eq!(now, format!("{probe:?}"));
     }
 }

@@ -4,7 +4,7 @@
 //!
 //! The integral is `I(n, r) = ∫ L(x)·(e+1)/(2π)·max(0, r·x)ᵉ·max(0, n·x) dx`: the normalised
 //! Phong lobe about the mirror direction `r`, with the cosine factor and the horizon at the
-//! normal `n`. [`GlossyRenderer::directions`] places the `N`-point hemisphere spherical
+//! normal `n`. [`GlossyRenderer::fill_directions`] places the `N`-point hemisphere spherical
 //! Fibonacci set morphed onto the lobe (the QMC-SF samples, at phase 0) in the frame whose first
 //! axis points from `r` towards `n`; in that frame the kernel matrix is fixed and the weights
 //! depend on the query only through `θₙ = acos(r·n)`, so they are baked on [`GRID`] nodes of
@@ -36,7 +36,7 @@
 //! let r = GlossyRenderer::<64, 50>::new();
 //! let (n, mirror) = (Vec3::Z, Vec3::new(0.6, 0.0, 0.8));
 //! let mut dirs = [Vec3::Z; 64];
-//! r.directions(n, mirror, &mut dirs)?;
+//! r.fill_directions(n, mirror, &mut dirs)?;
 //! // A constant radiance c gives c·∫p (the lobe's cosine-weighted integral).
 //! let e = r.estimate(n, mirror, &[2.0f32; 64])?;
 //! assert!(e > 1.4 && e < 1.8);
@@ -57,7 +57,7 @@
 //! let r = GlossyRenderer::<64, 50, Optimal>::new();
 //! let (n, mirror) = (Vec3::Z, Vec3::new(0.6, 0.0, 0.8));
 //! let mut dirs = [Vec3::Z; 64];
-//! r.directions(n, mirror, &mut dirs)?;
+//! r.fill_directions(n, mirror, &mut dirs)?;
 //! let e = r.estimate(n, mirror, &[2.0f32; 64])?;
 //! assert!(e > 1.4 && e < 1.8);
 //! # Ok::<(), sphere_quadrature::Error>(())
@@ -144,7 +144,7 @@ pub trait SampleSet: sealed::Kind {}
 /// let r: GlossyRenderer<64, 50, Fibonacci> = GlossyRenderer::<64, 50>::new();
 /// let mut dirs = [Vec3::ZERO; 64];
 /// let mirror = Vec3::new(0.6, 0.0, 0.8);
-/// r.directions(Vec3::Z, mirror, &mut dirs)?;
+/// r.fill_directions(Vec3::Z, mirror, &mut dirs)?;
 /// // The Phong e = 50 lobe is narrow: every direction is near the mirror direction.
 /// assert!(dirs.iter().all(|d| d.dot(mirror) > 0.5));
 /// # Ok::<(), sphere_quadrature::Error>(())
@@ -166,7 +166,7 @@ pub struct Fibonacci;
 /// let r = GlossyRenderer::<64, 50, Optimal>::new();
 /// let (n, mirror) = (Vec3::Z, Vec3::new(0.0, 0.6, 0.8));
 /// let mut dirs = [Vec3::ZERO; 64];
-/// r.directions(n, mirror, &mut dirs)?;
+/// r.fill_directions(n, mirror, &mut dirs)?;
 /// assert!(dirs.iter().all(|d| (d.length() - 1.0).abs() < 1e-5));
 /// // Linear in the samples: twice the radiance, twice the estimate.
 /// let one = r.estimate(n, mirror, &[1.0f32; 64])?;
@@ -240,7 +240,7 @@ pub const TABLE_BYTES: usize = {
 /// let r = GlossyRenderer::<64, 50>::new();
 /// let (n, mirror) = (Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.3, 0.0, 0.95));
 /// let mut dirs = [Vec3::ZERO; 64];
-/// r.directions(n, mirror, &mut dirs)?;
+/// r.fill_directions(n, mirror, &mut dirs)?;
 /// let samples = dirs.map(|d| 1.0 + d.z);
 /// let e = r.estimate(n, mirror, &samples)?;
 /// // Linear in the radiance: the estimate of 1 + z is that of 1 plus that of z.
@@ -294,12 +294,17 @@ where
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite vector.
-    pub fn directions(&self, normal: Vec3, mirror: Vec3, out: &mut [Vec3; N]) -> Result<(), Error> {
+    pub fn fill_directions(
+        &self,
+        normal: Vec3,
+        mirror: Vec3,
+        out: &mut [Vec3; N],
+    ) -> Result<(), Error> {
         let ([t1, t2, r], _) = Self::frame(normal, mirror)?;
         if <S as sealed::Kind>::OPTIMAL {
             let local = Self::SET.directions.chunks_exact(3);
             if local.len() != N {
-                return Err(Error::InvalidParameter);
+                return Err(Error::Internal);
             }
             for (slot, d) in out.iter_mut().zip(local) {
                 let [x, y, z] = [d[0], d[1], d[2]].map(f32::from_bits);
@@ -322,12 +327,12 @@ where
     fn rows(normal: Vec3, mirror: Vec3) -> Result<(Rows, [f32; 2]), Error> {
         let (k, coefficients) = interval(normal, mirror)?;
         let Some(rows) = Self::SET.weights.get(k * N..(k + 2) * N) else {
-            return Err(Error::InvalidParameter);
+            return Err(Error::Internal);
         };
         Ok((rows.split_at(N), coefficients))
     }
 
-    /// The interpolated weights for `(n, r)`, in the order of [`GlossyRenderer::directions`].
+    /// The interpolated weights for `(n, r)`, in the order of [`GlossyRenderer::fill_directions`].
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite vector.
@@ -340,7 +345,7 @@ where
     }
 
     /// `I(n, r) ≈ Σ wⱼ·Yⱼ` from the radiance in each direction of
-    /// [`GlossyRenderer::directions`], in order; O(N) (the interpolation is fused into the sum).
+    /// [`GlossyRenderer::fill_directions`], in order; O(N) (the interpolation is fused into the sum).
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite vector.
@@ -433,7 +438,7 @@ fn interval(normal: Vec3, mirror: Vec3) -> Result<(usize, [f32; 2]), Error> {
     const K2: f32 = ((GRID - 1) as f64 / A) as f32;
     let k = (Q / (c + (1.0 / A) as f32) - K2) as usize;
     let Some(&[p0, p1, p2, p3]) = INTERVALS.get(k) else {
-        return Err(Error::InvalidParameter);
+        return Err(Error::Internal);
     };
     Ok((k, [p0 * c - p1 * s, p2 * s - p3 * c]))
 }

@@ -204,10 +204,10 @@ impl<'a> MipPyramid<'a> {
     /// [`DEFAULT_RESOLUTION`]: finer is more accurate and slower (see the module docs).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] unless `0.5 ≤ resolution ≤ 64`.
+    /// [`Error::InvalidResolution`] unless `0.5 ≤ resolution ≤ 64`.
     pub fn with_resolution(mut self, resolution: f32) -> Result<Self, Error> {
         if !(0.5..=64.0).contains(&resolution) {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidResolution);
         }
         self.resolution = f64::from(resolution);
         Ok(self)

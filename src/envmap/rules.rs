@@ -117,7 +117,7 @@ impl Lobe {
             Kind::CosinePower { exponent: p } if (1..=MAX_PARAMETER).contains(&p) => {
                 Ok(Some(Lobe::Power(p)))
             }
-            _ => Err(Error::InvalidParameter),
+            _ => Err(Error::InvalidResponse),
         }
     }
 

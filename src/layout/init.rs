@@ -10,9 +10,13 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// - [`Error::InvalidSize`]: `K = 0`, `K > MAX_SENSORS`, or `K` not above the number of
     ///   mean terms (a constant or zonal mean needs two sensors);
     /// - [`Error::InvalidDirection`]: a zero or non-finite direction;
-    /// - [`Error::InvalidParameter`]: a response, noise scale (must be finite and positive),
-    ///   noise (finite, non-negative), spectrum (finite, non-negative) or profile out of
-    ///   range, or more than [`MAX_RESPONSES`] distinct responses.
+    /// - [`Error::InvalidResponse`]: a response out of range, or more than [`MAX_RESPONSES`]
+    ///   distinct responses;
+    /// - [`Error::InvalidNoise`]: a noise scale that is not finite and positive, or noise that
+    ///   is not finite and non-negative;
+    /// - [`Error::InvalidPrior`]: a spectrum (finite, non-negative, not all zero), variance
+    ///   scale, zonal covariance or mean profile out of range;
+    /// - [`Error::InvalidChannel`]: a radiance type of more than four channels.
     ///
     /// Readings that the prior makes linearly dependent are fine: two sensors with the same
     /// direction and response, or the antipodal pairs of cosine sensors (their differences
@@ -24,35 +28,35 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             _ => 1,
         };
         if T::CHANNELS > MAX_CHANNELS {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidChannel);
         }
         if K == 0 || K > MAX_SENSORS || K <= mean_terms {
             return Err(Error::InvalidSize);
         }
         if !non_negative(noise.absolute) || !non_negative(noise.relative) {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidNoise);
         }
         let spectrum = prior.spectrum;
         let mut any = false;
         let mut l = 0;
         while l < DEGREES {
             if !non_negative(spectrum[l]) {
-                return Err(Error::InvalidParameter);
+                return Err(Error::InvalidPrior);
             }
             any |= spectrum[l] > 0.0;
             l += 1;
         }
         if !any {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidPrior);
         }
         let variance_scale = prior.variance_scale;
         if !(variance_scale.is_finite() && variance_scale > 0.0) {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidPrior);
         }
         // The zonal covariances R (zero diagonal); with K₀, K₁, K₂ a PSD 3×3 matrix.
         let [z01, z12, z02] = prior.zonal;
         if !(z01.is_finite() && z12.is_finite() && z02.is_finite()) {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidPrior);
         }
         let zonal_r = [[0.0, z01, z02], [z01, 0.0, z12], [z02, z12, 0.0]];
         let (k0, k1, k2) = (spectrum[0] as f64, spectrum[1] as f64, spectrum[2] as f64);
@@ -62,7 +66,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             + z02 * (z01 * z12 - k1 * z02);
         let tolerance = 1e-6 * (k0 * k1 * k2 + k0 * k1 + 1e-30);
         if minor < -1e-6 * (k0 * k1 + 1e-30) || det < -tolerance || k0 * k2 - z02 * z02 < 0.0 {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidPrior);
         }
         let mut profile = [0.0f32; 9];
         match prior.mean {
@@ -73,13 +77,13 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 let mut l = 0;
                 while l < 9 {
                     if !p[l].is_finite() {
-                        return Err(Error::InvalidParameter);
+                        return Err(Error::InvalidPrior);
                     }
                     any |= p[l] != 0.0;
                     l += 1;
                 }
                 if !any {
-                    return Err(Error::InvalidParameter);
+                    return Err(Error::InvalidPrior);
                 }
                 profile = p;
             }
@@ -99,7 +103,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             };
             let w = sensor.noise_scale;
             if !(w.is_finite() && w > 0.0) {
-                return Err(Error::InvalidParameter);
+                return Err(Error::InvalidNoise);
             }
             whitening[i] = 1.0 / w;
             // A response seen before shares its class (and its gains, computed once).
@@ -114,7 +118,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             }
             if found == classes {
                 if classes >= MAX_RESPONSES {
-                    return Err(Error::InvalidParameter);
+                    return Err(Error::InvalidResponse);
                 }
                 distinct[classes] = match sensor.response.gains() {
                     Ok(g) => g,
@@ -244,7 +248,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             j += 1;
         }
         if !(top > 0.0 && top.is_finite()) {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidPrior);
         }
         // The model's least noise: eigenvalues floored at 10⁻⁶ of the largest, so that
         // dependent readings (duplicate sensors; antipodal cosine pairs, whose differences

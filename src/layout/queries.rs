@@ -173,7 +173,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
 
     /// `∫ L(x)·G(x) dx` for a spherical-Gaussian lobe `G` (sharpness at most 4096), with its
     /// exact posterior variance, O(K·DEGREES + K²). [`Error::InvalidSharpness`] for a
-    /// sharpness above 4096 (or not finite, or negative), [`Error::InvalidParameter`] for a
+    /// sharpness above 4096 (or not finite, or negative), [`Error::InvalidWeights`] for a
     /// non-finite amplitude, [`Error::InvalidDirection`] for a bad axis.
     ///
     /// ```
@@ -197,7 +197,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             return Err(Error::InvalidSharpness);
         }
         if !lobe.amplitude.is_finite() {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidWeights);
         }
         let mut q = [0.0f32; DEGREES];
         q[0] = 1.0;

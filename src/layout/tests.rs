@@ -371,8 +371,8 @@ fn a_combination_of_channels_is_fitted_with_its_own_noise() {
     let all = sum.irradiance(Vec3::Z).unwrap().variance;
     assert!(one > 0.0 && (all / one - 36.0).abs() < 36.0 * 1e-5, "{}", all / one);
     // Bad weights.
-    assert_eq!(probe.combined([f32::NAN, 1.0, 0.0]).unwrap_err(), Error::InvalidParameter);
-    assert_eq!(probe.combined([0.0; 3]).unwrap_err(), Error::InvalidParameter);
+    assert_eq!(probe.combined([f32::NAN, 1.0, 0.0]).unwrap_err(), Error::InvalidWeights);
+    assert_eq!(probe.combined([0.0; 3]).unwrap_err(), Error::InvalidWeights);
     let fresh = LayoutProbe::<5, [f32; 3]>::new(&sensors, prior, Noise::NONE).unwrap();
     assert!(!fresh.combined(w).unwrap().is_updated());
 }
@@ -606,16 +606,10 @@ fn zonal_covariances_agree_with_the_f64_reference() {
     );
     // Zonal covariances beyond the diagonal's reach: not positive semi-definite.
     let bad = Prior { spectrum, zonal: [1.5, 0.0, 0.0], mean: Mean::Zero, variance_scale: 1.0 };
-    assert_eq!(
-        LayoutProbe::<5>::new(&sensors, bad, Noise::NONE).err(),
-        Some(Error::InvalidParameter)
-    );
+    assert_eq!(LayoutProbe::<5>::new(&sensors, bad, Noise::NONE).err(), Some(Error::InvalidPrior));
     let nan =
         Prior { spectrum, zonal: [f32::NAN, 0.0, 0.0], mean: Mean::Zero, variance_scale: 1.0 };
-    assert_eq!(
-        LayoutProbe::<5>::new(&sensors, nan, Noise::NONE).err(),
-        Some(Error::InvalidParameter)
-    );
+    assert_eq!(LayoutProbe::<5>::new(&sensors, nan, Noise::NONE).err(), Some(Error::InvalidPrior));
 }
 
 /// The O(1) variance is the direction average of the exact one.
@@ -682,21 +676,18 @@ fn bad_input_is_an_error_and_keeps_the_state() {
     assert_eq!(LayoutProbe::<6>::new(&s, prior, Noise::NONE).err(), Some(Error::InvalidDirection));
     let mut s = cube();
     s[2].noise_scale = 0.0;
-    assert_eq!(LayoutProbe::<6>::new(&s, prior, Noise::NONE).err(), Some(Error::InvalidParameter));
+    assert_eq!(LayoutProbe::<6>::new(&s, prior, Noise::NONE).err(), Some(Error::InvalidNoise));
     let mut s = cube();
     s[2].response = Response::CosinePower(f32::NAN);
-    assert_eq!(LayoutProbe::<6>::new(&s, prior, Noise::NONE).err(), Some(Error::InvalidParameter));
+    assert_eq!(LayoutProbe::<6>::new(&s, prior, Noise::NONE).err(), Some(Error::InvalidResponse));
     let bad_noise = Noise { absolute: -1.0, relative: 0.0 };
-    assert_eq!(
-        LayoutProbe::<6>::new(&cube(), prior, bad_noise).err(),
-        Some(Error::InvalidParameter)
-    );
+    assert_eq!(LayoutProbe::<6>::new(&cube(), prior, bad_noise).err(), Some(Error::InvalidNoise));
     // Five distinct responses, one more than MAX_RESPONSES.
     let mut s = cube();
     for (i, sensor) in s.iter_mut().enumerate().take(5) {
         sensor.response = Response::CosinePower(1.0 + i as f32);
     }
-    assert_eq!(LayoutProbe::<6>::new(&s, prior, Noise::NONE).err(), Some(Error::InvalidParameter));
+    assert_eq!(LayoutProbe::<6>::new(&s, prior, Noise::NONE).err(), Some(Error::InvalidResponse));
     // More than MAX_SENSORS.
     let many = [Sensor::cosine(Vec3::Z); MAX_SENSORS + 1];
     assert_eq!(

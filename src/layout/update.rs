@@ -105,10 +105,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     }
 
     /// The same probe with hazard `h` (the prior probability of a change per update of
-    /// [`LayoutProbe::accumulate`]), `0 < h < 1`; [`Error::InvalidParameter`] otherwise.
+    /// [`LayoutProbe::accumulate`]), `0 < h < 1`; [`Error::InvalidHazard`] otherwise.
     pub fn with_hazard(mut self, h: f32) -> Result<Self, Error> {
         if !(h > 0.0 && h < 1.0) {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidHazard);
         }
         self.hazard = h;
         Ok(self)
@@ -125,7 +125,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     ///
     /// Later updates of the returned probe treat its readings as one channel, with noise
     /// `(σ·|w|, η)`. Before any update, the returned probe is not updated either.
-    /// [`Error::InvalidParameter`] for non-finite weights or weights all zero.
+    /// [`Error::InvalidWeights`] for non-finite weights or weights all zero.
     ///
     /// ```
     /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
@@ -146,7 +146,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let w: [f32; MAX_CHANNELS] =
             core::array::from_fn(|c| if c < channels { weights.channel(c) } else { 0.0 });
         if w.iter().any(|v| !v.is_finite()) || w.iter().all(|&v| v == 0.0) {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidWeights);
         }
         let norm = math::sqrt(w.iter().map(|v| v * v).sum::<f32>());
         let noise = Noise { absolute: self.noise.absolute * norm, relative: self.noise.relative };

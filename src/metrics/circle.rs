@@ -53,7 +53,7 @@ pub fn circle_coefficient(xs: &[f64], n: i64) -> Result<(f64, f64), Error> {
 /// (the midpoints of K equal cells), into `out` (`K = out.len()`).
 ///
 /// # Errors
-/// [`Error::LengthMismatch`] when `out` is empty; [`Error::InvalidParameter`] for a
+/// [`Error::LengthMismatch`] when `out` is empty; [`Error::NonFinite`] for a
 /// non-finite `a`.
 ///
 /// # Examples
@@ -71,7 +71,7 @@ pub fn uniform_circle_nodes(a: f64, out: &mut [f64]) -> Result<(), Error> {
         return Err(Error::LengthMismatch);
     }
     if !a.is_finite() {
-        return Err(Error::InvalidParameter);
+        return Err(Error::NonFinite);
     }
     let k = out.len() as f64;
     let h = 0.5 * (k - 1.0);
@@ -99,7 +99,7 @@ pub fn uniform_circle_nodes(a: f64, out: &mut [f64]) -> Result<(), Error> {
 /// caller's question: a relative error δ in `a` moves the phase by `|n·a|·δ/2`.
 ///
 /// # Errors
-/// [`Error::InvalidSize`] when `k = 0`; [`Error::InvalidParameter`] for a non-finite `a`.
+/// [`Error::InvalidSize`] when `k = 0`; [`Error::NonFinite`] for a non-finite `a`.
 ///
 /// # Examples
 /// ```
@@ -122,7 +122,7 @@ pub fn uniform_circle_coefficient(n: i64, k: usize, a: f64) -> Result<f64, Error
         return Err(Error::InvalidSize);
     }
     if !a.is_finite() {
-        return Err(Error::InvalidParameter);
+        return Err(Error::NonFinite);
     }
     if 0.5 * (n as f64).abs() * a.abs() >= EXACT_REDUCTION_FROM {
         // c is even in θ: the phase's magnitude is enough.
@@ -245,7 +245,7 @@ fn dirichlet_reduced(n: u64, k: usize, a: f64) -> f64 {
 /// strength `K − 1`. O(K·n_max).
 ///
 /// # Errors
-/// [`Error::LengthMismatch`] when `xs` is empty; [`Error::InvalidParameter`] for a negative or
+/// [`Error::LengthMismatch`] when `xs` is empty; [`Error::InvalidTolerance`] for a negative or
 /// NaN `tol`.
 ///
 /// # Examples
@@ -260,7 +260,7 @@ fn dirichlet_reduced(n: u64, k: usize, a: f64) -> f64 {
 /// ```
 pub fn circle_strength(xs: &[f64], tol: f64, n_max: usize) -> Result<usize, Error> {
     if tol.is_nan() || tol < 0.0 {
-        return Err(Error::InvalidParameter);
+        return Err(Error::InvalidTolerance);
     }
     for n in 1..=n_max {
         let (re, im) = circle_coefficient(xs, n as i64)?;

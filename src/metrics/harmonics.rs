@@ -232,7 +232,7 @@ pub enum SobolevWeights {
 /// error: equal weights integrate constants exactly). `Exact` costs O(l).
 ///
 /// # Errors
-/// [`Error::InvalidParameter`] unless `1 < s < 2`.
+/// [`Error::InvalidSmoothness`] unless `1 < s < 2`.
 pub fn sobolev_weight(l: usize, s: f64, weights: SobolevWeights) -> Result<f64, Error> {
     let mut w = Weights::new(s, weights)?;
     let mut a = 0.0;
@@ -254,7 +254,7 @@ struct Weights {
 impl Weights {
     fn new(s: f64, kind: SobolevWeights) -> Result<Self, Error> {
         if !(s > 1.0 && s < 2.0) {
-            return Err(Error::InvalidParameter);
+            return Err(Error::InvalidSmoothness);
         }
         let c = 4.0 * PI * math::pow64(2.0, 2.0 * s - 2.0) * (s - 1.0);
         let k_s = c * math::gamma64(s) / math::gamma64(2.0 - s);
@@ -289,12 +289,12 @@ impl Weights {
 /// (possibly perfect, 0) score.
 ///
 /// # Errors
-/// [`Error::InvalidParameter`] unless `1 < s < 2`, or when an entry is NaN, infinite or
-/// negative.
+/// [`Error::InvalidSmoothness`] unless `1 < s < 2`; [`Error::InvalidSpectrum`] when an entry
+/// is NaN, infinite or negative.
 pub fn wce_from_spectrum(spectrum: &[f64], s: f64, weights: SobolevWeights) -> Result<f64, Error> {
     let mut w = Weights::new(s, weights)?;
     if !spectrum.iter().all(|&c| c.is_finite() && c >= 0.0) {
-        return Err(Error::InvalidParameter);
+        return Err(Error::InvalidSpectrum);
     }
     let mut sum = 0.0;
     for (l, &c) in spectrum.iter().enumerate().skip(1) {
@@ -306,7 +306,7 @@ pub fn wce_from_spectrum(spectrum: &[f64], s: f64, weights: SobolevWeights) -> R
 /// [`spectrum`] of `points` into `spectrum`, then [`wce_from_spectrum`]. O(N²·L).
 ///
 /// # Errors
-/// [`Error::InvalidParameter`] unless `1 < s < 2`; otherwise as [`spectrum`].
+/// [`Error::InvalidSmoothness`] unless `1 < s < 2`; otherwise as [`spectrum`].
 pub fn wce_spectral(
     points: &[Vec3],
     s: f64,
@@ -329,14 +329,14 @@ pub fn wce_spectral(
 /// `spectrum_out.len() − 1` is only a lower bound.
 ///
 /// # Errors
-/// [`Error::InvalidParameter`] for a negative or NaN `tol`; otherwise as [`spectrum`].
+/// [`Error::InvalidTolerance`] for a negative or NaN `tol`; otherwise as [`spectrum`].
 pub fn design_strength(
     points: &[Vec3],
     tol: f64,
     spectrum_out: &mut [f64],
 ) -> Result<usize, Error> {
     if tol.is_nan() || tol < 0.0 {
-        return Err(Error::InvalidParameter);
+        return Err(Error::InvalidTolerance);
     }
     spectrum(points, spectrum_out)?;
     let first_bad = spectrum_out.iter().skip(1).position(|&c| c.is_nan() || c > tol);

@@ -14,6 +14,7 @@ use super::{sealed, Estimate, Probe, ProbeTables};
 use crate::bmc::Size;
 use crate::footprint::Footprint;
 use crate::radiance::{from_channels, Radiance};
+use crate::Error;
 
 impl<const N: usize, T: Radiance, F: Footprint, const M: usize> Probe<N, T, F, M>
 where
@@ -47,17 +48,21 @@ where
     }
 
     /// The REML covariance `S_ab = r_aᵀQ⁻¹r_b/(N − 1)` of channels `a` and `b` of the last
-    /// update's samples (`r = Y − β1` per channel, the selected member's `Q`), O(N²); 0 for a
-    /// channel index of `T::CHANNELS` or more, and before the first update. After
+    /// update's samples (`r = Y − β1` per channel, the selected member's `Q`), O(N²); 0 before
+    /// the first update. After
     /// [`Probe::update_masked`], that of the `n` valid samples: `r_VᵀQ_VV⁻¹r_V/(n − 1)`.
     ///
-    /// `S_cc` is [`Probe::signal_variance`] of channel `c` (σ̂_f²), bit for bit. The posterior
+    /// `S_cc` is [`Probe::signal_variance`] of channel `c` (σ̂_f²), bit for bit, and
+    /// `S_ab = S_ba`. The posterior
     /// covariance of channels `a` and `b` of an [`Estimate`] is
     /// `estimate.unit_variance × S_ab`. Computed relative to the samples' spread: `±∞` only
     /// where `S_ab` itself exceeds `f32::MAX`.
     ///
+    /// # Errors
+    /// [`Error::InvalidChannel`] for a channel index of `T::CHANNELS` or more.
+    ///
     /// ```
-    /// use sphere_quadrature::{probe::Probe, Vec3};
+    /// use sphere_quadrature::{probe::Probe, Error, Vec3};
     ///
     /// let mut probe = Probe::<32, [f32; 3]>::new();
     /// // Green is twice red plus a constant: perfectly correlated, S_gg = 4·S_rr.
@@ -66,37 +71,40 @@ where
     ///     [r, 2.0 * r + 1.0, 0.3 - 0.1 * d.x]
     /// });
     /// probe.update(&samples)?;
-    /// let (rr, rg, gg) =
-    ///     (probe.channel_covariance(0, 0), probe.channel_covariance(0, 1), probe.channel_covariance(1, 1));
+    /// let rr = probe.signal_covariance(0, 0)?;
+    /// let (rg, gg) = (probe.signal_covariance(0, 1)?, probe.signal_covariance(1, 1)?);
     /// assert!((rg / rr - 2.0).abs() < 1e-3 && (gg / rr - 4.0).abs() < 1e-3);
     /// assert_eq!(rr, probe.signal_variance()[0]);
-    /// assert_eq!(probe.channel_covariance(0, 3), 0.0);
+    /// // An RGB probe has no fourth channel.
+    /// assert_eq!(probe.signal_covariance(0, 3), Err(Error::InvalidChannel));
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
-    #[must_use]
-    pub fn channel_covariance(&self, a: usize, b: usize) -> f32 {
+    pub fn signal_covariance(&self, a: usize, b: usize) -> Result<f32, Error> {
         if a >= T::CHANNELS || b >= T::CHANNELS {
-            return 0.0;
+            return Err(Error::InvalidChannel);
         }
-        let Ok(f) = self.member_in_use() else { return 0.0 };
+        let Ok(f) = self.member_in_use() else { return Ok(0.0) };
         let pair = self.alpha.map(|x| [x.channel(a), x.channel(b)]);
         let w = Self::factor_products(f, &pair);
         let sum = w.iter().fold(0.0f32, |acc, wi| acc + wi[0] * wi[1]);
         let normalised = sum * (0.5 / (self.valid_count() as f32 - 1.0));
         let shift = scale::exponent(self.scale.channel(a)) + scale::exponent(self.scale.channel(b));
-        libm::scalbnf(normalised, shift)
+        Ok(libm::scalbnf(normalised, shift))
     }
 
     /// `wᵀSw`, the REML variance of the channel combination `Σ_c w_c·Y_c` (for example
-    /// luminance, `w = [0.2126, 0.7152, 0.0722]`), with `S` of [`Probe::channel_covariance`];
+    /// luminance, `w = [0.2126, 0.7152, 0.0722]`), with `S` of [`Probe::signal_covariance`];
     /// O(N²) in one pass over `α_w = Σ_c w_c·α_c`. The posterior variance of the combination
     /// of an estimate's channels is `estimate.unit_variance` times this
     /// ([`Probe::combine`]). Computed relative to the samples' spread: `+∞` only where the
-    /// result exceeds `f32::MAX`; NaN for a NaN weight.
-    #[must_use]
-    pub fn signal_variance_of(&self, weights: T) -> f32 {
+    /// result exceeds `f32::MAX`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidWeights`] for a NaN or infinite weight.
+    pub fn signal_variance_of(&self, weights: T) -> Result<f32, Error> {
+        check_weights(weights)?;
         let (normalised, shift) = self.combination_parts(weights);
-        libm::scalbnf(normalised, shift)
+        Ok(libm::scalbnf(normalised, shift))
     }
 
     /// `(v, k)` with `wᵀSw = v·2^k` and `v` a normal number or 0 (or NaN for NaN weights).
@@ -135,6 +143,9 @@ where
     /// multiply each estimate's `unit_variance` by it (`combine` only avoids the overflow of
     /// that product in its intermediates).
     ///
+    /// # Errors
+    /// [`Error::InvalidWeights`] for a NaN or infinite weight.
+    ///
     /// ```
     /// use sphere_quadrature::{probe::Probe, Vec3};
     ///
@@ -143,18 +154,18 @@ where
     /// probe.update(&samples)?;
     /// let luminance = [0.2126, 0.7152, 0.0722];
     /// let e = probe.irradiance(Vec3::Z)?;
-    /// let y = probe.combine(&e, luminance);
+    /// let y = probe.combine(&e, luminance)?;
     /// assert!((y.value - (0.2126 * e.value[0] + 0.7152 * e.value[1] + 0.0722 * e.value[2])).abs() < 1e-5);
     /// // Once per update, then one multiplication per query:
-    /// let s_y = probe.signal_variance_of(luminance);
+    /// let s_y = probe.signal_variance_of(luminance)?;
     /// assert!((y.variance - e.unit_variance * s_y).abs() <= 1e-6 * y.variance);
     /// // A single channel's weights give that channel's variance.
-    /// let red = probe.combine(&e, [1.0, 0.0, 0.0]);
+    /// let red = probe.combine(&e, [1.0, 0.0, 0.0])?;
     /// assert!((red.variance - e.variance[0]).abs() <= 1e-6 * e.variance[0]);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
-    #[must_use]
-    pub fn combine(&self, estimate: &Estimate<T>, weights: T) -> Estimate<f32> {
+    pub fn combine(&self, estimate: &Estimate<T>, weights: T) -> Result<Estimate<f32>, Error> {
+        check_weights(weights)?;
         let value = (0..T::CHANNELS).fold(0.0f64, |acc, c| {
             acc + f64::from(weights.channel(c)) * f64::from(estimate.value.channel(c))
         }) as f32;
@@ -166,7 +177,16 @@ where
             let (m, e) = libm::frexpf(unit);
             libm::scalbnf(m * normalised, shift + e)
         };
-        Estimate { value, variance, unit_variance: unit }
+        Ok(Estimate { value, variance, unit_variance: unit })
+    }
+}
+
+/// [`Error::InvalidWeights`] unless every weight is finite.
+fn check_weights<T: Radiance>(weights: T) -> Result<(), Error> {
+    if (0..T::CHANNELS).all(|c| weights.channel(c).is_finite()) {
+        Ok(())
+    } else {
+        Err(Error::InvalidWeights)
     }
 }
 

@@ -138,8 +138,8 @@ where
     /// Takes new samples of which some are missing (`valid[i] == false`: a ray not traced, a
     /// sensor that read nothing) and fits the valid ones exactly: `β`, `α`, `σ̂_f²`, the
     /// likelihood and the member selection are those of the `N − m` valid samples alone, and
-    /// so is every query's value, [`Probe::posterior_variance`], [`Probe::glossy_variance`],
-    /// [`Probe::phong_variance`], [`Probe::channel_covariance`] and what builds on it
+    /// so is every query's value, [`Probe::irradiance_variance`], [`Probe::glossy_variance`],
+    /// [`Probe::phong_variance`], [`Probe::signal_covariance`] and what builds on it
     /// ([`Probe::signal_variance_of`], [`Probe::combine`]), and the SH export
     /// ([`Probe::radiance_sh`], [`Probe::radiance_sh_variance`]). The O(1) variances of
     /// [`Probe::irradiance`], [`Probe::glossy`] and [`Probe::phong`] are σ̂_f² of the valid
@@ -173,7 +173,7 @@ where
     /// let e = probe.irradiance(Vec3::Z)?;
     /// assert!((e.value - 4.18879).abs() < 0.03); // π·(1 + 0.5·2/3)
     /// // The exact variance is that of the 60 valid samples: larger than with all 64.
-    /// let with_holes = probe.posterior_variance(Vec3::Z)?;
+    /// let with_holes = probe.irradiance_variance(Vec3::Z)?;
     /// probe.update(&probe.directions().map(|d| 1.0 + 0.5 * d.z))?;
     /// assert!(probe.missing().is_empty());
     /// // 17 missing is beyond the capacity: an error, and the probe keeps its data.
@@ -200,11 +200,11 @@ where
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_masked_update_M8_m0 N=64`: 90 920 instructions (none missing)
     /// - `m4:probe_masked_update_M8_m8 N=64`: 297 460 instructions (8 missing)
-    /// - `m4:probe_masked_update_M16_m16 N=64`: 573 860 instructions (16 missing)
+    /// - `m4:probe_masked_update_M16_m16 N=64`: 573 820 instructions (16 missing)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_masked_update N=64`: 45 592 bytes of code and 24 096 bytes of tables
+    /// - `flash:probe_masked_update N=64`: 45 608 bytes of code and 24 096 bytes of tables
     ///   (M = 8, on top of its `Probe::new`)
     ///
     /// `M8`, `M16` in the names: the probe's capacity `M` for missing samples.
@@ -218,7 +218,7 @@ where
     /// [`Probe::update_masked`] with a chosen [`Selection`].
     ///
     /// # Errors
-    /// As [`Probe::update_masked`]; [`Error::InvalidParameter`] for a member index outside
+    /// As [`Probe::update_masked`]; [`Error::InvalidMember`] for a member index outside
     /// the family. Either way the probe keeps its previous data.
     ///
     /// # Cost
@@ -250,7 +250,7 @@ where
         let range = match selection {
             Selection::MaxLikelihood => 0..Self::FAMILY.len(),
             Selection::Member(k) if k < Self::FAMILY.len() => k..k + 1,
-            Selection::Member(_) => return Err(Error::InvalidParameter),
+            Selection::Member(_) => return Err(Error::InvalidMember),
         };
         let h = Self::HALF;
         // The missing samples, their pairs, and the distinct pairs (a pair with both samples

@@ -15,16 +15,16 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_irradiance N=16`: 836 instructions
-    /// - `m4:probe_irradiance N=32`: 1 562 instructions
+    /// - `m4:probe_irradiance N=16`: 835 instructions
+    /// - `m4:probe_irradiance N=32`: 1 561 instructions
     /// - `m4:probe_irradiance N=64`: 2 916 instructions
     /// - `m4:probe_irradiance N=256`: 11 640 instructions
-    /// - `m4:gaussian8_probe_irradiance N=64`: 2 953 instructions (`Gaussian<8>` footprint)
-    /// - `m4:photodiode_probe_irradiance N=16`: 840 instructions (`CosinePower<1>`)
+    /// - `m4:gaussian8_probe_irradiance N=64`: 2 956 instructions (`Gaussian<8>` footprint)
+    /// - `m4:photodiode_probe_irradiance N=16`: 838 instructions (`CosinePower<1>`)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_irradiance N=64`: 1 772 bytes of code and 24 096 bytes of tables
+    /// - `flash:probe_irradiance N=64`: 1 972 bytes of code and 24 352 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// # Examples
@@ -121,9 +121,9 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_masked_posterior_variance_M16_m0 N=64`: 261 690 instructions (none missing)
-    /// - `m4:probe_masked_posterior_variance_M8_m8 N=64`: 518 420 instructions (8 missing)
-    /// - `m4:probe_masked_posterior_variance_M16_m16 N=64`: 547 330 instructions (16 missing)
+    /// - `m4:probe_masked_irradiance_variance_M16_m0 N=64`: 261 690 instructions (none missing)
+    /// - `m4:probe_masked_irradiance_variance_M8_m8 N=64`: 518 420 instructions (8 missing)
+    /// - `m4:probe_masked_irradiance_variance_M16_m16 N=64`: 547 330 instructions (16 missing)
     ///
     /// `M8`, `M16` in the names: the probe's capacity `M` for missing samples.
     ///
@@ -134,14 +134,14 @@ where
     /// let mut probe = Probe::<32>::new();
     /// probe.update(&probe.directions().map(|d| 1.0 + d.x * d.z))?;
     /// // The exact variance at one normal, and the O(1) direction-averaged one of `irradiance`.
-    /// let exact = probe.posterior_variance(Vec3::Z)?;
+    /// let exact = probe.irradiance_variance(Vec3::Z)?;
     /// let averaged = probe.irradiance(Vec3::Z)?.variance;
     /// assert!(exact >= 0.0 && averaged >= 0.0);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    pub fn posterior_variance(&self, normal: Vec3) -> Result<T, Error> {
+    pub fn irradiance_variance(&self, normal: Vec3) -> Result<T, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let f = self.member_in_use()?;
         let zeta: [f64; N] = core::array::from_fn(|i| match self.directions.get(i) {
@@ -184,21 +184,21 @@ where
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite axis; [`Error::InvalidSharpness`]
     /// for a sharpness that is negative, not finite or above [`MAX_GLOSSY_SHARPNESS`];
-    /// [`Error::InvalidParameter`] for a non-finite amplitude.
+    /// [`Error::InvalidWeights`] for a non-finite amplitude.
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_glossy N=16`: 2 690 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=32`: 4 906 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=64`: 9 338 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=256`: 38 175 instructions (SG lobe of Phong e = 20)
-    /// - `m4:gaussian8_probe_glossy N=64`: 9 453 instructions (`Gaussian<8>`)
+    /// - `m4:probe_glossy N=16`: 2 706 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=32`: 4 904 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=64`: 9 342 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=256`: 38 174 instructions (SG lobe of Phong e = 20)
+    /// - `m4:gaussian8_probe_glossy N=64`: 9 335 instructions (`Gaussian<8>`)
     /// - `m4:photodiode_probe_glossy N=16`: 11 547 instructions (photodiodes)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_glossy N=64`: 3 768 bytes of code and 24 104 bytes of tables
+    /// - `flash:probe_glossy N=64`: 4 008 bytes of code and 24 360 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// # Examples
@@ -273,14 +273,14 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_glossy_variance N=16`: 773 834 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=32`: 894 020 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=16`: 773 836 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=32`: 894 024 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=64`: 1 217 180 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=256`: 5 494 600 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=256`: 5 494 680 instructions (soft f64 quadrature)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_glossy_variance N=64`: 19 448 bytes of code and 24 112 bytes of tables
+    /// - `flash:probe_glossy_variance N=64`: 19 620 bytes of code and 24 368 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
@@ -359,14 +359,14 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_phong N=16`: 9 457 instructions (e = 20)
+    /// - `m4:probe_phong N=16`: 9 440 instructions (e = 20)
     /// - `m4:probe_phong N=32`: 13 449 instructions (e = 20)
-    /// - `m4:probe_phong N=64`: 21 314 instructions (e = 20)
+    /// - `m4:probe_phong N=64`: 21 389 instructions (e = 20)
     /// - `m4:probe_phong N=256`: 66 520 instructions (e = 20)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_phong N=64`: 9 468 bytes of code and 24 096 bytes of tables
+    /// - `flash:probe_phong N=64`: 9 712 bytes of code and 24 352 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// # Examples
@@ -395,7 +395,7 @@ where
             Kind::CosinePower { exponent: p } => cosine_series_f32(f.lambda, p, &mut h),
             _ => sg_series_f32(f.lambda, &mut h),
         };
-        let Some(h) = h.get_mut(..len) else { return Err(Error::InvalidParameter) };
+        let Some(h) = h.get_mut(..len) else { return Err(Error::Internal) };
         apply_cosine_power_gains(exponent, h);
         let rec = legendre_recurrence(len);
         let mut acc = T::ZERO;
@@ -422,13 +422,13 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_phong_variance N=16`: 422 712 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=32`: 778 064 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=32`: 778 068 instructions (e = 20)
     /// - `m4:probe_phong_variance N=64`: 1 568 670 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=256`: 8 657 040 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=256`: 8 657 080 instructions (e = 20)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_phong_variance N=64`: 20 892 bytes of code and 24 096 bytes of tables
+    /// - `flash:probe_phong_variance N=64`: 21 112 bytes of code and 24 352 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
@@ -442,14 +442,14 @@ where
         let (lambda, e) = (f64::from(f.lambda), f64::from(exponent));
         let mut k = [0.0f64; MAX_SERIES];
         let len = kernel_coefficients(F::KIND, lambda, &mut k);
-        let Some(k) = k.get_mut(..len) else { return Err(Error::InvalidParameter) };
+        let Some(k) = k.get_mut(..len) else { return Err(Error::Internal) };
         // Cross-covariance coefficients: SG(λ or ν) for point and Gaussian samples, K·g for
         // the cosine power; then the lobe's gains.
         let mut h = [0.0f64; MAX_SERIES];
         let cross = match F::KIND {
             Kind::Gaussian { .. } => {
                 let n = (16 + (9.1 * crate::math::sqrt64(lambda)) as usize).min(MAX_SERIES);
-                let Some(h) = h.get_mut(..n) else { return Err(Error::InvalidParameter) };
+                let Some(h) = h.get_mut(..n) else { return Err(Error::Internal) };
                 bessel_ratios(lambda, h);
                 let full = glossy_full_integral(lambda);
                 for (l, c) in h.iter_mut().enumerate() {
@@ -473,7 +473,7 @@ where
                 len
             }
         };
-        let Some(h) = h.get_mut(..cross) else { return Err(Error::InvalidParameter) };
+        let Some(h) = h.get_mut(..cross) else { return Err(Error::Internal) };
         apply_cosine_power_gains(e, h);
         let zeta: [f64; N] = core::array::from_fn(|i| match self.directions.get(i) {
             Some(x) => legendre_sum(h, f64::from(x.dot(r))),
@@ -523,7 +523,7 @@ where
     }
 
     pub(super) fn member_in_use(&self) -> Result<&'static sealed::Baked, Error> {
-        Self::FAMILY.get(self.selected).ok_or(Error::InvalidParameter)
+        Self::FAMILY.get(self.selected).ok_or(Error::Internal)
     }
 
     /// `V̄ − ζᵀQ⁻¹ζ + (I − 1ᵀQ⁻¹ζ)²/1ᵀQ⁻¹1` for `ζᵢ = ∫ k(xᵢ, x)·φ(x) dx`, `I = ∫ φ` and
@@ -582,7 +582,7 @@ where
     }
 
     /// `σ̂_f² = rᵀQ⁻¹r/(N − 1)` of the last update, per channel: the diagonal of
-    /// [`Probe::channel_covariance`]. Stored relative to the samples' spread, so it is exact
+    /// [`Probe::signal_covariance`]. Stored relative to the samples' spread, so it is exact
     /// at any radiance scale; `+∞` where `σ̂_f²` itself exceeds `f32::MAX` (samples spread
     /// wider than about 10¹⁹), 0 or subnormal below the normal range (spread under 10⁻¹⁹).
     #[must_use]
@@ -633,7 +633,7 @@ pub(super) fn check_lobe(lobe: &SphericalGaussian) -> Result<(Vec3, f32, f32), E
         return Err(Error::InvalidSharpness);
     }
     if !lobe.amplitude.is_finite() {
-        return Err(Error::InvalidParameter);
+        return Err(Error::InvalidWeights);
     }
     Ok((r, mu, lobe.amplitude))
 }

@@ -58,14 +58,14 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_radiance_sh N=16`: 1 316 instructions
+    /// - `m4:probe_radiance_sh N=16`: 1 315 instructions
     /// - `m4:probe_radiance_sh N=32`: 1 678 instructions
-    /// - `m4:probe_radiance_sh N=64`: 2 399 instructions
+    /// - `m4:probe_radiance_sh N=64`: 2 398 instructions
     /// - `m4:probe_radiance_sh N=256`: 6 848 instructions
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_radiance_sh N=64`: 5 564 bytes of code and 24 096 bytes of tables
+    /// - `flash:probe_radiance_sh N=64`: 5 560 bytes of code and 24 096 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
@@ -102,24 +102,24 @@ where
     /// Williams 2006, eq. 2.42) with `ζᵢ = k̂_l·Y_lm(xᵢ)`, the prior variance `V_l = K_l` (the
     /// kernel's Funk–Hecke coefficient on the radiance; `k̂_l` for point samples) and
     /// `I_lm = ∫ Y_lm = √(4π)·δ_l0` (the constant mean's share), O(9·N²/2) in f64 as
-    /// [`Probe::posterior_variance`]; `+∞` where a variance exceeds `f32::MAX`.
+    /// [`Probe::irradiance_variance`]; `+∞` where a variance exceeds `f32::MAX`.
     ///
     /// Every variance is multiplied by the member's irradiance calibration factor
     /// (`Member::calibration[0]`, module docs "Calibration"), the factor
-    /// [`Probe::irradiance`] and [`Probe::posterior_variance`] use: the coefficients are
+    /// [`Probe::irradiance`] and [`Probe::irradiance_variance`] use: the coefficients are
     /// diffuse-scale functionals of the same posterior.
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_radiance_sh_variance N=16`: 353 270 instructions (soft f64)
-    /// - `m4:probe_radiance_sh_variance N=32`: 934 784 instructions (soft f64)
+    /// - `m4:probe_radiance_sh_variance N=32`: 934 788 instructions (soft f64)
     /// - `m4:probe_radiance_sh_variance N=64`: 2 787 450 instructions (soft f64)
-    /// - `m4:probe_radiance_sh_variance N=256`: 33 639 720 instructions (soft f64)
+    /// - `m4:probe_radiance_sh_variance N=256`: 33 639 680 instructions (soft f64)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_radiance_sh_variance N=64`: 14 496 bytes of code and 24 208 bytes of tables
+    /// - `flash:probe_radiance_sh_variance N=64`: 14 500 bytes of code and 24 208 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4

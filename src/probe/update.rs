@@ -18,16 +18,16 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_update N=16`: 2 716 instructions (four-member selection)
-    /// - `m4:probe_update N=32`: 33 964 instructions (four-member selection)
-    /// - `m4:probe_update N=64`: 88 800 instructions (four-member selection)
+    /// - `m4:probe_update N=32`: 33 968 instructions (four-member selection)
+    /// - `m4:probe_update N=64`: 88 790 instructions (four-member selection)
     /// - `m4:probe_update N=256`: 790 400 instructions (four-member selection)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_update N=64`: 18 388 bytes of code and 24 096 bytes of tables
+    /// - `flash:probe_update N=64`: 18 304 bytes of code and 24 096 bytes of tables
     ///   (on top of `Probe::new`)
     ///
-    /// Flash: the size's baked tables, [`Probe::table_bytes`].
+    /// Flash: the size's baked tables, [`Probe::TABLE_BYTES`].
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
     /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
@@ -38,20 +38,20 @@ where
     /// [`Probe::update`] with a chosen [`Selection`].
     ///
     /// # Errors
-    /// [`Error::InvalidRadiance`] for a non-finite sample; [`Error::InvalidParameter`] for a
+    /// [`Error::InvalidRadiance`] for a non-finite sample; [`Error::InvalidMember`] for a
     /// member index outside the family. Either way the probe keeps its previous data.
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_update_one_member N=16`: 1 274 instructions (one member)
-    /// - `m4:probe_update_one_member N=32`: 11 872 instructions (one member)
+    /// - `m4:probe_update_one_member N=32`: 11 876 instructions (one member)
     /// - `m4:probe_update_one_member N=64`: 31 080 instructions (one member)
-    /// - `m4:probe_update_one_member N=256`: 274 880 instructions (one member)
+    /// - `m4:probe_update_one_member N=256`: 274 800 instructions (one member)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_update_one_member N=64`: 18 188 bytes of code and 24 096 bytes of tables
+    /// - `flash:probe_update_one_member N=64`: 18 144 bytes of code and 24 096 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
@@ -63,7 +63,7 @@ where
         let range = match selection {
             Selection::MaxLikelihood => 0..Self::FAMILY.len(),
             Selection::Member(k) if k < Self::FAMILY.len() => k..k + 1,
-            Selection::Member(_) => return Err(Error::InvalidParameter),
+            Selection::Member(_) => return Err(Error::InvalidMember),
         };
         // Work with (Y − c·1)/s, c = Y₀: α and ℓ are unchanged (β shifts by c), but the
         // ill-conditioned products then see only the samples' spread, not their mean, and a
@@ -118,7 +118,7 @@ where
         self.scale = spread;
         let valid = self.valid_count();
         // σ̂_f²/s² = α′ᵀQα′/(n − 1), the REML channel variance, computed as
-        // [`Probe::channel_covariance`] does (so that the two agree bit for bit).
+        // [`Probe::signal_covariance`] does (so that the two agree bit for bit).
         self.signal_variance = Self::channel_quadratic(f, &self.alpha, valid);
         self.selected = k;
         // ℓ of the samples themselves: rᵀQ⁻¹r = s²·r′ᵀQ⁻¹r′ per channel.

@@ -173,7 +173,7 @@ fn directions_are_the_hemisphere_sf_set_of_the_baked_lobe() {
             other => panic!("N = {N}: unexpected lobe {other:?}"),
         };
         let mut d = [Vec3::Z; N];
-        Renderer::<N>::new().directions(Vec3::Z, 0, &mut d).unwrap();
+        Renderer::<N>::new().fill_directions(Vec3::Z, 0, &mut d).unwrap();
         for (j, d) in d.iter().enumerate() {
             let r = expected(j as u64, N as u64, cosine);
             let e = reference::vec::norm(reference::vec::sub(v64(*d), r));
@@ -187,7 +187,7 @@ fn directions_are_the_hemisphere_sf_set_of_the_baked_lobe() {
     for _ in 0..20 {
         let n = rng.uniform_sphere();
         let mut d = [Vec3::Z; 64];
-        r.directions(v32(n), rng.next_u64(), &mut d).unwrap();
+        r.fill_directions(v32(n), rng.next_u64(), &mut d).unwrap();
         for (j, d) in d.iter().enumerate() {
             let want = expected(j as u64, 64, cosine)[2];
             assert!((reference::vec::dot(v64(*d), n) - want).abs() < 1e-6);
@@ -297,7 +297,7 @@ fn bad_input_is_refused_and_nan_propagates() {
         Vec3::new(f32::NAN, 0.0, 1.0),
         Vec3::new(f32::INFINITY, 0.0, 0.0),
     ] {
-        assert_eq!(r.directions(n, 0, &mut d), Err(Error::InvalidDirection));
+        assert_eq!(r.fill_directions(n, 0, &mut d), Err(Error::InvalidDirection));
         assert_eq!(r.irradiance(n, 0, |_| 1.0f32), Err(Error::InvalidDirection));
     }
     let mut s = [1.0f32; 32];

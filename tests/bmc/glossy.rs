@@ -181,7 +181,7 @@ where
             }
             // Directions: the generator's local set in the frame (t₁ towards n).
             let mut dirs = [Vec3::Z; N];
-            r.directions(v32(n), v32(mirror), &mut dirs).unwrap();
+            r.fill_directions(v32(n), v32(mirror), &mut dirs).unwrap();
             let t1 = if theta > 1e-3 { t } else { [0.0; 3] };
             for (d, x) in dirs.iter().zip(sys.directions()) {
                 if theta > 1e-3 {
@@ -240,7 +240,7 @@ fn constants_and_bad_input() {
     let ip = lobe_quadrature(50.0, theta, None, |_| 1.0);
     assert!((f64::from(e) - ip).abs() < 2e-3 * ip, "{e} vs {ip}");
     let mut dirs = [Vec3::Z; 64];
-    assert_eq!(r.directions(Vec3::ZERO, mirror, &mut dirs), Err(Error::InvalidDirection));
+    assert_eq!(r.fill_directions(Vec3::ZERO, mirror, &mut dirs), Err(Error::InvalidDirection));
     assert_eq!(
         r.estimate(n, Vec3::new(f32::NAN, 0.0, 1.0), &[1.0f32; 64]),
         Err(Error::InvalidDirection)
@@ -311,7 +311,7 @@ fn bmc_beats_qmc_on_smooth_light() {
                 light.value([f64::from(w.x), f64::from(w.y), f64::from(w.z)])
             });
             let mut dirs = [Vec3::Z; N];
-            r.directions(nv, mirror, &mut dirs).unwrap();
+            r.fill_directions(nv, mirror, &mut dirs).unwrap();
             let y: [f32; N] =
                 dirs.map(|d| light.value([f64::from(d.x), f64::from(d.y), f64::from(d.z)]) as f32);
             let bmc = f64::from(r.estimate(nv, mirror, &y).unwrap());

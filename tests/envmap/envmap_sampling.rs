@@ -376,7 +376,7 @@ fn bad_input_is_refused() {
     let mut buf = vec![[0.0; 3]; need + 5]; // longer is fine
     let pyramid = MipPyramid::new(&m, &mut buf).unwrap();
     for r in [0.0, 0.49, 64.5, f32::NAN, f32::INFINITY] {
-        assert_eq!(pyramid.with_resolution(r).err(), Some(Error::InvalidParameter));
+        assert_eq!(pyramid.with_resolution(r).err(), Some(Error::InvalidResolution));
     }
     assert!(pyramid.with_resolution(DEFAULT_RESOLUTION).is_ok());
     // Directions.
@@ -392,8 +392,8 @@ fn bad_input_is_refused() {
     }
     // Parameters.
     for kind in [gaussian(0), gaussian(MAX_PARAMETER + 1), power(0), power(u32::MAX)] {
-        assert_eq!(m.footprint_sample(Vec3::Z, kind), Err(Error::InvalidParameter));
-        assert_eq!(pyramid.footprint_sample(Vec3::Z, kind), Err(Error::InvalidParameter));
+        assert_eq!(m.footprint_sample(Vec3::Z, kind), Err(Error::InvalidResponse));
+        assert_eq!(pyramid.footprint_sample(Vec3::Z, kind), Err(Error::InvalidResponse));
     }
     // Batches: lengths, and nothing written on error.
     let dirs = [Vec3::Z, Vec3::ZERO];
@@ -406,7 +406,7 @@ fn bad_input_is_refused() {
     );
     assert_eq!(
         m.footprint_samples(&dirs[..1], gaussian(0), &mut out[..1]),
-        Err(Error::InvalidParameter)
+        Err(Error::InvalidResponse)
     );
     assert_eq!(out, [[7.0; 3]; 2]);
 }

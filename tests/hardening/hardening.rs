@@ -43,7 +43,7 @@ fn defect_02_wce_from_spectrum_rejects_nan_and_negative() {
         for w in [SobolevWeights::Exact, SobolevWeights::Asymptotic] {
             assert_eq!(
                 metrics::wce_from_spectrum(&spectrum, 1.5, w),
-                Err(Error::InvalidParameter),
+                Err(Error::InvalidSpectrum),
                 "{spectrum:?}"
             );
         }
@@ -206,12 +206,12 @@ fn defect_08_rotations_validated_where_they_enter() {
     let mirror = Mat3::from_rows(Vec3::X, Vec3::Y, -Vec3::Z);
     let sheared = Mat3::from_rows(Vec3::X, Vec3::new(0.1, 1.0, 0.0), Vec3::Z);
     for m in [nan, scaled, mirror, sheared] {
-        assert_eq!(set.with_rotation(m).err(), Some(Error::InvalidParameter), "{m:?}");
-        assert_eq!(m.validate_rotation(), Err(Error::InvalidParameter), "{m:?}");
+        assert_eq!(set.with_rotation(m).err(), Some(Error::InvalidRotation), "{m:?}");
+        assert_eq!(m.validate_rotation(), Err(Error::InvalidRotation), "{m:?}");
         let mut probe = Probe::<16>::new();
         probe.update(&[1.0; 16]).unwrap();
         let before = format!("{probe:?}");
-        assert_eq!(probe.set_rotation(m), Err(Error::InvalidParameter), "{m:?}");
+        assert_eq!(probe.set_rotation(m), Err(Error::InvalidRotation), "{m:?}");
         assert_eq!(format!("{probe:?}"), before);
     }
     // Rotations from the crate, and ones within the documented tolerance, are accepted.
@@ -225,7 +225,7 @@ fn defect_08_rotations_validated_where_they_enter() {
     let near = Mat3::from_rows(Vec3::X * (1.0 + 0.4 * t), Vec3::Y, Vec3::Z);
     assert_eq!(near.validate_rotation(), Ok(()));
     let off = Mat3::from_rows(Vec3::X * (1.0 + 2.0 * t), Vec3::Y, Vec3::Z);
-    assert_eq!(off.validate_rotation(), Err(Error::InvalidParameter));
+    assert_eq!(off.validate_rotation(), Err(Error::InvalidRotation));
     // A set rotated within the tolerance still finds the nearest of its own points.
     let rotated = set.with_rotation(near).unwrap();
     for j in (0..1000).step_by(37) {

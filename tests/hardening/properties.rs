@@ -97,7 +97,7 @@ proptest! {
         let (g, h) = (p.glossy(&sg).unwrap(), q.glossy(&sg).unwrap());
         prop_assert!(rel64(h.value, c64 * f64::from(g.value)) < 1e-4);
         prop_assert!(rel64(h.variance, c64 * c64 * f64::from(g.variance)) < 1e-3);
-        let (v, w) = (p.posterior_variance(n).unwrap(), q.posterior_variance(n).unwrap());
+        let (v, w) = (p.irradiance_variance(n).unwrap(), q.irradiance_variance(n).unwrap());
         prop_assert!(rel64(w, c64 * c64 * f64::from(v)) < 1e-3);
     }
 
@@ -182,7 +182,7 @@ proptest! {
         prop_assert_eq!(p.update_masked(&y, &valid), Err(Error::TooManyMissing));
         prop_assert!(p.update_with(&y, Selection::Member(99)).is_err());
         let nan_rot = Mat3::from_rows(Vec3::new(f32::NAN, 0.0, 0.0), Vec3::Y, Vec3::Z);
-        prop_assert_eq!(p.set_rotation(nan_rot), Err(Error::InvalidParameter));
+        prop_assert_eq!(p.set_rotation(nan_rot), Err(Error::InvalidRotation));
         prop_assert!(p.irradiance(Vec3::ZERO).is_err());
         let blunt = SphericalGaussian { sharpness: -1.0, axis: Vec3::Z, amplitude: 1.0 };
         prop_assert!(p.glossy(&blunt).is_err());
@@ -211,7 +211,7 @@ proptest! {
         p.update(&y).unwrap();
         let irr = p.irradiance(n).unwrap();
         prop_assert!(irr.value.is_finite() && irr.variance.is_finite() && irr.variance >= 0.0);
-        let v = p.posterior_variance(n).unwrap();
+        let v = p.irradiance_variance(n).unwrap();
         prop_assert!(v.is_finite() && v >= 0.0);
         let sg = SphericalGaussian::new(axis, mu, amp).unwrap();
         let g = p.glossy(&sg).unwrap();

@@ -1,7 +1,9 @@
 //! The crate's own math kernels against f64.
 
 use reference::rng::Rng;
-use sphere_quadrature::math::sin_cos_turns;
+use sphere_quadrature::math::{sin_cos_turns, sqrt_const};
+use sphere_quadrature::probe::Probe;
+use sphere_quadrature::sf::SphericalFibonacci;
 
 #[test]
 fn sin_cos_of_a_turn_fraction_is_accurate() {
@@ -64,4 +66,41 @@ fn inv_sqrt_is_within_one_and_a_half_ulp() {
     }
     println!("inv_sqrt: max error {worst:.2} ulp (x = {at:e})");
     assert!(worst <= 1.5, "{worst}");
+}
+
+/// The constant-evaluation square root is correctly rounded: equal to the f64 root rounded to
+/// f32 (53 ≥ 2·24 + 2 bits, so that double rounding cannot move a square root), over random
+/// positive normal numbers and every eighth number of [¼, 1), where the spherical Fibonacci
+/// heights put it.
+#[test]
+fn the_constant_square_root_is_correctly_rounded() {
+    let mut rng = Rng::new(29);
+    let random = (0..2_000_000).map(|_| {
+        let bits = (rng.next_u64() as u32) & 0x7fff_ffff;
+        f32::from_bits(bits.clamp(0x0080_0000, 0x7f7f_ffff))
+    });
+    let quarter = (0.25f32.to_bits()..1.0f32.to_bits()).step_by(8).map(f32::from_bits);
+    let mut checked = 0;
+    for x in random.chain(quarter).chain([f32::MIN_POSITIVE, 1.0, 4.0, f32::MAX]) {
+        let want = f64::from(x).sqrt() as f32;
+        assert_eq!(sqrt_const(x).to_bits(), want.to_bits(), "sqrt({x:e})");
+        checked += 1;
+    }
+    assert!(checked > 3_000_000);
+}
+
+/// `Probe::new` (a `const fn`) puts its directions where the run-time set does, bit for bit.
+#[test]
+fn a_constant_probe_has_the_run_time_directions() {
+    const P16: Probe<16> = Probe::new();
+    const P64: Probe<64, [f32; 3]> = Probe::new();
+    static P256: Probe<256> = Probe::new();
+    fn bits(d: &[sphere_quadrature::Vec3]) -> Vec<[u32; 3]> {
+        d.iter().map(|v| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]).collect()
+    }
+    assert_eq!(bits(P16.directions()), bits(&SphericalFibonacci::<16>::new().points()));
+    assert_eq!(bits(P64.directions()), bits(&SphericalFibonacci::<64>::new().points()));
+    assert_eq!(bits(P256.directions()), bits(&SphericalFibonacci::<256>::new().points()));
+    let p128 = Probe::<128>::new();
+    assert_eq!(bits(p128.directions()), bits(&SphericalFibonacci::<128>::new().points()));
 }

@@ -652,24 +652,24 @@ fn bad_input_is_refused_without_panicking() {
     );
 
     for s in [1.0, 2.0, 0.5, f64::NAN, f64::INFINITY] {
-        assert_eq!(metrics::wce(&[Vec3::Z], s), Err(Error::InvalidParameter));
+        assert_eq!(metrics::wce(&[Vec3::Z], s), Err(Error::InvalidSmoothness));
         assert_eq!(
             metrics::sobolev_weight(3, s, SobolevWeights::Exact),
-            Err(Error::InvalidParameter)
+            Err(Error::InvalidSmoothness)
         );
         assert_eq!(
             metrics::wce_spectral(&[Vec3::Z], s, SobolevWeights::Asymptotic, &mut c),
-            Err(Error::InvalidParameter)
+            Err(Error::InvalidSmoothness)
         );
     }
-    assert_eq!(metrics::design_strength(&[Vec3::Z], -1.0, &mut c), Err(Error::InvalidParameter));
+    assert_eq!(metrics::design_strength(&[Vec3::Z], -1.0, &mut c), Err(Error::InvalidTolerance));
     assert_eq!(
         metrics::design_strength(&[Vec3::Z], f64::NAN, &mut c),
-        Err(Error::InvalidParameter)
+        Err(Error::InvalidTolerance)
     );
-    assert_eq!(metrics::circle_strength(&[0.0], f64::NAN, 3), Err(Error::InvalidParameter));
-    assert_eq!(metrics::uniform_circle_nodes(f64::NAN, &mut c), Err(Error::InvalidParameter));
-    assert!(!Error::InvalidParameter.to_string().is_empty());
+    assert_eq!(metrics::circle_strength(&[0.0], f64::NAN, 3), Err(Error::InvalidTolerance));
+    assert_eq!(metrics::uniform_circle_nodes(f64::NAN, &mut c), Err(Error::NonFinite));
+    assert!(!Error::InvalidTolerance.to_string().is_empty());
 
     // Tiny but valid inputs.
     assert!(metrics::energy(&[Vec3::new(1e-10, 0.0, 0.0)]).is_ok());

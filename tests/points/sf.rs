@@ -112,8 +112,9 @@ fn iteration_and_bounds() {
     assert_eq!(FibonacciPoints::sphere(0), Err(Error::InvalidSize));
     assert_eq!(FibonacciPoints::hemisphere(MAX_POINTS + 1), Err(Error::InvalidSize));
     let mut out = [Vec3::ZERO; 8];
-    assert_eq!(sf.dynamic().fill(&mut out), 5);
-    assert_eq!(out[5], Vec3::ZERO);
+    assert_eq!(sf.dynamic().fill(&mut out), Err(Error::LengthMismatch));
+    assert_eq!(out, [Vec3::ZERO; 8]);
+    sf.dynamic().fill(&mut out[..5]).unwrap();
     assert_eq!(&out[..5], &fwd[..]);
     // N = 1: the single point sits on the equator (sphere) or at z = 1/2 (hemisphere).
     assert_eq!(SphericalFibonacci::<1>::new().points()[0], Vec3::new(1.0, 0.0, 0.0));

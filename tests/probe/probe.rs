@@ -218,7 +218,7 @@ where
                 }
                 // The model's variance times the member's documented irradiance calibration.
                 let want_var = re.r2 / (N as f64 - 1.0) * re.v * f64::from(m.calibration[0]);
-                let var = probe.posterior_variance(nv).unwrap() as f64;
+                let var = probe.irradiance_variance(nv).unwrap() as f64;
                 worst_v = worst_v.max((var - want_var).abs() / want_var);
             }
         }
@@ -394,7 +394,7 @@ fn bad_input_is_refused_and_keeps_the_data() {
         assert_eq!(probe.update(&y), Err(Error::InvalidRadiance));
         assert_eq!(probe.irradiance(Vec3::Y).unwrap(), before);
     }
-    assert_eq!(probe.update_with(&good, Selection::Member(99)), Err(Error::InvalidParameter));
+    assert_eq!(probe.update_with(&good, Selection::Member(99)), Err(Error::InvalidMember));
     assert_eq!(probe.irradiance(Vec3::Y).unwrap(), before);
     for n in [
         Vec3::new(0.0, 0.0, 0.0),
@@ -402,16 +402,16 @@ fn bad_input_is_refused_and_keeps_the_data() {
         Vec3::new(f32::INFINITY, 0.0, 0.0),
     ] {
         assert_eq!(probe.irradiance(n), Err(Error::InvalidDirection));
-        assert_eq!(probe.posterior_variance(n), Err(Error::InvalidDirection));
+        assert_eq!(probe.irradiance_variance(n), Err(Error::InvalidDirection));
         assert_eq!(
             cosine_weighted_average(probe.directions(), &good, n),
             Err(Error::InvalidDirection)
         );
     }
     let not_rotation = Mat3::from_rows(Vec3::X, Vec3::X, Vec3::Z);
-    assert_eq!(probe.set_rotation(not_rotation), Err(Error::InvalidParameter));
+    assert_eq!(probe.set_rotation(not_rotation), Err(Error::InvalidRotation));
     let nan = Mat3::from_rows(Vec3::new(f32::NAN, 0.0, 0.0), Vec3::Y, Vec3::Z);
-    assert_eq!(probe.set_rotation(nan), Err(Error::InvalidParameter));
+    assert_eq!(probe.set_rotation(nan), Err(Error::InvalidRotation));
     assert_eq!(probe.irradiance(Vec3::Y).unwrap(), before);
     assert_eq!(
         cosine_weighted_average(probe.directions(), &good[..15], Vec3::Z),
@@ -436,16 +436,16 @@ fn table_footprint_is_pinned() {
     // Per member: two packed 32×33/2 blocks, g (32), 8 scalars, the 12-point glossy variance
     // grid, a 129-node table of quadratics.
     assert_eq!(
-        Probe::<64>::table_bytes(),
+        Probe::<64>::TABLE_BYTES,
         Probe::<64>::family().len() * 4 * (32 * 33 + 32 + 8 + 12 + 3 * 129)
     );
     println!(
         "probe tables: N=16 {} B, 32 {} B, 64 {} B, 128 {} B, 256 {} B",
-        Probe::<16>::table_bytes(),
-        Probe::<32>::table_bytes(),
-        Probe::<64>::table_bytes(),
-        Probe::<128>::table_bytes(),
-        Probe::<256>::table_bytes()
+        Probe::<16>::TABLE_BYTES,
+        Probe::<32>::TABLE_BYTES,
+        Probe::<64>::TABLE_BYTES,
+        Probe::<128>::TABLE_BYTES,
+        Probe::<256>::TABLE_BYTES
     );
     for m in Probe::<64>::family() {
         println!("N=64 member {m:?}");
@@ -731,8 +731,8 @@ fn glossy_bad_input_is_refused() {
         (lobe(Vec3::Z, f32::NAN, 1.0), Error::InvalidSharpness),
         (lobe(Vec3::Z, f32::INFINITY, 1.0), Error::InvalidSharpness),
         (lobe(Vec3::Z, 2e8, 1.0), Error::InvalidSharpness),
-        (lobe(Vec3::Z, 5.0, f32::NAN), Error::InvalidParameter),
-        (lobe(Vec3::Z, 5.0, f32::INFINITY), Error::InvalidParameter),
+        (lobe(Vec3::Z, 5.0, f32::NAN), Error::InvalidWeights),
+        (lobe(Vec3::Z, 5.0, f32::INFINITY), Error::InvalidWeights),
     ] {
         assert_eq!(probe.glossy(&l), Err(err), "{l:?}");
         assert_eq!(probe.glossy_variance(&l), Err(err), "{l:?}");

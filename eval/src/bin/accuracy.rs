@@ -230,7 +230,7 @@ struct Outcome {
     rel: [f64; ESTIMATOR_COUNT],
     /// BMC (select) queries within 2σ of the luminance error bar, σ² from `irradiance` (O(N)).
     covered_fast: usize,
-    /// The same with σ² from `posterior_variance` (exact).
+    /// The same with σ² from `irradiance_variance` (exact).
     covered_exact: usize,
     /// BMC fixed queries within 2σ (σ² from `irradiance`).
     covered_fixed: usize,
@@ -257,7 +257,7 @@ struct BmcQuery {
     select: f64,
     /// Variance of `select` from `Probe::irradiance` (baked direction-average, O(N)).
     var_fast: f64,
-    /// Variance of `select` from `Probe::posterior_variance` (exact, O(N²)).
+    /// Variance of `select` from `Probe::irradiance_variance` (exact, O(N²)).
     var_exact: f64,
     /// Irradiance of `select` exported as SH L2 (`Probe::radiance_sh`, `ShL2::irradiance`).
     sh: f64,
@@ -302,7 +302,7 @@ where
         let (fixed, var_fixed) = bar_fixed.estimate(&fixed.irradiance(n).expect("unit normal"));
         let e = select.irradiance(n).expect("unit normal");
         let (value, var_fast) = bar.estimate(&e);
-        let exact = bar.exact(&e, select.posterior_variance(n).expect("unit normal"));
+        let exact = bar.exact(&e, select.irradiance_variance(n).expect("unit normal"));
         let (_, var_exact) = bar.estimate(&exact);
         let sh = luminance_bar::luminance(sh.irradiance(n).expect("unit normal"));
         *o = BmcQuery { fixed, var_fixed, select: value, var_fast, var_exact, sh };
@@ -410,7 +410,7 @@ where
             let sobol = PI * peers::sobol(lum, n, 1.0, N as u32, scramble);
             let sf = qmc::irradiance::<N, f32, _>(n32, phases.next_phase(), lum32)
                 .expect("normals are unit vectors") as f64;
-            renderer.directions(n32, phases.next_phase(), &mut dirs).expect("unit normal");
+            renderer.fill_directions(n32, phases.next_phase(), &mut dirs).expect("unit normal");
             let bmc = renderer.estimate(&dirs.map(lum32)) as f64;
             for (s, e) in se.iter_mut().zip([mc, sobol, sf, bmc]) {
                 *s += (e - t).powi(2);
@@ -1254,7 +1254,7 @@ fn main() -> Result<(), Box<dyn Error>> {
          and SH L2; the mean over maps of BMC / min(cos-avg, SH L2) taken per map; the ratio of \
          the mean errors, BMC / min(mean cos-avg, mean SH L2); the worst map's ratio; and the \
          fraction of queries within 2σ of BMC's luminance error bar, σ² from \
-         `Probe::irradiance` (O(N) bar) and from `Probe::posterior_variance` (exact bar). \
+         `Probe::irradiance` (O(N) bar) and from `Probe::irradiance_variance` (exact bar). \
          Luminance bar: {}.\n",
         luminance_bar::METHOD
     );

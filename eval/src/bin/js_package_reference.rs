@@ -455,9 +455,11 @@ fn layouts() {
     let mut zero = cube;
     zero[2].direction = Vec3::ZERO;
     let new = |sensors: &[Sensor; 6], prior: Prior, noise: Noise, hazard: f32| {
-        LayoutProbe::<6, [f32; 3]>::new(sensors, prior, noise)
-            .and_then(|p| p.with_hazard(hazard))
-            .err()
+        js_error(
+            LayoutProbe::<6, [f32; 3]>::new(sensors, prior, noise)
+                .and_then(|p| p.with_hazard(hazard))
+                .err(),
+        )
     };
     println!("l_bad zero 0 {:?}", new(&zero, Prior::ENVIRONMENT, cube_noise, 1.0 / 64.0));
     let many = [Sensor::cosine(Vec3::Z); 65];
@@ -472,11 +474,47 @@ fn layouts() {
     println!("l_bad responses 0 {:?}", new(&five, Prior::ENVIRONMENT, cube_noise, 1.0 / 64.0));
     let negative = Noise { absolute: -1.0, relative: 0.0 };
     println!("l_bad noise 0 {:?}", new(&cube, Prior::ENVIRONMENT, negative, 1.0 / 64.0));
-    println!("l_bad lambda 0 {:?}", Prior::squared_exponential(0.0).err());
+    println!("l_bad lambda 0 {:?}", js_error(Prior::squared_exponential(0.0).err()));
     println!("l_bad hazard 0 {:?}", new(&cube, Prior::ENVIRONMENT, cube_noise, 1.0));
     let mut scale = cube;
     scale[0].noise_scale = 0.0;
     println!("l_bad scale 0 {:?}", new(&scale, Prior::ENVIRONMENT, cube_noise, 1.0 / 64.0));
+}
+
+/// `e` as the JavaScript package names it: the crate's errors for an argument out of range
+/// are all `InvalidParameter` there (`package-wasm/src/lib.rs`, `code`).
+fn js_error(e: Option<Error>) -> Option<JsError> {
+    e.map(|e| match e {
+        Error::InvalidRotation
+        | Error::InvalidMember
+        | Error::InvalidChannel
+        | Error::InvalidWeights
+        | Error::InvalidResponse
+        | Error::InvalidNoise
+        | Error::InvalidPrior
+        | Error::InvalidSmoothness
+        | Error::InvalidTolerance
+        | Error::InvalidHazard
+        | Error::InvalidResolution
+        | Error::InvalidSpectrum
+        | Error::NonFinite => JsError::InvalidParameter,
+        e => JsError::Crate(e),
+    })
+}
+
+/// An error name of the JavaScript package.
+enum JsError {
+    InvalidParameter,
+    Crate(Error),
+}
+
+impl core::fmt::Debug for JsError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            JsError::InvalidParameter => f.write_str("InvalidParameter"),
+            JsError::Crate(e) => e.fmt(f),
+        }
+    }
 }
 
 /// The host reference of the JavaScript package's Node test: every baked size, two rotation

@@ -36,7 +36,7 @@
 //! lobby, night and park are held out. Per N and fraction the report gives, over the held-out
 //! maps and over all maps: the mean over maps of bmc-masked / cos-avg-valid per map, the
 //! ratio of the mean errors, the worst map, and the 2σ coverage of BMC's luminance error bar
-//! (exact: `Probe::posterior_variance`; O(1): `Probe::irradiance`, which after a masked update
+//! (exact: `Probe::irradiance_variance`; O(1): `Probe::irradiance`, which after a masked update
 //! is the full set's direction average and does not see the holes). Then the target of issue
 //! #14 and the host cost of the masked update for several missing counts and capacities.
 //!
@@ -180,7 +180,7 @@ where
             for (&n, &t) in normals32.iter().zip(truth) {
                 let e = probe.irradiance(n).expect("unit normal");
                 let (bmc, var_fast) = bar.estimate(&e);
-                let exact = bar.exact(&e, probe.posterior_variance(n).expect("unit normal"));
+                let exact = bar.exact(&e, probe.irradiance_variance(n).expect("unit normal"));
                 let (_, var_exact) = bar.estimate(&exact);
                 let cos =
                     f64::from(cosine_weighted_average(&vdirs, &vlum, n).expect("unit normal"));
@@ -507,7 +507,7 @@ fn main() -> Result<(), Box<dyn Error>> {
          maps and over all maps: mean relative RMSE of both; the mean over maps of bmc-masked \
          / cos-avg-valid taken per map; the ratio of the mean errors; the worst map's ratio; \
          and the fraction of queries within 2σ of BMC's luminance error bar, σ² from \
-         `Probe::posterior_variance` (exact for the valid samples) and from \
+         `Probe::irradiance_variance` (exact for the valid samples) and from \
          `Probe::irradiance` (O(1): the full set's baked average, blind to the holes).\n\n",
     );
     for (ni, &n) in p.ns.iter().enumerate() {

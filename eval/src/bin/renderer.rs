@@ -730,7 +730,7 @@ fn crate_renderer(brdf: Brdf, n: usize, q: &Query, qi: usize) -> Option<(Vec<[f6
             match n {
                 $($n => {
                     let mut d = [Vec3::Z; $n];
-                    Renderer::<$n>::new().directions(normal, phase_bits, &mut d).ok()?;
+                    Renderer::<$n>::new().fill_directions(normal, phase_bits, &mut d).ok()?;
                     let w = Renderer::<$n>::weights().iter().map(|&w| PI * f64::from(w));
                     Some((d.iter().map(|&x| v64(x)).collect(), w.collect()))
                 })*
@@ -744,7 +744,7 @@ fn crate_renderer(brdf: Brdf, n: usize, q: &Query, qi: usize) -> Option<(Vec<[f6
                 $(($n, $e) => {
                     let r = GlossyRenderer::<$n, $e>::new();
                     let (mut d, mut w) = ([Vec3::Z; $n], [0.0f32; $n]);
-                    r.directions(normal, mirror, &mut d).ok()?;
+                    r.fill_directions(normal, mirror, &mut d).ok()?;
                     r.weights(normal, mirror, &mut w).ok()?;
                     Some((d.iter().map(|&x| v64(x)).collect(), w.iter().map(|&w| f64::from(w)).collect()))
                 })*

@@ -256,7 +256,7 @@ where
     for (n, t) in NORMALS.iter().zip(truth) {
         let normal = Vec3::new(n[0], n[1], n[2]);
         let e = p.irradiance(normal).map_err(|e| format!("irradiance: {e}"))?;
-        let var = p.posterior_variance(normal).map_err(|e| format!("variance: {e}"))?;
+        let var = p.irradiance_variance(normal).map_err(|e| format!("variance: {e}"))?;
         let peer = cosine_weighted_average(p.directions(), readings, normal)
             .map_err(|e| format!("peer: {e}"))?;
         // The sensor whose normal is closest: E ≈ π·Y.

@@ -173,11 +173,11 @@ fn main() {
     shade::<64>(2, 9, &queries);
     shade::<128>(3, 10, &queries);
     shade::<256>(4, 11, &queries);
-    // N = 17 has no baked family (the documented −1 and code 3); more than 1 024 queries is
-    // the documented code 3; the other two come from the library.
+    // N = 17 has no baked family (the documented −1 and code 5); more than 1 024 queries is
+    // the documented code 5; the other two come from the library.
     println!("w_shade_bad 0 -1");
-    println!("w_shade_bad 1 {}", api::error_code(Error::InvalidParameter));
-    println!("w_shade_bad 2 {}", api::error_code(Error::InvalidParameter));
+    println!("w_shade_bad 1 {}", api::error_code(Error::InvalidSize));
+    println!("w_shade_bad 2 {}", api::error_code(Error::InvalidSize));
     let exponent =
         SphericalGaussian::phong_moments(Vec3::Z, -1.0).map_or_else(api::error_code, |_| 0);
     println!("w_shade_bad 3 {exponent}");
@@ -332,9 +332,9 @@ fn footprints(queries: &[(usize, usize)]) {
     let mut sample = |map: &[[f32; 3]], size, dirs: &[Vec3], sharpness, sampler| {
         samples_code(map, size, dirs, sharpness, sampler, &mut out)
     };
-    let invalid = api::error_code(Error::InvalidParameter);
-    // n = 17 has no footprint probe (the documented −1 and code 3), nor are more than 1 024
-    // queries or samples taken (code 3); the rest comes from the library.
+    let invalid = api::error_code(Error::InvalidSize);
+    // n = 17 has no footprint probe (the documented −1 and code 5), nor are more than 1 024
+    // queries or samples taken (code 5); the rest comes from the library.
     let exponent = api::probe_nf::<16, Gaussian<2>>(1)
         .and_then(|mut p| p.update(&point))
         .and_then(|()| SphericalGaussian::phong_moments(Vec3::Z, -1.0).map(|_| ()));

@@ -9,7 +9,7 @@
 //!   update, and multiplies it by each query's `unit_variance` (O(1) per query);
 //! - [`LuminanceBar::combine`] calls `Probe::combine` (O(N²) per query), the API's own form;
 //! - [`LuminanceBar::exact`] gives an estimate the unit variance of an exact per-channel
-//!   variance (`posterior_variance`, `glossy_variance`: `S_cc` times the exact unit variance),
+//!   variance (`irradiance_variance`, `glossy_variance`: `S_cc` times the exact unit variance),
 //!   for either of the two.
 
 use sphere_quadrature::bmc::Size;
@@ -44,7 +44,10 @@ impl LuminanceBar {
     where
         Size<N>: ProbeSize,
     {
-        Self { signal: probe.signal_variance_of(LUMINANCE), diagonal: probe.signal_variance() }
+        Self {
+            signal: probe.signal_variance_of(LUMINANCE).expect("finite weights"),
+            diagonal: probe.signal_variance(),
+        }
     }
 
     /// Luminance value and variance of `estimate`, `unit_variance × wᵀSw`.
@@ -60,7 +63,7 @@ impl LuminanceBar {
     where
         Size<N>: ProbeSize,
     {
-        let y = probe.combine(estimate, LUMINANCE);
+        let y = probe.combine(estimate, LUMINANCE).expect("finite weights");
         (f64::from(y.value), f64::from(y.variance))
     }
 

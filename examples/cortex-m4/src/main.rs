@@ -214,7 +214,7 @@ where
 
 /// `Probe<64, f32, Point, M>::update_masked` with `m` of the samples missing for each `m` in
 /// `counts` (every `64/m`-th; `m = 0` is `update` through the mask), one member, and after
-/// it `irradiance` and `posterior_variance` (lines `# count probe_masked_…_M{M}_m{m} N=64`).
+/// it `irradiance` and `irradiance_variance` (lines `# count probe_masked_…_M{M}_m{m} N=64`).
 fn masked_counts<const M: usize>(counts: &[usize]) {
     let mut p = probe::Probe::<64, f32, Point, M>::new();
     let y: [f32; 64] = p.directions().map(|d| 1.0 + 0.5 * d.z + 0.25 * d.x * d.y);
@@ -227,12 +227,12 @@ fn masked_counts<const M: usize>(counts: &[usize]) {
         });
         let _ = p.update_masked(&y, &valid);
         let query = count(100, || black_box(&p).irradiance(n));
-        let exact = count(4, || black_box(&p).posterior_variance(n));
+        let exact = count(4, || black_box(&p).irradiance_variance(n));
         for (what, c) in [
             ("update", update),
             ("update_one_member", one),
             ("irradiance", query),
-            ("posterior_variance", exact),
+            ("irradiance_variance", exact),
         ] {
             hprintln!("# count probe_masked_{}_M{}_m{} N=64 {} instructions/call", what, M, m, c);
         }

@@ -149,7 +149,7 @@ pub fn run(out: &mut impl Sink) {
         out.line(format_args!("probe_update 0 {ok} {}", p.selected()));
         for i in 0..8 {
             let n = seq.next_rotation() * Vec3::Z;
-            if let (Ok(e), Ok(v)) = (p.irradiance(n), p.posterior_variance(n)) {
+            if let (Ok(e), Ok(v)) = (p.irradiance(n), p.irradiance_variance(n)) {
                 for (c, ((&ev, &var), &exact)) in
                     e.value.iter().zip(&e.variance).zip(&v).enumerate()
                 {
@@ -306,7 +306,7 @@ fn missing_samples(out: &mut impl Sink, seq: &mut RotationSequence) {
     out.line(format_args!("masked_update 0 {ok} {} {}", p.selected(), p.missing().len()));
     for i in 0..8 {
         let n = seq.next_rotation() * Vec3::Z;
-        if let (Ok(e), Ok(v)) = (p.irradiance(n), p.posterior_variance(n)) {
+        if let (Ok(e), Ok(v)) = (p.irradiance(n), p.irradiance_variance(n)) {
             for (c, ((&ev, &var), &exact)) in e.value.iter().zip(&e.variance).zip(&v).enumerate() {
                 value(out, "masked_e", 3 * i + c, ev);
                 value(out, "masked_var", 3 * i + c, var);
@@ -322,7 +322,8 @@ fn missing_samples(out: &mut impl Sink, seq: &mut RotationSequence) {
             }
         }
     }
-    value(out, "masked_luminance_variance", 0, p.signal_variance_of([0.2126, 0.7152, 0.0722]));
+    let luminance = p.signal_variance_of([0.2126, 0.7152, 0.0722]).unwrap_or(f32::NAN);
+    value(out, "masked_luminance_variance", 0, luminance);
     let mut many = [true; 64];
     many[..17].fill(false);
     out.line(format_args!("masked_too_many 0 {:?}", p.update_masked(&ys, &many)));
@@ -354,7 +355,7 @@ where
     out.line(format_args!("sensor{N}_update 0 {ok} {}", p.selected()));
     let queries = sensor_readings::NORMALS.iter().zip(&sensor_readings::IRRADIANCE);
     for (i, (&n, truth)) in queries.enumerate() {
-        let (Ok(e), Ok(exact)) = (p.irradiance(n), p.posterior_variance(n)) else {
+        let (Ok(e), Ok(exact)) = (p.irradiance(n), p.irradiance_variance(n)) else {
             out.line(format_args!("sensor{N}_query {i} failed"));
             continue;
         };
@@ -386,7 +387,7 @@ where
     bad[3][1] = f32::NAN;
     out.line(format_args!("sensor{N}_nan_reading 0 {:?}", p.update(&bad)));
     out.line(format_args!("sensor{N}_zero_normal 0 {:?}", p.irradiance(Vec3::ZERO).err()));
-    let zero_var = p.posterior_variance(Vec3::ZERO).err();
+    let zero_var = p.irradiance_variance(Vec3::ZERO).err();
     out.line(format_args!("sensor{N}_zero_normal_variance 0 {zero_var:?}"));
     // Still the data of the good update.
     let kept = p.irradiance(sensor_readings::NORMALS[0]).map_or([f32::NAN; 3], |e| e.value);

@@ -148,7 +148,7 @@ pub const PYRAMID: u32 = 1;
 /// ([`EXACT`]) or from a mip pyramid built in `pyramid` ([`PYRAMID`]).
 ///
 /// # Errors
-/// [`Error::InvalidParameter`] for another `sampler` or a sharpness above 4096; those of
+/// [`Error::InvalidResponse`] for another `sampler` or a sharpness above 4096; those of
 /// [`EquirectMap::new`] (bad size, pixel count, NaN or infinite pixel), of
 /// [`MipPyramid::new`] (`pyramid` too short) and of `footprint_samples` (bad direction,
 /// `out` and `dirs` of different lengths). `out` is left unchanged on error.
@@ -166,7 +166,7 @@ pub fn map_footprint_samples(
     match sampler {
         EXACT => map.footprint_samples(dirs, kind, out),
         PYRAMID => MipPyramid::new(&map, pyramid)?.footprint_samples(dirs, kind, out),
-        _ => Err(Error::InvalidParameter),
+        _ => Err(Error::InvalidResponse),
     }
 }
 
@@ -175,7 +175,19 @@ pub fn error_code(e: Error) -> i32 {
     match e {
         Error::InvalidDirection => 1,
         Error::InvalidRadiance => 2,
-        Error::InvalidParameter => 3,
+        Error::InvalidRotation
+        | Error::InvalidMember
+        | Error::InvalidChannel
+        | Error::InvalidWeights
+        | Error::InvalidResponse
+        | Error::InvalidNoise
+        | Error::InvalidPrior
+        | Error::InvalidSmoothness
+        | Error::InvalidTolerance
+        | Error::InvalidHazard
+        | Error::InvalidResolution
+        | Error::InvalidSpectrum
+        | Error::NonFinite => 3,
         Error::InvalidExponent | Error::InvalidSharpness => 4,
         Error::InvalidSize | Error::LengthMismatch => 5,
         _ => 255,

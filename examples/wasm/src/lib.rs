@@ -339,14 +339,14 @@ fn load_vector(a: &[AtomicU32]) -> Vec3 {
 }
 
 /// [`shade`] for the point (`footprint` false) or footprint probe of `n` samples; 0, or an
-/// error code (3: `n` without a baked family, `count` above 1024 or a bad exponent; 2: a NaN
-/// or infinite sample).
+/// error code (5: `n` without a baked family or `count` above 1024; 4: a bad exponent; 2: a
+/// NaN or infinite sample).
 fn shade_code(footprint: bool, n: u32, seed: u32, count: u32, e: f32) -> i32 {
     let count = count as usize;
     if count > SHADE_MAX {
-        return api::error_code(Error::InvalidParameter);
+        return api::error_code(Error::InvalidSize);
     }
-    let other = Err(Error::InvalidParameter);
+    let other = Err(Error::InvalidSize);
     let result = if footprint {
         with_footprint_probe!(n, shade(seed, count, e), other)
     } else {
@@ -373,7 +373,7 @@ fn footprint_sharpness(n: u32) -> i32 {
 fn map_samples(width: u32, height: u32, count: u32, sharpness: u32, sampler: u32) -> i32 {
     let (w, h, count) = (width as usize, height as usize, count as usize);
     if count > SHADE_MAX {
-        return api::error_code(Error::InvalidParameter);
+        return api::error_code(Error::InvalidSize);
     }
     let len = match api::map_len(w, h) {
         Ok(len) => len,
@@ -394,7 +394,7 @@ fn map_samples(width: u32, height: u32, count: u32, sharpness: u32, sampler: u32
     let (Some(pixels), Some(dirs), Some(out)) =
         (pixels.get(..len), dirs.get(..count), out.get_mut(..count))
     else {
-        return api::error_code(Error::InvalidParameter);
+        return api::error_code(Error::InvalidSize);
     };
     let result =
         api::map_footprint_samples(pixels, (w, h), dirs, sharpness, sampler, &mut pyramid, out);
@@ -548,7 +548,7 @@ mod exports {
     /// then for each of `count` ≤ 1024 queries at `queries_ptr()` (normal x, y, z, reflection
     /// x, y, z) writes irradiance RGB and normalised Phong glossy RGB (exponent `e`) to
     /// `shaded_ptr()` (NaN for a bad direction). 0, or an error code (2: a NaN or infinite
-    /// sample; 3: bad `n` or `count`; 4: bad exponent).
+    /// sample; 5: bad `n` or `count`; 4: bad exponent).
     #[no_mangle]
     pub extern "C" fn bmc_shade(n: u32, seed: u32, count: u32, e: f32) -> i32 {
         super::shade_code(false, n, seed, count, e)
@@ -594,9 +594,9 @@ mod exports {
     /// normalised spherical Gaussian of sharpness `sharpness` (0: the nearest pixel), exact
     /// over every pixel (`sampler` 0, `EquirectMap::footprint_samples`) or from a mip pyramid
     /// (`sampler` 1, `MipPyramid::footprint_samples`, fast and approximate). 0, or an error
-    /// code (1: a bad direction; 2: a NaN or infinite pixel; 3: bad `count`, `sharpness` or
-    /// `sampler`; 5: a zero size, more than `map_max()` pixels, or a shape whose pyramid does
-    /// not fit); the samples are then unchanged.
+    /// code (1: a bad direction; 2: a NaN or infinite pixel; 3: bad `sharpness` or `sampler`;
+    /// 5: a bad `count`, a zero size, more than `map_max()` pixels, or a shape whose pyramid
+    /// does not fit); the samples are then unchanged.
     #[no_mangle]
     pub extern "C" fn map_footprint_samples(
         width: u32,

@@ -161,11 +161,11 @@ fn spherical_gaussian() {
 fn bmc_renderer() {
     let r = Renderer::<64>::new();
     let mut out = [Vec3::ZERO; 64];
-    keep(r.directions(dir(), black_box(11), &mut out));
+    keep(r.fill_directions(dir(), black_box(11), &mut out));
     keep(r.estimate(black_box(&[1.5f32; 64])));
     keep(r.irradiance(dir(), black_box(11), sky));
     let g = sphere_quadrature::bmc::GlossyRenderer::<64, 50>::new();
-    keep(g.directions(dir(), dir2(), &mut out));
+    keep(g.fill_directions(dir(), dir2(), &mut out));
     keep(g.estimate(dir(), dir2(), black_box(&[1.5f32; 64])));
 }
 
@@ -183,7 +183,7 @@ fn bmc_probe() {
     keep(p.update(black_box(&ys)));
     keep(p.update_with(black_box(&ys), Selection::Member(black_box(7))));
     keep(p.irradiance(dir()));
-    keep(p.posterior_variance(dir()));
+    keep(p.irradiance_variance(dir()));
     keep(cosine_weighted_average(p.directions(), black_box(&ys[..]), dir()));
     let lobe =
         SphericalGaussian { axis: dir(), sharpness: black_box(21.0), amplitude: black_box(0.5) };
@@ -194,11 +194,11 @@ fn bmc_probe() {
     let mut rgb = Probe::<16, [f32; 3]>::new();
     keep(rgb.update(black_box(&[[1.0, 2.0, 3.0]; 16])));
     keep(rgb.irradiance(dir()));
-    keep(rgb.posterior_variance(dir()));
+    keep(rgb.irradiance_variance(dir()));
     keep(rgb.glossy(&lobe));
     keep(rgb.glossy_variance(&lobe));
     // Issue #13: the channel covariance, channel combinations, and any radiance scale.
-    keep(rgb.channel_covariance(black_box(0), black_box(2)));
+    keep(rgb.signal_covariance(black_box(0), black_box(2)));
     let w = black_box([0.2126, 0.7152, 0.0722]);
     keep(rgb.signal_variance_of(w));
     if let Ok(e) = rgb.irradiance(dir()) {
@@ -220,7 +220,7 @@ fn missing_samples() {
     keep(p.update_masked_with(black_box(&ys), black_box(&valid), Selection::Member(black_box(2))));
     keep(p.missing());
     keep(p.irradiance(dir()));
-    keep(p.posterior_variance(dir()));
+    keep(p.irradiance_variance(dir()));
     let lobe =
         SphericalGaussian { axis: dir(), sharpness: black_box(21.0), amplitude: black_box(0.5) };
     keep(p.glossy(&lobe));
@@ -232,13 +232,13 @@ fn missing_samples() {
     let mut rgb = Probe::<16, [f32; 3], Point, 4>::new();
     let valid: [bool; 16] = core::array::from_fn(|i| black_box(i != 7));
     keep(rgb.update_masked(black_box(&[[1.0, 2.0, 3.0]; 16]), black_box(&valid)));
-    keep(rgb.channel_covariance(black_box(0), black_box(2)));
+    keep(rgb.signal_covariance(black_box(0), black_box(2)));
     let w = black_box([0.2126, 0.7152, 0.0722]);
     keep(rgb.signal_variance_of(w));
     if let Ok(e) = rgb.irradiance(dir()) {
         keep(rgb.combine(&e, w));
     }
-    keep(rgb.posterior_variance(dir()));
+    keep(rgb.irradiance_variance(dir()));
 }
 
 /// Footprint probes (issue #11): photodiodes (`CosinePower<1>`, whose glossy queries go
@@ -253,7 +253,7 @@ fn footprint_probes() {
     keep(p.update(black_box(&ys)));
     keep(p.update_with(black_box(&ys), Selection::Member(black_box(2))));
     keep(p.irradiance(dir()));
-    keep(p.posterior_variance(dir()));
+    keep(p.irradiance_variance(dir()));
     keep(p.glossy(&lobe));
     keep(p.glossy_variance(&lobe));
     keep(p.phong(dir(), black_box(20.0)));
@@ -262,7 +262,7 @@ fn footprint_probes() {
     let ys: [f32; 64] = g.directions().map(sky);
     keep(g.update(black_box(&ys)));
     keep(g.irradiance(dir()));
-    keep(g.posterior_variance(dir()));
+    keep(g.irradiance_variance(dir()));
     keep(g.glossy(&lobe));
     keep(g.glossy_variance(&lobe));
     keep(g.phong(dir(), black_box(20.0)));

@@ -100,7 +100,7 @@ fn prior_of(prior: u32, lambda: f32) -> Result<Prior, Error> {
         2 => Ok(Prior::SKY_ABOVE),
         3 => Ok(Prior::SMOOTH_SKY_ABOVE),
         4 => Prior::squared_exponential(lambda),
-        _ => Err(Error::InvalidParameter),
+        _ => Err(Error::InvalidPrior),
     }
 }
 

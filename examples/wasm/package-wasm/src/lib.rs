@@ -80,7 +80,20 @@ fn code(e: Error) -> i32 {
         Error::InvalidExponent => 2,
         Error::LengthMismatch => 3,
         Error::InvalidSize => 4,
-        Error::InvalidParameter => 5,
+        // The JavaScript package names one error for every argument out of range.
+        Error::InvalidRotation
+        | Error::InvalidMember
+        | Error::InvalidChannel
+        | Error::InvalidWeights
+        | Error::InvalidResponse
+        | Error::InvalidNoise
+        | Error::InvalidPrior
+        | Error::InvalidSmoothness
+        | Error::InvalidTolerance
+        | Error::InvalidHazard
+        | Error::InvalidResolution
+        | Error::InvalidSpectrum
+        | Error::NonFinite => 5,
         Error::InvalidSharpness => 6,
         Error::InvalidRadiance => 7,
         Error::TooManyMissing => 8,

@@ -145,7 +145,7 @@ fn new_temporal(seed: u32, footprint: u32, hazard: f32) -> i32 {
     let t = match footprint {
         0 => PointTemporal::new(u64::from(seed)).with_hazard(hazard).map(Temporal::Point),
         1 => FootprintTemporal::new(u64::from(seed)).with_hazard(hazard).map(Temporal::Footprint),
-        _ => Err(Error::InvalidParameter),
+        _ => Err(Error::InvalidResponse),
     };
     match t {
         Ok(t) => insert(&TEMPORAL, Box::new(t)),
