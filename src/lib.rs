@@ -120,9 +120,9 @@
 //! [`qmc`]).
 //!
 //! # MSRV
-//! Rust 1.84, with every feature. CI checks the whole workspace and runs the tests on 1.84
-//! with the committed lockfile (`.cargo/config.toml` resolves dependencies to versions that
-//! declare a compatible `rust-version`). The `fixed` feature uses fixed 1.29 (Rust 1.83).
+//! Rust 1.84, with every feature. CI checks every target of the workspace and runs the
+//! library's unit tests on 1.84 with the committed lockfile (`.cargo/config.toml` resolves
+//! dependencies to versions that declare a compatible `rust-version`). The `fixed` feature uses fixed 1.29 (Rust 1.83).
 //!
 //! # Features
 //! None is on by default; `libm` is always linked and is the default math backend.
