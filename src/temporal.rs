@@ -262,6 +262,10 @@ pub enum Change {
 
 /// An estimate of the accumulated state: value and variance per channel.
 ///
+/// The fields are those of [`Estimate`](crate::Estimate), without its `unit_variance`: the
+/// temporal probe shrinks each channel on its own, so its channels share no unit variance
+/// that [`Probe::combine`](crate::probe::Probe::combine) could scale.
+///
 /// # Examples
 /// ```
 /// use sphere_quadrature::{temporal::TemporalProbe, Vec3};
