@@ -754,6 +754,19 @@ const fn normalized(v: Vec3) -> Option<Vec3> {
     Some(Vec3::new(x / length, y / length, z / length))
 }
 
+/// An RGB layout probe: [`LayoutProbe`] with `[f32; 3]` readings.
+///
+/// ```
+/// use sphere_quadrature::layout::{Noise, Prior, RgbLayoutProbe, Sensor};
+/// use sphere_quadrature::Vec3;
+///
+/// let faces = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z].map(Sensor::cosine);
+/// let probe = RgbLayoutProbe::<6>::new(&faces, Prior::ENVIRONMENT, Noise::NONE)?;
+/// assert_eq!(probe.directions().len(), 6);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
+pub type RgbLayoutProbe<const K: usize> = LayoutProbe<K, [f32; 3]>;
+
 /// A probe over `K` sensors of a user's layout, `f32` or RGB `[f32; 3]` readings (module
 /// docs).
 ///

@@ -69,7 +69,8 @@
 //! - Generic code over sizes writes the bound on [`Size`]: `Size<N>: probe::ProbeTables<F>`
 //!   for a probe, `Size<N>: bmc::BakedSize` for the renderer.
 //! - Constructors that need no run-time work are `const fn`, so probes and point sets can
-//!   live in a `static`.
+//!   live in a `static`. [`probe::RgbProbe`], [`temporal::RgbTemporalProbe`] and
+//!   [`layout::RgbLayoutProbe`] name the RGB forms.
 //! - Every refusal is an [`Error`] naming its cause (a direction, a rotation, a channel, a
 //!   response, a noise level, …); nothing panics on data the caller passes.
 //!

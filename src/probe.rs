@@ -341,6 +341,18 @@ pub const BAKED_SIZES: &[usize] = &crate::tables::PROBE_SIZES;
 /// Every baked (sample count, footprint) pair.
 pub const BAKED_TABLES: &[(usize, Kind)] = &crate::tables::PROBE_TABLES;
 
+/// An RGB probe: [`Probe`] with `[f32; 3]` samples (point samples unless `F` says otherwise).
+///
+/// ```
+/// use sphere_quadrature::footprint::Gaussian;
+/// use sphere_quadrature::probe::{Probe, RgbProbe};
+///
+/// let a: RgbProbe<64> = Probe::new();
+/// let b: RgbProbe<64, Gaussian<8>> = Probe::new();
+/// assert_eq!(a.directions(), b.directions());
+/// ```
+pub type RgbProbe<const N: usize, F = Point, const M: usize = 0> = Probe<N, [f32; 3], F, M>;
+
 /// One member of a baked family: the kernel hyperparameters and figures of its `Q`.
 ///
 /// # Examples

@@ -260,6 +260,17 @@ pub enum Change {
     Reset,
 }
 
+/// An RGB temporal probe: [`TemporalProbe`] with `[f32; 3]` samples.
+///
+/// ```
+/// use sphere_quadrature::temporal::RgbTemporalProbe;
+///
+/// let probe = RgbTemporalProbe::<64>::new(7);
+/// assert_eq!(probe.directions().len(), 64);
+/// ```
+pub type RgbTemporalProbe<const N: usize, F = Point, const S: usize = 0> =
+    TemporalProbe<N, [f32; 3], F, S>;
+
 /// An estimate of the accumulated state: value and variance per channel.
 ///
 /// The fields are those of [`Estimate`](crate::Estimate), without its `unit_variance`: the
