@@ -54,20 +54,7 @@
 //! to f32 (renormalised, rounded again), and `var_sf`, `var_opt` are computed in f64 with the
 //! engine's closed-form `zᵢ` (`Rule::kernel_means`) from the stored numbers.
 
-#[allow(dead_code)]
-#[path = "../common/cli.rs"]
-mod cli;
-#[path = "../common/renderer_engine.rs"]
-mod engine;
-#[allow(dead_code)]
-#[path = "../../../gen/mod.rs"]
-mod gen;
-#[allow(dead_code)]
-#[path = "../common/optimal.rs"]
-mod optimal;
-
-#[path = "../common/parallel.rs"]
-mod parallel;
+use sphere_quadrature_eval::{cli, gen, optimal, parallel, renderer_engine as engine};
 
 use parallel::parallel_map;
 use std::error::Error;

@@ -84,23 +84,7 @@
 //! (tier, estimator, N, BRDF, map). The full run takes about 3 minutes on 2 cores, `--quick`
 //! under 20 s, `--learn` 30 s.
 
-#[allow(dead_code)]
-#[path = "../common/cli.rs"]
-mod cli;
-#[allow(dead_code)]
-#[path = "../../../examples/common/compare.rs"]
-mod compare;
-#[path = "../common/renderer_engine.rs"]
-mod engine;
-#[allow(dead_code)]
-#[path = "../common/optimal.rs"]
-mod optimal;
-#[allow(dead_code)]
-#[path = "../common/tiers.rs"]
-mod tiers;
-
-#[path = "../common/parallel.rs"]
-mod parallel;
+use sphere_quadrature_eval::{cli, compare, optimal, parallel, renderer_engine as engine, tiers};
 
 use parallel::parallel_map;
 use std::collections::BTreeMap;
