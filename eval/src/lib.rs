@@ -34,3 +34,5 @@ pub mod scenario;
 
 #[path = "../../examples/wasm/src/api.rs"]
 pub mod api;
+
+pub mod renderer;
