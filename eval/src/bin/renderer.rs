@@ -44,9 +44,8 @@
 //! - `bmc-sf-f64`: the same sets and model in f64 (`common/renderer_engine.rs`) with `z`
 //!   computed exactly per query (no θₙ grid, no SG fit of the lobe): the difference to `bmc-sf`
 //!   is the crate's grid, fit and f32 error (reported). The model reads the nugget σ′ as a rough
-//!   part of the radiance that the set's own QMC weights integrate
-//!   ([`rough_z`](sphere_quadrature_eval::renderer::plans::rough_z)), so that as σ′ grows the
-//!   weights tend to QMC's;
+//!   part of the radiance that the set's own QMC weights integrate ([`rough_z`]), so that as
+//!   σ′ grows the weights tend to QMC's;
 //! - `bmc-sobol`: f64 BMC (same model) on the query's scrambled Sobol set (the `qmc-sobol`
 //!   samples), one N×N solve per query (`--sobol-queries Q` restricts it to the first Q
 //!   queries; the default runs it on all of them);
@@ -84,6 +83,8 @@
 //! with `--csv FILE` one row `renderer,<tier>,<estimator>,<n>,<brdf>,<map>,<rel_rmse>` per
 //! (tier, estimator, N, BRDF, map). The full run takes about 3 minutes on 2 cores, `--quick`
 //! under 20 s, `--learn` 30 s.
+//!
+//! [`rough_z`]: sphere_quadrature_eval::renderer::plans::rough_z
 
 use sphere_quadrature_eval::{cli, compare, optimal, parallel, renderer_engine as engine, tiers};
 
