@@ -35,4 +35,5 @@ pub mod scenario;
 #[path = "../../examples/wasm/src/api.rs"]
 pub mod api;
 
+pub mod optimal_sets;
 pub mod renderer;
