@@ -6,6 +6,10 @@
 //! (`gen`), and the Cortex-M4 scenario and WebAssembly API that the host twins run natively
 //! (`scenario`, `api`). Each program takes what it needs:
 //! `use sphere_quadrature_eval::{cli, tiers};`.
+//!
+//! The library also holds the stages of the two largest programs, [`renderer`] and
+//! [`optimal_sets`] (their constants, options and a module per stage), so that their files in
+//! `src/bin/` keep only their documentation, command line and `main`.
 
 /// The files of `src/common/`, re-exported at the crate root (they keep that folder, which the
 /// reports and tables cite).
@@ -35,5 +39,6 @@ pub mod scenario;
 #[path = "../../examples/wasm/src/api.rs"]
 pub mod api;
 
+// The stages of `src/bin/renderer.rs` and `src/bin/optimal_sets.rs`.
 pub mod optimal_sets;
 pub mod renderer;
