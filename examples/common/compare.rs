@@ -1,6 +1,6 @@
-//! Shared by `examples/probe.rs`, `examples/qmc_compare.rs` and `tests/envmap/envmap.rs`: ground truth on
-//! environment maps and
-//! the relative RMSE of Monte Carlo, Sobol-QMC and this crate's QMC-SF.
+//! Shared by `examples/probe.rs`, `examples/qmc_compare.rs`, `tests/envmap/envmap.rs` and the
+//! evaluation programs (`eval/src/lib.rs`): ground truth on environment maps and the relative
+//! RMSE of Monte Carlo, Sobol-QMC and this crate's QMC-SF.
 
 use reference::envmap::{luminance, EnvMap};
 use reference::rng::Rng;

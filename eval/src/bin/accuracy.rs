@@ -74,23 +74,7 @@
 //! luminance bar of `Probe::irradiance`; `bmc-renderer`: `Renderer::variance()`, σ_f = 1),
 //! empty for the estimators without an error bar.
 
-#[allow(dead_code)]
-#[path = "../../../examples/common/compare.rs"]
-mod compare;
-#[path = "../common/tiers.rs"]
-mod tiers;
-
-#[allow(dead_code)]
-#[path = "../common/cli.rs"]
-mod cli;
-#[allow(dead_code)]
-#[path = "../common/luminance_bar.rs"]
-mod luminance_bar;
-#[path = "../common/parallel.rs"]
-mod parallel;
-#[allow(dead_code)]
-#[path = "../common/report.rs"]
-mod report;
+use sphere_quadrature_eval::{cli, compare, luminance_bar, parallel, report, tiers};
 
 use luminance_bar::LuminanceBar;
 use parallel::parallel_map;

@@ -5,8 +5,7 @@
 //! cargo eval device_scenario
 //! ```
 
-#[path = "../../../examples/cortex-m4/src/scenario.rs"]
-mod scenario;
+use sphere_quadrature_eval::scenario;
 
 use clap::Parser;
 

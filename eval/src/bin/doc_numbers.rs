@@ -31,9 +31,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
-#[path = "../common/cli.rs"]
-#[allow(dead_code)]
-mod cli;
+use sphere_quadrature_eval::cli;
 
 /// Check (or rewrite) the Cortex-M4 instruction counts and flash sizes quoted in the rustdoc of
 /// `src/`, README.md and docs/costs.md against the device's output.

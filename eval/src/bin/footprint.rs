@@ -37,12 +37,7 @@
 //! About 2 minutes for all ten maps on two cores; `--quick` (two maps, N ∈ {16, 64}, two
 //! rotations) takes seconds.
 
-#[allow(dead_code)]
-#[path = "../common/cli.rs"]
-mod cli;
-#[path = "../../../examples/common/compare.rs"]
-#[allow(dead_code)]
-mod compare;
+use sphere_quadrature_eval::{cli, compare};
 
 use clap::{Parser, ValueEnum};
 use plotters::prelude::*;

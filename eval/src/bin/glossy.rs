@@ -52,23 +52,7 @@
 //! `bmc`, `lobe-avg`, `sh-l2`; coverage is the fraction of the map's queries within 2σ of the
 //! luminance bar of the O(N) query (`bmc` only; empty for the peers).
 
-#[allow(dead_code)]
-#[path = "../common/cli.rs"]
-mod cli;
-#[allow(dead_code)]
-#[path = "../../../examples/common/compare.rs"]
-mod compare;
-#[allow(dead_code)]
-#[path = "../common/luminance_bar.rs"]
-mod luminance_bar;
-#[path = "../common/parallel.rs"]
-mod parallel;
-#[allow(dead_code)]
-#[path = "../common/report.rs"]
-mod report;
-#[allow(dead_code)]
-#[path = "../common/tiers.rs"]
-mod tiers;
+use sphere_quadrature_eval::{cli, compare, luminance_bar, parallel, report, tiers};
 
 use std::error::Error;
 use std::fmt::Write as _;

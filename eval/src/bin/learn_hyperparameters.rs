@@ -48,15 +48,7 @@
 //! it only prints the report. Q depends only on the point set's dot products, so one Cholesky
 //! factor per (N, λ, σ′) serves every rotation.
 
-#[allow(dead_code)]
-#[path = "../common/cli.rs"]
-mod cli;
-#[allow(dead_code)]
-#[path = "../../../examples/common/compare.rs"]
-mod compare;
-#[allow(dead_code)]
-#[path = "../common/tiers.rs"]
-mod tiers;
+use sphere_quadrature_eval::{cli, compare, tiers};
 
 use tiers::Mixture;
 

@@ -44,20 +44,7 @@
 //! `missing,clamp,<fraction>,<n>,<method>,<map>,<rel_rmse>` with methods `bmc-masked` and
 //! `cos-avg-valid`.
 
-#[allow(dead_code)]
-#[path = "../common/cli.rs"]
-mod cli;
-#[allow(dead_code)]
-#[path = "../../../examples/common/compare.rs"]
-mod compare;
-#[allow(dead_code)]
-#[path = "../common/luminance_bar.rs"]
-mod luminance_bar;
-#[path = "../common/parallel.rs"]
-mod parallel;
-#[allow(dead_code)]
-#[path = "../common/report.rs"]
-mod report;
+use sphere_quadrature_eval::{cli, compare, luminance_bar, parallel, report};
 
 use clap::Parser;
 use luminance_bar::LuminanceBar;

@@ -13,9 +13,7 @@
 //! cargo eval point_sets -- --out docs/point_sets  # regenerates docs/point_sets/
 //! ```
 
-#[allow(dead_code)]
-#[path = "../common/cli.rs"]
-mod cli;
+use sphere_quadrature_eval::cli;
 
 use clap::Parser;
 use reference::fit::loglog_slope;

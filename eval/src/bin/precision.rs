@@ -14,18 +14,7 @@
 //! Per map (`clamp` and `smooth` tiers, luminance), N ∈ {16, …, 256}, 32 seeded rotations × 256 seeded
 //! normals: relative RMS difference = RMS(E₃₂ − E₆₄) / mean |E₆₄|, the bar being 10⁻⁵.
 
-#[allow(dead_code)]
-#[path = "../common/cli.rs"]
-mod cli;
-#[allow(dead_code)]
-#[path = "../../../examples/common/compare.rs"]
-mod compare;
-#[allow(dead_code, unused_imports)]
-#[path = "../../../gen/mod.rs"]
-mod gen;
-#[allow(dead_code)]
-#[path = "../common/tiers.rs"]
-mod tiers;
+use sphere_quadrature_eval::{cli, compare, gen, tiers};
 
 use std::error::Error;
 use std::fmt::Write as _;

@@ -34,17 +34,7 @@
 //! the others are held out. Without training maps the calibration in `tables/probe.txt` is
 //! checked instead of fitted.
 
-#[allow(dead_code)]
-#[path = "../common/cli.rs"]
-mod cli;
-#[allow(dead_code)]
-#[path = "../../../examples/common/compare.rs"]
-mod compare;
-#[path = "../common/parallel.rs"]
-mod parallel;
-#[allow(dead_code)]
-#[path = "../common/tiers.rs"]
-mod tiers;
+use sphere_quadrature_eval::{cli, compare, parallel, tiers};
 
 use std::error::Error;
 use std::f64::consts::PI;

@@ -9,20 +9,7 @@
 
 #![allow(clippy::needless_range_loop)]
 
-#[allow(dead_code)]
-#[path = "../common/cli.rs"]
-mod cli;
-#[allow(dead_code)]
-#[path = "../../../examples/common/compare.rs"]
-mod compare;
-#[path = "../common/parallel.rs"]
-mod parallel;
-// (The module allows its own dead code.)
-#[path = "../common/renderer_engine.rs"]
-mod renderer_engine;
-#[allow(dead_code)]
-#[path = "../common/tiers.rs"]
-mod tiers;
+use sphere_quadrature_eval::{cli, compare, parallel, renderer_engine, tiers};
 
 use std::error::Error;
 use std::f64::consts::PI;

@@ -45,17 +45,7 @@
 // Per-channel loops over RGB triples read clearer with the channel index.
 #![allow(clippy::needless_range_loop)]
 
-#[allow(dead_code)]
-#[path = "../common/cli.rs"]
-mod cli;
-#[allow(dead_code)]
-#[path = "../../../examples/common/compare.rs"]
-mod compare;
-#[path = "../common/parallel.rs"]
-mod parallel;
-#[allow(dead_code)]
-#[path = "../common/tiers.rs"]
-mod tiers;
+use sphere_quadrature_eval::{cli, compare, parallel, tiers};
 
 use std::error::Error;
 use std::fmt::Write as _;

@@ -7,11 +7,7 @@
 //! cargo eval wasm_scenario
 //! ```
 
-#[path = "../../../examples/cortex-m4/src/scenario.rs"]
-mod scenario;
-
-#[path = "../../../examples/wasm/src/api.rs"]
-mod api;
+use sphere_quadrature_eval::{api, scenario};
 
 use clap::Parser;
 use sphere_quadrature::bmc::Size;

@@ -1,15 +1,6 @@
 //! The optimal BMC sample sets of `tables/optimal_sets.txt` (issue #12 item 4, the seed's
 //! step 2), written by `eval/src/bin/optimal_sets.rs`, and their loader for the renderer.
 //!
-//! Include it next to the f64 engine, which it names as `super::engine`:
-//!
-//! ```text
-//! #[path = "common/renderer_engine.rs"]
-//! mod engine;
-//! #[path = "common/optimal.rs"]
-//! mod optimal;
-//! ```
-//!
 //! # Format
 //! `#` starts a comment; blank lines are skipped. Each set is a line
 //! `set <key> <N> <l> <sigma> <var_sf> <var_opt>` followed by `N` lines `x y z`:
@@ -22,7 +13,7 @@
 //! - `x y z`: lobe-frame coordinates `(t₁, t₂, axis)`, f32 numbers: they are parsed as f32
 //!   (then widened), so that the stored set is exactly the f32 set that was written.
 
-use super::engine::LobeFrame;
+use crate::renderer_engine::LobeFrame;
 
 /// One optimal set of the table.
 #[derive(Clone, Debug, PartialEq)]

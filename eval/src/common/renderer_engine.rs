@@ -37,8 +37,6 @@
 //! Its convergence is measured by `renderer --self-test` (doubling every node count, and
 //! against `reference::analytic::SgLight` for diffuse and for Phong without a horizon).
 
-#![allow(dead_code)]
-
 use std::f64::consts::PI;
 
 use reference::envmap::{luminance, EnvMap};
@@ -411,6 +409,7 @@ impl Rule {
     }
 
     /// Number of nodes.
+    #[allow(clippy::len_without_is_empty)]
     pub fn len(&self) -> usize {
         self.nodes.len()
     }
@@ -768,6 +767,7 @@ impl LumPyramid {
     }
 
     /// Number of levels.
+    #[allow(clippy::len_without_is_empty)]
     pub fn len(&self) -> usize {
         self.levels.len()
     }

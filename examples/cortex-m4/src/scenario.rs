@@ -1,7 +1,7 @@
 //! The computation run both on the emulated Cortex-M4 and on the host. Every value is
 //! printed as `key index bits` with the exact f32 bits (NaN as `nan`), so the two outputs
-//! can be compared line by line. Shared with the host through `#[path]`
-//! (`eval/src/bin/device_scenario.rs`); `no_std`, no allocation.
+//! can be compared line by line. Shared with the host through `#[path]` (`eval/src/lib.rs`,
+//! for `eval/src/bin/device_scenario.rs`); `no_std`, no allocation.
 //!
 //! The photodiode readings of the sensor part (and the noisy ones of the sensor-layout part)
 //! are generated on the host (`eval/src/bin/sensor_readings.rs`) into `sensor_readings.rs`,

@@ -1,7 +1,7 @@
 //! The scalar API exported by the WebAssembly module: plain numbers in, plain numbers out,
-//! errors as NaN (or −1 for indices). Shared with the host through `#[path]`
-//! (`eval/src/bin/wasm_scenario.rs`), which calls the same functions natively; the crate root must
-//! declare `mod scenario` (the Cortex-M4 scenario, for its procedural `sky`).
+//! errors as NaN (or −1 for indices). Shared with the host through `#[path]` (`eval/src/lib.rs`,
+//! for `eval/src/bin/wasm_scenario.rs`, which calls the same functions natively); the crate root
+//! must declare `mod scenario` (the Cortex-M4 scenario, for its procedural `sky`).
 
 use sphere_quadrature::bmc::Size;
 use sphere_quadrature::envmap::{EquirectMap, MipPyramid};

@@ -1,0 +1,44 @@
+//! The shared code of the evaluation programs (`src/bin/*.rs`), compiled once for all of them:
+//! the command-line pieces, lighting tiers, parallel map, report helpers, the luminance error
+//! bar, the f64 renderer engine and the optimal-set loader (files in `src/common/`), and the
+//! files the programs share with the rest of the repository, each included here once: the
+//! comparison estimators of the examples (`compare`), the build script's table generator
+//! (`gen`), and the Cortex-M4 scenario and WebAssembly API that the host twins run natively
+//! (`scenario`, `api`). Each program takes what it needs:
+//! `use sphere_quadrature_eval::{cli, tiers};`.
+//!
+//! The library also holds the stages of the two largest programs, [`renderer`] and
+//! [`optimal_sets`] (their constants, options and a module per stage), so that their files in
+//! `src/bin/` keep only their documentation, command line and `main`.
+
+/// The files of `src/common/`, re-exported at the crate root (they keep that folder, which the
+/// reports and tables cite).
+mod common {
+    pub mod cli;
+    pub mod luminance_bar;
+    pub mod optimal;
+    pub mod parallel;
+    pub mod renderer_engine;
+    pub mod report;
+    pub mod tiers;
+}
+
+pub use common::{cli, luminance_bar, optimal, parallel, renderer_engine, report, tiers};
+
+#[path = "../../examples/common/compare.rs"]
+pub mod compare;
+
+#[path = "../../gen/mod.rs"]
+pub mod gen;
+
+/// The Cortex-M4 scenario (`examples/cortex-m4/src/scenario.rs`); at the crate root, where
+/// `api` finds it as `crate::scenario`.
+#[path = "../../examples/cortex-m4/src/scenario.rs"]
+pub mod scenario;
+
+#[path = "../../examples/wasm/src/api.rs"]
+pub mod api;
+
+// The stages of `src/bin/renderer.rs` and `src/bin/optimal_sets.rs`.
+pub mod optimal_sets;
+pub mod renderer;
