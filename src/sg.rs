@@ -241,9 +241,13 @@ impl SphericalGaussian {
             None if v.is_finite() => (self.axis, 0.0),
             None => (self.axis, f32::NAN),
         };
-        // λ₁λ₂|d|²/(|u| + λ₁ + λ₂) = s₁·(λ₂/(|v| + s₁ + s₂))·|d|², every factor bounded.
+        // λ₁λ₂|d|²/(|u| + λ₁ + λ₂) = (λₛ/(|v| + 1 + sₛ))·|d|² with λₛ the smaller sharpness
+        // and sₛ = λₛ/m: every factor bounded, the same operations in either order, and an
+        // sₛ below f32's range harmless (it is added to at least 1; as a factor it would take
+        // the whole exponent with it).
         let d = self.axis - other.axis;
-        let log_a = -s1 * (l2 / (len + s1 + s2)) * d.length_squared();
+        let (small, s_small) = if l1 >= l2 { (l2, s2) } else { (l1, s1) };
+        let log_a = -(small / (len + 1.0 + s_small)) * d.length_squared();
         let e = math::exp(log_a);
         let amplitude = a * e;
         // a₁a₂ beyond f32 (∞, and ∞·0 = NaN when e underflows), or e below the normal range

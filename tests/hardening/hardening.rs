@@ -295,6 +295,45 @@ fn defect_14_product_with_the_largest_sharpness_stays_finite() {
     assert_eq!(g3.product(&g3).sharpness, f32::INFINITY);
 }
 
+/// Found by the `sg` fuzz target: SG(λ = f32::MAX) × SG(λ = 2.3·10⁻⁷) of nearly opposite
+/// axes. Taken in the order (sharp, broad) the amplitude's exponent −λ₁λ₂|d|²/(|u| + λ₁ + λ₂)
+/// was right, but in the order (broad, sharp) it went through λ₂/λ₁ = 7·10⁻⁴⁶, which f32
+/// rounds to 0, so that the exponent was lost: the two orders differed by 5·10⁻⁷ relative.
+/// Both orders now give the same bits, and the amplitude equals the f64 formula to rounding.
+#[test]
+fn product_of_the_sharpest_and_a_very_broad_lobe_is_symmetric_and_exact() {
+    let sharp = SphericalGaussian::new(-Vec3::X, f32::MAX, 122.414_06).unwrap();
+    let axis = Vec3::new(1.0, 0.0, -3.189_386e-5);
+    for broad_sharpness in [2.332_762_1e-7f32, 1e-12, 3e-9, 1e-6] {
+        let broad = SphericalGaussian::new(axis, broad_sharpness, 4.431_269e33).unwrap();
+        let (p, q) = (sharp.product(&broad), broad.product(&sharp));
+        assert_eq!(p.amplitude.to_bits(), q.amplitude.to_bits(), "{p:?} {q:?}");
+        assert_eq!(p.sharpness.to_bits(), q.sharpness.to_bits());
+        // a₁a₂·exp(−λ₁λ₂|d|²/(|u| + λ₁ + λ₂)) in f64, from the lobes' stored f32 values.
+        let (l1, l2) = (f64::from(sharp.sharpness), f64::from(broad.sharpness));
+        let (m1, m2) = (sharp.axis, broad.axis);
+        let u: [f64; 3] = [
+            l1 * f64::from(m1.x) + l2 * f64::from(m2.x),
+            l1 * f64::from(m1.y) + l2 * f64::from(m2.y),
+            l1 * f64::from(m1.z) + l2 * f64::from(m2.z),
+        ];
+        let u_len = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
+        let d2 = [m1.x - m2.x, m1.y - m2.y, m1.z - m2.z]
+            .iter()
+            .map(|&c| f64::from(c) * f64::from(c))
+            .sum::<f64>();
+        let want = f64::from(sharp.amplitude)
+            * f64::from(broad.amplitude)
+            * (-l1 * l2 * d2 / (u_len + l1 + l2)).exp();
+        let rel = (f64::from(p.amplitude) - want).abs() / want;
+        assert!(
+            rel < 3e-7,
+            "λ₂ = {broad_sharpness}: amplitude {} vs {want:e} ({rel:e})",
+            p.amplitude
+        );
+    }
+}
+
 /// Defect 10 for the renderer and fixed-point sizes (found after the probe's fix): their
 /// compile errors said "N = 16, 32, 64, 80, 128, 256" whatever a user table
 /// (`SPHERE_QUADRATURE_BMC_TABLE`) baked. `.ci/unbaked-size.sh` compiles the real error.
