@@ -81,6 +81,41 @@ pub enum Error {
     Internal,
 }
 
+impl Error {
+    /// Whether the error is an argument outside its documented range (a rotation, member,
+    /// channel, weight, response, noise level, prior, smoothness, tolerance, spectrum, hazard,
+    /// resolution or a non-finite number), rather than a bad direction, exponent, sharpness,
+    /// radiance, size or length, too many missing samples, or an internal failure. For callers
+    /// that map the errors onto fewer categories (a JavaScript binding's error names, a status
+    /// code).
+    ///
+    /// ```
+    /// use sphere_quadrature::Error;
+    ///
+    /// assert!(Error::InvalidHazard.is_out_of_range());
+    /// assert!(!Error::InvalidDirection.is_out_of_range());
+    /// ```
+    #[must_use]
+    pub const fn is_out_of_range(self) -> bool {
+        matches!(
+            self,
+            Error::InvalidRotation
+                | Error::InvalidMember
+                | Error::InvalidChannel
+                | Error::InvalidWeights
+                | Error::InvalidResponse
+                | Error::InvalidNoise
+                | Error::InvalidPrior
+                | Error::InvalidSmoothness
+                | Error::InvalidTolerance
+                | Error::InvalidSpectrum
+                | Error::InvalidHazard
+                | Error::InvalidResolution
+                | Error::NonFinite
+        )
+    }
+}
+
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {

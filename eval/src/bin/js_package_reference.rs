@@ -484,22 +484,7 @@ fn layouts() {
 /// `e` as the JavaScript package names it: the crate's errors for an argument out of range
 /// are all `InvalidParameter` there (`package-wasm/src/lib.rs`, `code`).
 fn js_error(e: Option<Error>) -> Option<JsError> {
-    e.map(|e| match e {
-        Error::InvalidRotation
-        | Error::InvalidMember
-        | Error::InvalidChannel
-        | Error::InvalidWeights
-        | Error::InvalidResponse
-        | Error::InvalidNoise
-        | Error::InvalidPrior
-        | Error::InvalidSmoothness
-        | Error::InvalidTolerance
-        | Error::InvalidHazard
-        | Error::InvalidResolution
-        | Error::InvalidSpectrum
-        | Error::NonFinite => JsError::InvalidParameter,
-        e => JsError::Crate(e),
-    })
+    e.map(|e| if e.is_out_of_range() { JsError::InvalidParameter } else { JsError::Crate(e) })
 }
 
 /// An error name of the JavaScript package.

@@ -175,19 +175,7 @@ pub fn error_code(e: Error) -> i32 {
     match e {
         Error::InvalidDirection => 1,
         Error::InvalidRadiance => 2,
-        Error::InvalidRotation
-        | Error::InvalidMember
-        | Error::InvalidChannel
-        | Error::InvalidWeights
-        | Error::InvalidResponse
-        | Error::InvalidNoise
-        | Error::InvalidPrior
-        | Error::InvalidSmoothness
-        | Error::InvalidTolerance
-        | Error::InvalidHazard
-        | Error::InvalidResolution
-        | Error::InvalidSpectrum
-        | Error::NonFinite => 3,
+        e if e.is_out_of_range() => 3,
         Error::InvalidExponent | Error::InvalidSharpness => 4,
         Error::InvalidSize | Error::LengthMismatch => 5,
         _ => 255,

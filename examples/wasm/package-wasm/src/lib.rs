@@ -81,19 +81,7 @@ fn code(e: Error) -> i32 {
         Error::LengthMismatch => 3,
         Error::InvalidSize => 4,
         // The JavaScript package names one error for every argument out of range.
-        Error::InvalidRotation
-        | Error::InvalidMember
-        | Error::InvalidChannel
-        | Error::InvalidWeights
-        | Error::InvalidResponse
-        | Error::InvalidNoise
-        | Error::InvalidPrior
-        | Error::InvalidSmoothness
-        | Error::InvalidTolerance
-        | Error::InvalidHazard
-        | Error::InvalidResolution
-        | Error::InvalidSpectrum
-        | Error::NonFinite => 5,
+        e if e.is_out_of_range() => 5,
         Error::InvalidSharpness => 6,
         Error::InvalidRadiance => 7,
         Error::TooManyMissing => 8,
