@@ -286,27 +286,27 @@ fn selection_is_the_reference_likelihood_argmax() {
             })
             .collect();
         probe.update(&y).unwrap();
-        let best = (0..lls.len()).max_by(|&a, &b| lls[a].total_cmp(&lls[b])).unwrap();
-        let mut sorted = lls.clone();
-        sorted.sort_by(|a, b| b.total_cmp(a));
         total += 1;
-        if probe.selected() == best {
-            agree += 1;
-            // The probe's ℓ is the reference's up to f32 rounding.
-            assert!(
-                (probe.log_likelihood() as f64 - lls[best]).abs() < 1e-3 * lls[best].abs().max(1.0)
-            );
-        } else {
-            // Only a near tie may go the other way.
-            assert!(
-                sorted[0] - sorted[1] < 1e-3,
-                "picked {} not {best}: {lls:?}",
-                probe.selected()
-            );
-        }
+        agree += usize::from(check_selection(probe.selected(), probe.log_likelihood(), &lls));
     }
     println!("selection agreed with the reference argmax in {agree}/{total}");
     assert!(agree >= total - 1);
+}
+
+/// Whether the probe selected the member of the largest reference log-likelihood in `lls`;
+/// then its ℓ must be the reference's up to f32 rounding, and otherwise the two best must be a
+/// near tie (only then may the choice go the other way).
+pub(crate) fn check_selection(selected: usize, log_likelihood: f32, lls: &[f64]) -> bool {
+    let best = (0..lls.len()).max_by(|&a, &b| lls[a].total_cmp(&lls[b])).unwrap();
+    let mut sorted = lls.to_vec();
+    sorted.sort_by(|a, b| b.total_cmp(a));
+    if selected == best {
+        assert!((log_likelihood as f64 - lls[best]).abs() < 1e-3 * lls[best].abs().max(1.0));
+        true
+    } else {
+        assert!(sorted[0] - sorted[1] < 1e-3, "picked {selected} not {best}: {lls:?}");
+        false
+    }
 }
 
 #[test]
