@@ -11,6 +11,11 @@ crate="$here/../package-wasm"
 sizes=("$@")
 [ "${#sizes[@]}" -gt 0 ] || sizes=(16 32 64 128 256 layout)
 mkdir -p "$here/wasm"
+# Panic locations in the modules name source files; with the checkout's and Cargo's home paths
+# remapped, the modules are the same bytes wherever the repository is cloned.
+root="$(cd "$here/../../.." && pwd)"
+cargo_home="${CARGO_HOME:-$HOME/.cargo}"
+export RUSTFLAGS="${RUSTFLAGS:-} --remap-path-prefix=$root=sphere-quadrature --remap-path-prefix=$cargo_home=cargo"
 for n in "${sizes[@]}"; do
     case "$n" in
         16 | 32 | 64 | 128 | 256) feature="n$n" module="probe-$n.wasm" ;;
