@@ -47,32 +47,69 @@ pub fn kernel_mean_mean(lambda: f64) -> f64 {
 
 /// Solves `a·x = b` (row-major `n × n`) by LU with partial pivoting.
 pub fn lu_solve(a: &[f64], n: usize, b: &[f64]) -> Vec<f64> {
-    let mut m = a.to_vec();
-    let mut x = b.to_vec();
-    for c in 0..n {
-        let p = (c..n).max_by(|&i, &j| m[i * n + c].abs().total_cmp(&m[j * n + c].abs())).unwrap();
-        if p != c {
-            for k in 0..n {
-                m.swap(c * n + k, p * n + k);
-            }
-            x.swap(c, p);
-        }
-        let piv = m[c * n + c];
-        for r in c + 1..n {
-            let f = m[r * n + c] / piv;
-            if f != 0.0 {
-                for k in c..n {
-                    m[r * n + k] -= f * m[c * n + k];
+    Lu::new(a, n).solve(b)
+}
+
+/// The LU factorisation with partial pivoting of a row-major `n × n` matrix, `P·a = L·U`: one
+/// factorisation for many right-hand sides and the determinant.
+#[derive(Clone, Debug)]
+pub struct Lu {
+    n: usize,
+    /// `U` on and above the diagonal, `L`'s multipliers below (its unit diagonal implied).
+    m: Vec<f64>,
+    /// Row `i` of `P·a` is row `perm[i]` of `a`.
+    perm: Vec<usize>,
+}
+
+impl Lu {
+    /// Factors `a` (Gaussian elimination, the largest remaining pivot of each column).
+    pub fn new(a: &[f64], n: usize) -> Lu {
+        assert_eq!(a.len(), n * n, "a is not n × n");
+        let mut m = a.to_vec();
+        let mut perm: Vec<usize> = (0..n).collect();
+        for c in 0..n {
+            let p =
+                (c..n).max_by(|&i, &j| m[i * n + c].abs().total_cmp(&m[j * n + c].abs())).unwrap();
+            if p != c {
+                for k in 0..n {
+                    m.swap(c * n + k, p * n + k);
                 }
-                x[r] -= f * x[c];
+                perm.swap(c, p);
+            }
+            let piv = m[c * n + c];
+            for r in c + 1..n {
+                let f = m[r * n + c] / piv;
+                m[r * n + c] = f;
+                if f != 0.0 {
+                    for k in c + 1..n {
+                        m[r * n + k] -= f * m[c * n + k];
+                    }
+                }
             }
         }
+        Lu { n, m, perm }
     }
-    for r in (0..n).rev() {
-        let s: f64 = (r + 1..n).map(|k| m[r * n + k] * x[k]).sum();
-        x[r] = (x[r] - s) / m[r * n + r];
+
+    /// `x` with `a·x = b`.
+    pub fn solve(&self, b: &[f64]) -> Vec<f64> {
+        let n = self.n;
+        assert_eq!(b.len(), n, "b has not n entries");
+        let mut x: Vec<f64> = self.perm.iter().map(|&i| b[i]).collect();
+        for r in 0..n {
+            let s: f64 = (0..r).map(|k| self.m[r * n + k] * x[k]).sum();
+            x[r] -= s;
+        }
+        for r in (0..n).rev() {
+            let s: f64 = (r + 1..n).map(|k| self.m[r * n + k] * x[k]).sum();
+            x[r] = (x[r] - s) / self.m[r * n + r];
+        }
+        x
     }
-    x
+
+    /// `log |det a|`: the sum of the logarithms of the pivots' magnitudes.
+    pub fn log_abs_det(&self) -> f64 {
+        (0..self.n).map(|i| self.m[i * self.n + i].abs().ln()).sum()
+    }
 }
 
 /// BMC irradiance weights for `n` samples of the uniform hemisphere set, length scale `l` and

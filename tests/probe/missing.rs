@@ -15,7 +15,9 @@ use std::f64::consts::PI;
 struct Subset {
     xs: Vec<[f64; 3]>,
     lambda: f64,
+    /// `Q_VV`, and its factors by LU with partial pivoting.
     q: Vec<f64>,
+    lu: reference::bmc::Lu,
 }
 
 /// The GLS fit of the valid samples.
@@ -28,6 +30,8 @@ struct Fit {
     s1: f64,
     /// REML log likelihood `−½·log det Q_VV − ½·log s₁ − ((n − 1)/2)·log rᵀQ_VV⁻¹r`.
     ll: f64,
+    /// `V̄` of the cosine lobe (irradiance), once per fit.
+    vbar: f64,
 }
 
 impl Subset {
@@ -47,7 +51,8 @@ impl Subset {
                     (lambda * (c - 1.0)).exp() + if i == j { sigma * sigma } else { 0.0 };
             }
         }
-        Subset { xs, lambda, q }
+        let lu = reference::bmc::Lu::new(&q, len);
+        Subset { xs, lambda, q, lu }
     }
 
     fn len(&self) -> usize {
@@ -55,7 +60,7 @@ impl Subset {
     }
 
     fn solve(&self, b: &[f64]) -> Vec<f64> {
-        reference::bmc::lu_solve(&self.q, self.len(), b)
+        self.lu.solve(b)
     }
 
     /// The fit to the valid samples `y` (in the order of `xs`).
@@ -67,8 +72,8 @@ impl Subset {
         let beta = qi_y.iter().sum::<f64>() / s1;
         let alpha: Vec<f64> = qi_y.iter().zip(&qi_1).map(|(a, b)| a - beta * b).collect();
         let r2: f64 = y.iter().zip(&alpha).map(|(a, b)| a * b).sum();
-        let ll = -0.5 * log_det(&self.q, len) - 0.5 * s1.ln() - 0.5 * (len as f64 - 1.0) * r2.ln();
-        Fit { alpha, beta, r2, s1, ll }
+        let ll = -0.5 * self.lu.log_abs_det() - 0.5 * s1.ln() - 0.5 * (len as f64 - 1.0) * r2.ln();
+        Fit { alpha, beta, r2, s1, ll, vbar: reference::bmc::kernel_mean_mean(self.lambda) }
     }
 
     /// `V̄ − ζᵀQ_VV⁻¹ζ + (I − 1ᵀQ_VV⁻¹ζ)²/s₁` for the valid samples' `ζ`.
@@ -79,7 +84,7 @@ impl Subset {
         vbar - zqz + (integral - one).powi(2) / fit.s1
     }
 
-    /// Irradiance `E(n)` and its unit variance.
+    /// Irradiance `E(n)` and its unit variance (`V̄` of the cosine lobe from `fit`).
     fn irradiance(&self, fit: &Fit, n: [f64; 3]) -> (f64, f64) {
         let z: Vec<f64> = self
             .xs
@@ -87,43 +92,24 @@ impl Subset {
             .map(|&x| reference::bmc::kernel_mean(self.lambda, reference::vec::dot(x, n)))
             .collect();
         let e = PI * (fit.beta + z.iter().zip(&fit.alpha).map(|(a, b)| a * b).sum::<f64>());
-        let v = self.unit_variance(fit, &z, 1.0, reference::bmc::kernel_mean_mean(self.lambda));
+        let v = self.unit_variance(fit, &z, 1.0, fit.vbar);
         (e, PI * PI * v)
     }
 
-    /// `∫ L·p` and the unit variance for a zonal weight `p(r·x)` about `r`, its `zᵢ` and `V̄`
-    /// by quadrature ([`zonal_cross`]).
-    fn zonal(&self, fit: &Fit, r: [f64; 3], p: &dyn Fn(f64) -> f64, vbar: f64) -> (f64, f64) {
-        let integral = polar(p, |_| 1.0);
+    /// `∫ L·p` and the unit variance for a zonal weight `p(r·x)` about `r` (nonzero for polar
+    /// angles up to `top`), its integral, `zᵢ` and `V̄` by quadrature ([`polar_gl`],
+    /// [`zonal_cross`]).
+    fn zonal(&self, fit: &Fit, r: [f64; 3], p: &dyn Fn(f64) -> f64, top: f64) -> (f64, f64) {
+        let integral = polar_gl(p, top, |_| 1.0);
         let z: Vec<f64> = self
             .xs
             .iter()
-            .map(|&x| zonal_cross(self.lambda, p, reference::vec::dot(x, r)))
+            .map(|&x| zonal_cross(self.lambda, p, top, reference::vec::dot(x, r)))
             .collect();
+        let vbar = polar_gl(p, top, |c| zonal_cross(self.lambda, p, top, c));
         let value = fit.beta * integral + z.iter().zip(&fit.alpha).map(|(a, b)| a * b).sum::<f64>();
         (value, self.unit_variance(fit, &z, integral, vbar))
     }
-}
-
-/// `log det a` by LU with partial pivoting.
-fn log_det(a: &[f64], n: usize) -> f64 {
-    let mut m = a.to_vec();
-    let mut sum = 0.0;
-    for c in 0..n {
-        let p = (c..n).max_by(|&i, &j| m[i * n + c].abs().total_cmp(&m[j * n + c].abs())).unwrap();
-        for k in 0..n {
-            m.swap(c * n + k, p * n + k);
-        }
-        let piv = m[c * n + c];
-        sum += piv.abs().ln();
-        for r in c + 1..n {
-            let f = m[r * n + c] / piv;
-            for k in c..n {
-                m[r * n + k] -= f * m[c * n + k];
-            }
-        }
-    }
-    sum
 }
 
 /// `2π∫₀^π p(cos θ)·g(cos θ)·sin θ dθ` by composite Simpson, 4000 intervals, graded towards
@@ -148,12 +134,30 @@ fn polar(p: &dyn Fn(f64) -> f64, g: impl Fn(f64) -> f64) -> f64 {
     2.0 * PI * sum * h / 3.0
 }
 
+/// The integral of [`polar`] over `θ ∈ [0, top]` by Gauss–Legendre, 24 panels of 20 points:
+/// the outer rule of `V̄ = ∫ p·z`, whose integrand is smooth where `p` is nonzero (`top` is
+/// π/2 for the clamped Phong lobes) and whose `z` is itself a quadrature (480 outer points
+/// rather than 4001).
+fn polar_gl(p: &dyn Fn(f64) -> f64, top: f64, g: impl Fn(f64) -> f64) -> f64 {
+    let panels = 24;
+    let mut sum = 0.0;
+    for k in 0..panels {
+        let (a, b) = (top * k as f64 / panels as f64, top * (k + 1) as f64 / panels as f64);
+        let (ths, ws) = reference::quad::gauss_legendre_on(20, a, b);
+        for (th, w) in ths.iter().zip(&ws) {
+            let c = th.cos();
+            sum += w * th.sin() * p(c) * g(c);
+        }
+    }
+    2.0 * PI * sum
+}
+
 /// `∫ exp(λ(a·x − 1))·p(b·x) dx` for `a·b = t`: `b` at the pole, the azimuth by `2π·I₀`, the
-/// polar angle by [`polar`].
-fn zonal_cross(lambda: f64, p: &dyn Fn(f64) -> f64, t: f64) -> f64 {
+/// polar angle by [`polar_gl`] over `[0, top]`, where `p` is nonzero.
+fn zonal_cross(lambda: f64, p: &dyn Fn(f64) -> f64, top: f64, t: f64) -> f64 {
     let t = t.clamp(-1.0, 1.0);
     let s = (1.0 - t * t).sqrt();
-    polar(p, |c| {
+    polar_gl(p, top, |c| {
         let sn = (1.0 - c * c).max(0.0).sqrt();
         (lambda * (c * t + sn * s - 1.0)).exp() * reference::special::bessel_i0e(lambda * sn * s)
     })
@@ -409,8 +413,7 @@ fn masked_glossy_and_phong_match_the_f64_reference() {
         for mu in [0.0f64, 5.0, 40.0] {
             let r = rng.uniform_sphere();
             let p = move |c: f64| (mu * (c - 1.0)).exp();
-            let vbar = polar(&p, |c| zonal_cross(m.lambda as f64, &p, c));
-            let (want, v) = sub.zonal(&fit, r, &p, vbar);
+            let (want, v) = sub.zonal(&fit, r, &p, PI);
             let lobe = SphericalGaussian { axis: to32(r), sharpness: mu as f32, amplitude: 1.0 };
             let got = probe.glossy(&lobe).unwrap().value as f64;
             let cal = glossy_calibration(&m.calibration, mu);
@@ -427,8 +430,7 @@ fn masked_glossy_and_phong_match_the_f64_reference() {
         for e in [1.0f64, 20.0] {
             let r = rng.uniform_sphere();
             let p = move |c: f64| (e + 1.0) / (2.0 * PI) * c.max(0.0).powf(e);
-            let vbar = polar(&p, |c| zonal_cross(m.lambda as f64, &p, c));
-            let (want, v) = sub.zonal(&fit, r, &p, vbar);
+            let (want, v) = sub.zonal(&fit, r, &p, PI / 2.0);
             let got = probe.phong(to32(r), e as f32).unwrap().value as f64;
             let var = probe.phong_variance(to32(r), e as f32).unwrap() as f64;
             let want_var = noise * v * glossy_calibration(&m.calibration, e + 2.0);

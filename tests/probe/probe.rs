@@ -14,7 +14,13 @@ use std::f64::consts::PI;
 struct RefProbe {
     xs: Vec<[f64; 3]>,
     lambda: f64,
-    q: Vec<f64>,
+    /// `Q`, factored once by LU with partial pivoting.
+    lu: reference::bmc::Lu,
+    /// `Q⁻¹1` and `s₁ = 1ᵀQ⁻¹1`.
+    qi_1: Vec<f64>,
+    s1: f64,
+    /// `V̄` of the cosine lobe (irradiance).
+    vbar: f64,
 }
 
 struct RefEstimate {
@@ -42,43 +48,39 @@ impl RefProbe {
                     (lambda * (c - 1.0)).exp() + if i == j { sigma * sigma } else { 0.0 };
             }
         }
-        RefProbe { xs, lambda, q }
+        let lu = reference::bmc::Lu::new(&q, n);
+        let qi_1 = lu.solve(&vec![1.0; n]);
+        let s1 = qi_1.iter().sum();
+        let vbar = reference::bmc::kernel_mean_mean(lambda);
+        RefProbe { xs, lambda, lu, qi_1, s1, vbar }
     }
 
-    /// `(α, β, Q⁻¹1)` by LU.
-    fn weights(&self, y: &[f64]) -> (Vec<f64>, f64, Vec<f64>) {
-        let len = self.xs.len();
-        let qi_y = reference::bmc::lu_solve(&self.q, len, y);
-        let qi_1 = reference::bmc::lu_solve(&self.q, len, &vec![1.0; len]);
-        let beta = qi_y.iter().sum::<f64>() / qi_1.iter().sum::<f64>();
-        let alpha = qi_y.iter().zip(&qi_1).map(|(a, b)| a - beta * b).collect();
-        (alpha, beta, qi_1)
+    /// `(α, β)` of the GLS fit.
+    fn weights(&self, y: &[f64]) -> (Vec<f64>, f64) {
+        let qi_y = self.lu.solve(y);
+        let beta = qi_y.iter().sum::<f64>() / self.s1;
+        let alpha = qi_y.iter().zip(&self.qi_1).map(|(a, b)| a - beta * b).collect();
+        (alpha, beta)
     }
 
     /// Glossy radiance `∫ L·G` for the lobe `G = exp(μ(r·x − 1))` (unit amplitude), with
     /// `rᵀQ⁻¹r` and the unit posterior variance; `zᵢ` and `V̄` by quadrature.
     fn glossy(&self, y: &[f64], r: [f64; 3], mu: f64, vbar: f64) -> (f64, f64, f64) {
-        let len = self.xs.len();
-        let (alpha, beta, qi_1) = self.weights(y);
+        let (alpha, beta) = self.weights(y);
         let z: Vec<f64> =
             self.xs.iter().map(|&x| sg_pair(self.lambda, mu, reference::vec::dot(x, r))).collect();
         let integral = if mu == 0.0 { 4.0 * PI } else { 2.0 * PI * (1.0 - (-2.0 * mu).exp()) / mu };
         let value = beta * integral + z.iter().zip(&alpha).map(|(a, b)| a * b).sum::<f64>();
         let r2: f64 = y.iter().zip(&alpha).map(|(a, b)| a * b).sum();
-        let qi_z = reference::bmc::lu_solve(&self.q, len, &z);
+        let qi_z = self.lu.solve(&z);
         let zqz: f64 = z.iter().zip(&qi_z).map(|(a, b)| a * b).sum();
         let one_z: f64 = qi_z.iter().sum();
-        let s1: f64 = qi_1.iter().sum();
-        (value, r2, vbar - zqz + (integral - one_z).powi(2) / s1)
+        (value, r2, vbar - zqz + (integral - one_z).powi(2) / self.s1)
     }
 
     fn estimate(&self, y: &[f64], n: [f64; 3]) -> RefEstimate {
         let len = self.xs.len();
-        let qi_y = reference::bmc::lu_solve(&self.q, len, y);
-        let qi_1 = reference::bmc::lu_solve(&self.q, len, &vec![1.0; len]);
-        let s1: f64 = qi_1.iter().sum();
-        let beta = qi_y.iter().sum::<f64>() / s1;
-        let alpha: Vec<f64> = qi_y.iter().zip(&qi_1).map(|(a, b)| a - beta * b).collect();
+        let (alpha, beta) = self.weights(y);
         let z: Vec<f64> = self
             .xs
             .iter()
@@ -86,13 +88,12 @@ impl RefProbe {
             .collect();
         let e = PI * (beta + z.iter().zip(&alpha).map(|(a, b)| a * b).sum::<f64>());
         let r2: f64 = y.iter().zip(&alpha).map(|(a, b)| a * b).sum();
-        let qi_z = reference::bmc::lu_solve(&self.q, len, &z);
+        let qi_z = self.lu.solve(&z);
         let zqz: f64 = z.iter().zip(&qi_z).map(|(a, b)| a * b).sum();
         let one_z: f64 = qi_z.iter().sum();
-        let v = reference::bmc::kernel_mean_mean(self.lambda) - zqz + (1.0 - one_z).powi(2) / s1;
-        // log det Q by LU of Q (product of the pivots).
-        let log_det = log_det(&self.q, len);
-        let ll = -0.5 * log_det - 0.5 * s1.ln() - 0.5 * (len as f64 - 1.0) * r2.ln();
+        let v = self.vbar - zqz + (1.0 - one_z).powi(2) / self.s1;
+        let ll =
+            -0.5 * self.lu.log_abs_det() - 0.5 * self.s1.ln() - 0.5 * (len as f64 - 1.0) * r2.ln();
         RefEstimate { e, r2, v: PI * PI * v, ll }
     }
 }
@@ -119,6 +120,23 @@ fn polar_integral(mu: f64, g: impl Fn(f64) -> f64) -> f64 {
     2.0 * PI * sum * h / 3.0
 }
 
+/// The integral of [`polar_integral`] by Gauss–Legendre, 16 panels of 20 points over [0, θₘ]:
+/// the outer rule of `V̄ = ∫ G·z`, whose integrand is smooth and whose `z` is itself a
+/// quadrature (320 outer points rather than 2001).
+fn polar_integral_gl(mu: f64, g: impl Fn(f64) -> f64) -> f64 {
+    let top = if mu > 0.0 { (90.0 / mu).sqrt().min(PI) } else { PI };
+    let panels = 16;
+    let mut sum = 0.0;
+    for p in 0..panels {
+        let (a, b) = (top * p as f64 / panels as f64, top * (p + 1) as f64 / panels as f64);
+        let (ths, ws) = reference::quad::gauss_legendre_on(20, a, b);
+        for (th, w) in ths.iter().zip(&ws) {
+            sum += w * th.sin() * (mu * (th.cos() - 1.0)).exp() * g(th.cos());
+        }
+    }
+    2.0 * PI * sum
+}
+
 /// `∫ exp(λ(a·x − 1))·exp(μ(b·x − 1)) dx` for `a·b = t`, numerically: `b` at the pole, the
 /// azimuth by `2π·I₀`, the polar angle by [`polar_integral`] (not the closed form).
 fn sg_pair(lambda: f64, mu: f64, t: f64) -> f64 {
@@ -129,26 +147,6 @@ fn sg_pair(lambda: f64, mu: f64, t: f64) -> f64 {
         // exp(λ(c·t − 1))·I₀(λ·sn·s) = exp(λ(c·t + sn·s − 1))·I₀ₑ(λ·sn·s)
         (lambda * (c * t + sn * s - 1.0)).exp() * reference::special::bessel_i0e(lambda * sn * s)
     })
-}
-
-fn log_det(a: &[f64], n: usize) -> f64 {
-    let mut m = a.to_vec();
-    let mut sum = 0.0;
-    for c in 0..n {
-        let p = (c..n).max_by(|&i, &j| m[i * n + c].abs().total_cmp(&m[j * n + c].abs())).unwrap();
-        for k in 0..n {
-            m.swap(c * n + k, p * n + k);
-        }
-        let piv = m[c * n + c];
-        sum += piv.abs().ln();
-        for r in c + 1..n {
-            let f = m[r * n + c] / piv;
-            for k in c..n {
-                m[r * n + k] -= f * m[c * n + k];
-            }
-        }
-    }
-    sum
 }
 
 /// A smooth random radiance field: a constant plus a few SG lobes.
@@ -188,7 +186,7 @@ where
     let members: Vec<_> = Probe::<N>::family().collect();
     let mut member_sq = vec![0.0f64; members.len()];
     let mut member_count = 0.0f64;
-    // The reference factors Q afresh for every solve: fewer cases at large N.
+    // The reference's z and V̄ are quadratures per sample: fewer cases at large N.
     let (fields, queries) = if N >= 128 { (1, 6) } else { (3, 32) };
     for _ in 0..fields {
         let rot = rng.uniform_rotation();
@@ -567,7 +565,7 @@ where
                 let amp = 0.5 + rng.next_f64();
                 let vbar = *vbars
                     .entry((k, mu.to_bits()))
-                    .or_insert_with(|| polar_integral(mu, |t| sg_pair(m.lambda as f64, mu, t)));
+                    .or_insert_with(|| polar_integral_gl(mu, |t| sg_pair(m.lambda as f64, mu, t)));
                 let (want, r2, v) = r.glossy(&y64, axis, mu, vbar);
                 let lobe = SphericalGaussian {
                     axis: Vec3::new(axis[0] as f32, axis[1] as f32, axis[2] as f32),
