@@ -6,7 +6,6 @@
 # these lines. Usage: .ci/m4-flash.sh > target/ci/m4-flash.txt
 set -euo pipefail
 cd "$(dirname "$0")/../examples/cortex-m4"
-elf=target/thumbv7em-none-eabihf/release/flash
 
 # KEY BASE N: the case, the case it is measured from ("none": nothing), the size it uses
 # (a number of points N, or K=k sensors).
@@ -39,24 +38,56 @@ sg_clamped_cosine_fraction none 1
 sg_hemispherical_fraction none 1
 "
 
-declare -A code data
+# Every case and base, once each, in order of first use.
+keys=()
+declare -A seen
+while read -r key base _; do
+    [ -n "$key" ] || continue
+    for k in "$base" "$key"; do
+        [ -n "${seen[$k]:-}" ] || { keys+=("$k"); seen[$k]=1; }
+    done
+done <<< "$cases"
+
+# measure TARGET_DIR KEY...: builds each case in its own target directory and prints
+# "KEY CODE DATA" for each, in bytes.
 measure() {
-    local key=$1
-    [ -n "${code[$key]:-}" ] && return
-    if [ "$key" = none ]; then
-        env -u SQ_FLASH cargo build --release --quiet --bin flash
-    else
-        SQ_FLASH=$key cargo build --release --quiet --bin flash
-    fi
-    # `size -A`: "section size addr" rows.
-    code[$key]=$(size -A "$elf" | awk '$1 == ".text" { print $2 }')
-    data[$key]=$(size -A "$elf" | awk '$1 == ".rodata" || $1 == ".data" { s += $2 } END { print s }')
+    local dir=$1 key elf
+    shift
+    elf=$dir/thumbv7em-none-eabihf/release/flash
+    for key in "$@"; do
+        if [ "$key" = none ]; then
+            env -u SQ_FLASH CARGO_TARGET_DIR="$dir" cargo build --release --quiet --bin flash
+        else
+            SQ_FLASH=$key CARGO_TARGET_DIR="$dir" cargo build --release --quiet --bin flash
+        fi
+        # `size -A`: "section size addr" rows.
+        echo "$key $(size -A "$elf" | awk '$1 == ".text" { print $2 }') $(size -A "$elf" \
+            | awk '$1 == ".rodata" || $1 == ".data" { s += $2 } END { print s }')"
+    done
 }
+
+# The builds (one LTO link each, mostly on one core) alternate between two target
+# directories, two at a time.
+even=() odd=()
+for i in "${!keys[@]}"; do
+    if [ $((i % 2)) = 0 ]; then even+=("${keys[$i]}"); else odd+=("${keys[$i]}"); fi
+done
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+measure target/flash-a "${even[@]}" > "$out/a" &
+a=$!
+measure target/flash-b "${odd[@]}" > "$out/b" &
+b=$!
+wait "$a"
+wait "$b"
+
+declare -A code data
+while read -r key c d; do
+    code[$key]=$c data[$key]=$d
+done < <(cat "$out/a" "$out/b")
 
 while read -r key base n; do
     [ -n "$key" ] || continue
-    measure "$base"
-    measure "$key"
     case $n in *=*) size=$n ;; *) size=N=$n ;; esac
     echo "# flash $key $size $((code[$key] - code[$base])) $((data[$key] - data[$base]))"
 done <<< "$cases"
