@@ -64,6 +64,21 @@ pub fn gauss_legendre_on(n: usize, a: f64, b: f64) -> (Vec<f64>, Vec<f64>) {
     (x.iter().map(|&t| c + h * t).collect(), w.iter().map(|&v| v * h).collect())
 }
 
+/// `2π∫₀^top sin θ·f(cos θ) dθ`: the integral over the sphere (up to the polar angle `top`)
+/// of a function of the polar cosine, by `panels` equal panels of 20-point Gauss–Legendre
+/// in `θ` (for integrands smooth on `[0, top]`: put a kink at `top`).
+pub fn zonal_gl(top: f64, panels: usize, f: impl Fn(f64) -> f64) -> f64 {
+    let mut sum = 0.0;
+    for k in 0..panels {
+        let (a, b) = (top * k as f64 / panels as f64, top * (k + 1) as f64 / panels as f64);
+        let (ths, ws) = gauss_legendre_on(20, a, b);
+        for (th, w) in ths.iter().zip(&ws) {
+            sum += w * th.sin() * f(th.cos());
+        }
+    }
+    2.0 * std::f64::consts::PI * sum
+}
+
 /// Gauss–Jacobi rule for `∫₀¹ u^e g(u) du` (any real `e > −1`), returned in the
 /// variable `s = 1 − u` so that nodes next to `u = 1` keep full relative precision:
 /// `∫₀¹ u^e g(u) du ≈ Σ w_i g(1 − s_i)`. The weights sum to `1/(e + 1)`; the rule is

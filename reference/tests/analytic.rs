@@ -280,3 +280,13 @@ fn lu_solves_and_its_determinant_is_the_cofactor_expansion() {
     // The same solution from the one-shot solve.
     assert_eq!(reference::bmc::lu_solve(&a, 3, &b), x);
 }
+
+#[test]
+fn zonal_rule_integrates_polynomials_of_the_polar_cosine() {
+    use std::f64::consts::PI;
+    // 2π∫ sinθ·cos²θ dθ over the sphere = 4π/3; over the upper hemisphere of cos θ: π.
+    let sphere = reference::quad::zonal_gl(PI, 4, |c| c * c);
+    assert!((sphere - 4.0 * PI / 3.0).abs() < 1e-13, "{sphere}");
+    let upper = reference::quad::zonal_gl(PI / 2.0, 4, |c| c);
+    assert!((upper - PI).abs() < 1e-13, "{upper}");
+}

@@ -134,22 +134,11 @@ fn polar(p: &dyn Fn(f64) -> f64, g: impl Fn(f64) -> f64) -> f64 {
     2.0 * PI * sum * h / 3.0
 }
 
-/// The integral of [`polar`] over `θ ∈ [0, top]` by Gauss–Legendre, 24 panels of 20 points:
-/// the outer rule of `V̄ = ∫ p·z`, whose integrand is smooth where `p` is nonzero (`top` is
-/// π/2 for the clamped Phong lobes) and whose `z` is itself a quadrature (480 outer points
-/// rather than 4001).
+/// The integral of [`polar`] over `θ ∈ [0, top]` by Gauss–Legendre, 24 panels of 20 points,
+/// `top` where `p` ends (π/2 for the clamped Phong lobes, whose kink Simpson's rule straddled):
+/// the rule of the lobes' integrals, of `zᵢ` and, as the outer rule, of `V̄ = ∫ p·z`.
 fn polar_gl(p: &dyn Fn(f64) -> f64, top: f64, g: impl Fn(f64) -> f64) -> f64 {
-    let panels = 24;
-    let mut sum = 0.0;
-    for k in 0..panels {
-        let (a, b) = (top * k as f64 / panels as f64, top * (k + 1) as f64 / panels as f64);
-        let (ths, ws) = reference::quad::gauss_legendre_on(20, a, b);
-        for (th, w) in ths.iter().zip(&ws) {
-            let c = th.cos();
-            sum += w * th.sin() * p(c) * g(c);
-        }
-    }
-    2.0 * PI * sum
+    reference::quad::zonal_gl(top, 24, |c| p(c) * g(c))
 }
 
 /// `∫ exp(λ(a·x − 1))·p(b·x) dx` for `a·b = t`: `b` at the pole, the azimuth by `2π·I₀`, the

@@ -125,16 +125,7 @@ fn polar_integral(mu: f64, g: impl Fn(f64) -> f64) -> f64 {
 /// quadrature (320 outer points rather than 2001).
 fn polar_integral_gl(mu: f64, g: impl Fn(f64) -> f64) -> f64 {
     let top = if mu > 0.0 { (90.0 / mu).sqrt().min(PI) } else { PI };
-    let panels = 16;
-    let mut sum = 0.0;
-    for p in 0..panels {
-        let (a, b) = (top * p as f64 / panels as f64, top * (p + 1) as f64 / panels as f64);
-        let (ths, ws) = reference::quad::gauss_legendre_on(20, a, b);
-        for (th, w) in ths.iter().zip(&ws) {
-            sum += w * th.sin() * (mu * (th.cos() - 1.0)).exp() * g(th.cos());
-        }
-    }
-    2.0 * PI * sum
+    reference::quad::zonal_gl(top, 16, |c| (mu * (c - 1.0)).exp() * g(c))
 }
 
 /// `∫ exp(λ(a·x − 1))·exp(μ(b·x − 1)) dx` for `a·b = t`, numerically: `b` at the pole, the
