@@ -39,6 +39,9 @@ pub mod scenario;
 #[path = "../../examples/wasm/src/api.rs"]
 pub mod api;
 
+/// The footprint renderer's model (the generator's prototype).
+pub mod fp;
+
 // The stages of `src/bin/renderer.rs` and `src/bin/optimal_sets.rs`.
 pub mod optimal_sets;
 pub mod renderer;

@@ -1,0 +1,358 @@
+//! The footprint renderer's model on real maps (the design study before the crate's type):
+//! Bayesian Monte Carlo of the renderer integrals from lookups whose footprints follow the
+//! sample density, against filtered importance sampling, QMC and split-sum, with the error
+//! bar's 2σ coverage.
+//!
+//! ```text
+//! cargo eval renderer_fp --                       # ten bundled maps, 48 queries, N = 32, 64
+//! cargo eval renderer_fp -- --brdfs 10,50 --ns 16,32,64,128 --queries 96 a.hdr b.hdr
+//! ```
+//!
+//! # Model (`sphere_quadrature_eval::fp`)
+//! Per query, the lobe-morphed hemisphere spherical Fibonacci set at phase 0 in the lobe
+//! frame (`t₁` towards the normal: the `GlossyRenderer` set; the cosine-morphed set about `n`
+//! for diffuse). Sample `j` reads the map through the normalised spherical Gaussian of
+//! sharpness `sⱼ = round(2π·N·pdf(xⱼ)/c)` (solid angle `c` times the sample's share) with
+//! `MipPyramid::footprint_sample`. The weights are the GLS weights of one model `(l, σ′)`
+//! (`--c`, `--l`, `--sigma`), exact for the query's `θₙ` (no grid).
+//!
+//! # Error bars
+//! - `single`: `σ̂²·u` of the weights' own model (`σ̂²` by REML);
+//! - `average`: over the family `l ∈ --family-l` × `σ′ ∈ --family-sigma` (same footprints),
+//!   `Σ πₘ·σ̂²ₘ·uₘ(w)`, `uₘ(w)` the error variance of the chosen weights under model `m` and
+//!   `πₘ ∝` its restricted likelihood.
+//!
+//! # Output
+//! Per (BRDF, N, tier): over the held-out maps the mean of per-map RMSE ratios (worst map)
+//! of `bmc-fp` to `qmc-fis`, `qmc-sf` and `split-sum`, and 2σ coverage of both error bars on
+//! held-out and training maps. `--csv FILE` writes rows
+//! `renderer,<tier>,<estimator>,<n>,<brdf>,<map>,<rel_rmse>` and
+//! `coverage,<tier>,<bar>,<n>,<brdf>,<map>,<fraction>`.
+
+use std::error::Error;
+use std::f64::consts::PI;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use clap::Parser;
+use reference::envmap::{luminance, EnvMap};
+use sphere_quadrature::envmap::{EquirectMap, MipPyramid};
+use sphere_quadrature::footprint::Kind;
+use sphere_quadrature::Vec3;
+use sphere_quadrature_eval::fp::{degree_cut, footprints, lobe_set, Design, Integrand, Model};
+use sphere_quadrature_eval::parallel::parallel_map;
+use sphere_quadrature_eval::renderer::scenes::{truths, Light, Scene};
+use sphere_quadrature_eval::renderer::{SEED_QUERIES, SEED_SYNTHETIC};
+use sphere_quadrature_eval::renderer_engine::{self as engine, Brdf, LobeFrame};
+use sphere_quadrature_eval::{cli, compare, tiers};
+
+/// renderer_fp: Bayesian Monte Carlo on footprint lookups, on real maps
+#[derive(Parser)]
+#[command(bin_name = "cargo eval renderer_fp --")]
+struct Cli {
+    #[command(flatten)]
+    maps: cli::TrainingMaps,
+    /// Queries per map
+    #[arg(long, default_value_t = 48)]
+    queries: usize,
+    /// Sample counts
+    #[arg(long, value_delimiter = ',', default_values_t = [32, 64])]
+    ns: Vec<usize>,
+    /// BRDFs: diffuse or a Phong exponent
+    #[arg(long, value_delimiter = ',', default_values = ["diffuse", "10", "50"])]
+    brdfs: Vec<String>,
+    /// Footprint solid angle in samples' shares, diffuse and Phong
+    #[arg(long, value_delimiter = ',', default_values_t = [8.0, 16.0])]
+    c: Vec<f64>,
+    /// The weights' kernel length
+    #[arg(long, default_value_t = 0.6)]
+    l: f64,
+    /// The weights' nugget σ′
+    #[arg(long, default_value_t = 1e-4)]
+    sigma: f64,
+    /// The error bar family's kernel lengths
+    #[arg(long, value_delimiter = ',', default_values_t = [0.35, 0.6, 1.0, 1.5, 2.2, 3.0])]
+    family_l: Vec<f64>,
+    /// The error bar family's nuggets
+    #[arg(long, value_delimiter = ',', default_values_t = [1e-5, 1e-4, 1e-3, 1e-2])]
+    family_sigma: Vec<f64>,
+    /// Synthetic mixtures
+    #[arg(long, default_value_t = 10)]
+    mixtures: usize,
+    /// Also write CSV rows
+    #[arg(long, value_name = "FILE")]
+    csv: Option<PathBuf>,
+    #[command(flatten)]
+    threads: cli::Threads,
+}
+
+const TIERS: [&str; 4] = ["raw", "clamp", "smooth", "synthetic"];
+/// Estimators: bmc-fp (pyramid lookups), qmc-fis, qmc-sf, split-sum.
+const EST: [&str; 4] = ["bmc-fp-pyramid", "qmc-fis", "qmc-sf", "split-sum"];
+
+/// Per (query, N): everything that does not depend on the map.
+struct Plan {
+    world: Vec<[f64; 3]>,
+    sharpness: Vec<u32>,
+    w: Vec<f64>,
+    /// `uₘ(w)` per family model, and of the weights' own model (last).
+    u: Vec<f64>,
+    mass: f64,
+}
+
+fn parse_brdf(s: &str) -> Result<Brdf, String> {
+    if s == "diffuse" {
+        return Ok(Brdf::Diffuse);
+    }
+    s.parse::<u32>().map(|e| Brdf::Phong(f64::from(e))).map_err(|_| format!("unknown BRDF {s}"))
+}
+
+fn main() {
+    cli::run_main("renderer_fp", || Ok(Cli::parse()), run);
+}
+
+fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
+    let threads = o.threads.count();
+    let paths = if o.maps.maps.is_empty() { cli::named_maps(false) } else { o.maps.maps.clone() };
+    let names: Vec<String> = paths.iter().map(|p| cli::map_name(p)).collect();
+    let raw: Vec<EnvMap> = paths
+        .iter()
+        .map(EnvMap::load)
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("cannot load a map: {e}"))?;
+    let clamped: Vec<EnvMap> = raw.iter().map(compare::clamped).collect();
+    let smooth: Vec<EnvMap> = parallel_map(&clamped, threads, |_, m| tiers::smooth(m));
+    let mut scenes = Vec::new();
+    for (t, tier) in [raw, clamped, smooth].into_iter().enumerate() {
+        for (k, map) in tier.into_iter().enumerate() {
+            scenes.push(Scene::map(t, &names[k], map));
+        }
+    }
+    for (k, m) in tiers::mixtures(o.mixtures, SEED_SYNTHETIC).into_iter().enumerate() {
+        scenes.push(Scene {
+            name: format!("mixture{k}"),
+            tier: 3,
+            held_out: true,
+            light: Light::Mixture(m),
+        });
+    }
+    let queries = engine::queries(o.queries, SEED_QUERIES);
+    let brdfs: Vec<Brdf> = o.brdfs.iter().map(|s| parse_brdf(s)).collect::<Result<_, _>>()?;
+    let mut csv = String::new();
+    let mut report = String::new();
+    for &brdf in &brdfs {
+        let truth = truths(brdf, &scenes, &queries, threads);
+        let c = if brdf == Brdf::Diffuse { o.c[0] } else { *o.c.last().unwrap_or(&16.0) };
+        let morph = brdf.exponent();
+        let lmax =
+            o.family_l.iter().chain([&o.l]).map(|&l| degree_cut(2.0 / (l * l))).max().unwrap_or(40);
+        for &n in &o.ns {
+            let xs = lobe_set(n, morph);
+            let sharp = footprints(&xs, morph, c);
+            let design = Design::new(xs.clone(), sharp.clone(), lmax);
+            let own = Model::new(&design, o.l, o.sigma)
+                .ok_or("the weights' Q is not positive definite")?;
+            let mut family = Vec::new();
+            for &l in &o.family_l {
+                for &s in &o.family_sigma {
+                    family.push(
+                        Model::new(&design, l, s).ok_or("a family Q is not positive definite")?,
+                    );
+                }
+            }
+            // Plans per query.
+            let plans: Vec<Plan> = parallel_map(&queries, threads, |_, q| {
+                let frame = LobeFrame::new(brdf, q);
+                let p = match brdf {
+                    Brdf::Diffuse => Integrand::irradiance(),
+                    Brdf::Phong(e) => Integrand::phong(e, frame.cos_alpha.clamp(-1.0, 1.0).acos()),
+                };
+                let coef = p.coefficients(lmax, 160);
+                let w = own.weights(&design, &coef);
+                let residual = design.residual_power(&coef, &w);
+                let mut u: Vec<f64> =
+                    family.iter().map(|m| m.unit_variance(&residual, &w)).collect();
+                u.push(own.unit_variance(&residual, &w));
+                let world = xs
+                    .iter()
+                    .map(|x| {
+                        frame.direction(x[2], (x[0] * x[0] + x[1] * x[1]).sqrt(), x[1].atan2(x[0]))
+                    })
+                    .collect();
+                let sharpness = sharp.iter().map(|&s| s as u32).collect();
+                Plan { world, sharpness, w, u, mass: (4.0 * PI).sqrt() * coef[0] }
+            });
+            // Per scene: estimates and coverage.
+            let per_scene: Vec<([f64; 4], [f64; 2])> =
+                parallel_map(&(0..scenes.len()).collect::<Vec<_>>(), threads, |_, &si| {
+                    let scene = &scenes[si];
+                    let map = match &scene.light {
+                        Light::Map { map, .. } => Some(map),
+                        Light::Mixture(_) => None,
+                    };
+                    let mut buffer =
+                        vec![
+                            [0.0f32; 3];
+                            map.map_or(0, |m| MipPyramid::buffer_len(m.width, m.height))
+                        ];
+                    let eq =
+                        map.map(|m| EquirectMap::new(m.width, m.height, &m.pixels).expect("a map"));
+                    let pyramid =
+                        eq.as_ref().map(|m| MipPyramid::new(m, &mut buffer).expect("a pyramid"));
+                    let read = |x: [f64; 3], s: u32| -> f64 {
+                        match (&pyramid, &scene.light) {
+                            (Some(p), _) => {
+                                let d = Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32);
+                                let rgb = p
+                                    .footprint_sample(d, Kind::Gaussian { sharpness: s })
+                                    .expect("a lookup");
+                                luminance(rgb.map(f64::from))
+                            }
+                            (None, Light::Mixture(m)) => {
+                                m.constant
+                                    + m.lobes
+                                        .iter()
+                                        .map(|g| {
+                                            engine::sg_filtered(
+                                                g.axis,
+                                                g.sharpness,
+                                                g.amplitude,
+                                                x,
+                                                f64::from(s),
+                                            )
+                                        })
+                                        .sum::<f64>()
+                            }
+                            _ => unreachable!("a map has a pyramid"),
+                        }
+                    };
+                    let mut se = [0.0f64; 4];
+                    let mut abs = 0.0;
+                    let mut covered = [0usize; 2];
+                    for (qi, (q, plan)) in queries.iter().zip(&plans).enumerate() {
+                        let t = truth[si][qi];
+                        let y: Vec<f64> = plan
+                            .world
+                            .iter()
+                            .zip(&plan.sharpness)
+                            .map(|(&x, &s)| read(x, s))
+                            .collect();
+                        let fp: f64 = plan.w.iter().zip(&y).map(|(w, y)| w * y).sum();
+                        let mut fis = 0.0;
+                        let mut sf = 0.0;
+                        for &x in &plan.world {
+                            let omega = (1.0 / (n as f64 * brdf.pdf(q, x))).min(4.0 * PI);
+                            fis += scene.filtered(x, omega) * brdf.qmc_factor(q, x);
+                            sf += scene.lum(x) * brdf.qmc_factor(q, x);
+                        }
+                        let (fis, sf) = (fis / n as f64, sf / n as f64);
+                        let split = match (brdf, &pyramid, &scene.light) {
+                            (Brdf::Phong(e), Some(p), _) => {
+                                let r = Vec3::new(q.r[0] as f32, q.r[1] as f32, q.r[2] as f32);
+                                let rgb = p
+                                    .footprint_sample(r, Kind::CosinePower { exponent: e as u32 })
+                                    .expect("a lookup");
+                                luminance(rgb.map(f64::from)) * plan.mass
+                            }
+                            _ => f64::NAN,
+                        };
+                        for (k, est) in [fp, fis, sf, split].into_iter().enumerate() {
+                            se[k] += (est - t).powi(2);
+                        }
+                        abs += t.abs();
+                        // Error bars.
+                        let (s2_own, _) = own.reml(&y);
+                        let single = s2_own * plan.u[family.len()];
+                        let fits: Vec<(f64, f64)> = family.iter().map(|m| m.reml(&y)).collect();
+                        let top = fits.iter().map(|f| f.1).fold(f64::NEG_INFINITY, f64::max);
+                        let (mut num, mut den) = (0.0, 0.0);
+                        for (k, (s2, ll)) in fits.iter().enumerate() {
+                            let pi = (ll - top).exp();
+                            num += pi * s2 * plan.u[k];
+                            den += pi;
+                        }
+                        let average = num / den;
+                        let err = (fp - t).abs();
+                        covered[0] += usize::from(err <= 2.0 * single.sqrt());
+                        covered[1] += usize::from(err <= 2.0 * average.sqrt());
+                    }
+                    let nq = queries.len() as f64;
+                    let rel = se.map(|s| (s / nq).sqrt() / (abs / nq));
+                    (rel, covered.map(|c| c as f64 / nq))
+                });
+            // Report.
+            let bname = brdf.name();
+            for (t, tier) in TIERS.iter().enumerate() {
+                let members: Vec<usize> =
+                    (0..scenes.len()).filter(|&i| scenes[i].tier == t).collect();
+                if members.is_empty() {
+                    continue;
+                }
+                for &i in &members {
+                    for (k, est) in EST.iter().enumerate() {
+                        if per_scene[i].0[k].is_finite() {
+                            let _ = writeln!(
+                                csv,
+                                "renderer,{tier},{est},{n},{bname},{},{:.6e}",
+                                scenes[i].name, per_scene[i].0[k]
+                            );
+                        }
+                    }
+                    for (k, bar) in ["single", "average"].iter().enumerate() {
+                        let _ = writeln!(
+                            csv,
+                            "coverage,{tier},{bar},{n},{bname},{},{:.4}",
+                            scenes[i].name, per_scene[i].1[k]
+                        );
+                    }
+                }
+                let held: Vec<usize> =
+                    members.iter().copied().filter(|&i| scenes[i].held_out).collect();
+                let train: Vec<usize> =
+                    members.iter().copied().filter(|&i| !scenes[i].held_out).collect();
+                let ratio = |b: usize| -> String {
+                    if held.is_empty() || !per_scene[held[0]].0[b].is_finite() {
+                        return "–".into();
+                    }
+                    let r: Vec<f64> =
+                        held.iter().map(|&i| per_scene[i].0[0] / per_scene[i].0[b]).collect();
+                    let mean = r.iter().sum::<f64>() / r.len() as f64;
+                    let worst = r.iter().cloned().fold(0.0, f64::max);
+                    format!("{mean:.3} ({worst:.3})")
+                };
+                let cover = |set: &[usize], k: usize| -> String {
+                    if set.is_empty() {
+                        return "–".into();
+                    }
+                    format!(
+                        "{:.3}",
+                        set.iter().map(|&i| per_scene[i].1[k]).sum::<f64>() / set.len() as f64
+                    )
+                };
+                let fp_abs = if held.is_empty() {
+                    f64::NAN
+                } else {
+                    held.iter().map(|&i| per_scene[i].0[0]).sum::<f64>() / held.len() as f64
+                };
+                let _ = writeln!(
+                    report,
+                    "{bname:>8} N={n:<3} {tier:<9} fp {:.4}%  fp/fis {}  fp/sf {}  fp/split {}  2σ single {} / {} (train)  average {} / {} (train)",
+                    100.0 * fp_abs,
+                    ratio(1),
+                    ratio(2),
+                    ratio(3),
+                    cover(&held, 0),
+                    cover(&train, 0),
+                    cover(&held, 1),
+                    cover(&train, 1),
+                );
+            }
+            eprintln!("{bname} N = {n} done");
+        }
+    }
+    print!("{report}");
+    if let Some(path) = &o.csv {
+        std::fs::write(path, csv)?;
+    }
+    Ok(())
+}
