@@ -368,6 +368,173 @@ impl Model {
     }
 }
 
+impl Model {
+    /// `Q` (row-major `n×n`) from its factor.
+    pub fn matrix(&self) -> Vec<f64> {
+        let n = self.n;
+        let l = &self.factor;
+        let mut q = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..=i {
+                let s: f64 = (0..=j).map(|k| l[i * n + k] * l[j * n + k]).sum();
+                q[i * n + j] = s;
+                q[j * n + i] = s;
+            }
+        }
+        q
+    }
+
+    /// The covariance `AᵀQA` of the contrasts `A` under this model, factored.
+    pub fn reduced(&self, c: &Contrasts) -> Option<Reduced> {
+        let (n, k) = (self.n, c.k);
+        // B = LᵀA (n×k), AᵀQA = BᵀB.
+        let mut b = vec![0.0; n * k];
+        for i in 0..n {
+            for j in 0..k {
+                b[i * k + j] = (i..n).map(|r| self.factor[r * n + i] * c.a[r * k + j]).sum();
+            }
+        }
+        let mut m = vec![0.0; k * k];
+        for i in 0..k {
+            for j in 0..k {
+                m[i * k + j] = (0..n).map(|r| b[r * k + i] * b[r * k + j]).sum();
+            }
+        }
+        let factor = cholesky(&m, k)?;
+        let log_det = 2.0 * (0..k).map(|i| factor[i * k + i].ln()).sum::<f64>();
+        Some(Reduced { k, factor, log_det })
+    }
+}
+
+/// `k` contrasts of the samples (orthogonal to constants): eigenvectors of `PQP`
+/// (`P = I − 11ᵀ/N`) of a base model, spread evenly over its `N − 1` nonzero eigenvalues
+/// from the largest down.
+#[derive(Clone, Debug)]
+pub struct Contrasts {
+    /// Contrasts.
+    pub k: usize,
+    /// `A`, row-major `N×k`.
+    pub a: Vec<f64>,
+}
+
+impl Contrasts {
+    /// `k ≤ N − 1` contrasts from the base model.
+    pub fn new(base: &Model, k: usize) -> Self {
+        let n = base.n;
+        let q = base.matrix();
+        // PQP.
+        let row: Vec<f64> =
+            (0..n).map(|i| (0..n).map(|j| q[i * n + j]).sum::<f64>() / n as f64).collect();
+        let all = row.iter().sum::<f64>() / n as f64;
+        let mut pqp = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                pqp[i * n + j] = q[i * n + j] - row[i] - row[j] + all;
+            }
+        }
+        let (values, vectors) = symmetric_eigen(&pqp, n);
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &b| values[b].total_cmp(&values[a]));
+        // The constant vector has eigenvalue 0: drop the eigenvector closest to it.
+        let constant = (0..n)
+            .max_by(|&a, &b| {
+                let s = |c: usize| (0..n).map(|r| vectors[r * n + c]).sum::<f64>().abs();
+                s(a).total_cmp(&s(b))
+            })
+            .unwrap_or(n - 1);
+        order.retain(|&c| c != constant);
+        let k = k.clamp(1, n - 1);
+        let picks: Vec<usize> = (0..k).map(|j| order[j * (n - 1) / k]).collect();
+        let mut a = vec![0.0; n * k];
+        for (j, &c) in picks.iter().enumerate() {
+            for r in 0..n {
+                a[r * k + j] = vectors[r * n + c];
+            }
+        }
+        Self { k, a }
+    }
+}
+
+/// A model's covariance of [`Contrasts`], factored.
+#[derive(Clone, Debug)]
+pub struct Reduced {
+    k: usize,
+    factor: Vec<f64>,
+    log_det: f64,
+}
+
+impl Reduced {
+    /// `(σ̂², ℓ)` of the contrasts `t = Aᵀy`: `σ̂² = tᵀC⁻¹t/k`, `ℓ = −k/2·ln σ̂² − ½ln|C|`.
+    pub fn fit(&self, t: &[f64]) -> (f64, f64) {
+        let k = self.k;
+        let l = &self.factor;
+        let mut y = t.to_vec();
+        for i in 0..k {
+            let s: f64 = (0..i).map(|r| l[i * k + r] * y[r]).sum();
+            y[i] = (y[i] - s) / l[i * k + i];
+        }
+        let s2 = (y.iter().map(|v| v * v).sum::<f64>() / k as f64).max(f64::MIN_POSITIVE);
+        (s2, -0.5 * k as f64 * s2.ln() - 0.5 * self.log_det)
+    }
+}
+
+impl Contrasts {
+    /// `t = Aᵀy`.
+    pub fn apply(&self, y: &[f64]) -> Vec<f64> {
+        let k = self.k;
+        (0..k).map(|j| y.iter().enumerate().map(|(r, v)| self.a[r * k + j] * v).sum()).collect()
+    }
+}
+
+/// Eigenvalues and eigenvectors (the columns of a row-major `n×n` matrix) of the symmetric
+/// `a`, by cyclic Jacobi rotations to convergence.
+pub fn symmetric_eigen(a: &[f64], n: usize) -> (Vec<f64>, Vec<f64>) {
+    let mut m = a.to_vec();
+    let mut v = vec![0.0; n * n];
+    for i in 0..n {
+        v[i * n + i] = 1.0;
+    }
+    for _sweep in 0..100 {
+        let off: f64 = (0..n)
+            .flat_map(|i| (0..n).filter(move |&j| j != i).map(move |j| (i, j)))
+            .map(|(i, j)| m[i * n + j].powi(2))
+            .sum();
+        let diag: f64 = (0..n).map(|i| m[i * n + i].powi(2)).sum();
+        if off <= 1e-30 * diag {
+            break;
+        }
+        for p in 0..n {
+            for q in p + 1..n {
+                let apq = m[p * n + q];
+                if apq == 0.0 {
+                    continue;
+                }
+                let theta = (m[q * n + q] - m[p * n + p]) / (2.0 * apq);
+                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+                let t = if theta == 0.0 { 1.0 } else { t };
+                let c = 1.0 / (t * t + 1.0).sqrt();
+                let s = t * c;
+                for k in 0..n {
+                    let (mkp, mkq) = (m[k * n + p], m[k * n + q]);
+                    m[k * n + p] = c * mkp - s * mkq;
+                    m[k * n + q] = s * mkp + c * mkq;
+                }
+                for k in 0..n {
+                    let (mpk, mqk) = (m[p * n + k], m[q * n + k]);
+                    m[p * n + k] = c * mpk - s * mqk;
+                    m[q * n + k] = s * mpk + c * mqk;
+                }
+                for k in 0..n {
+                    let (vkp, vkq) = (v[k * n + p], v[k * n + q]);
+                    v[k * n + p] = c * vkp - s * vkq;
+                    v[k * n + q] = s * vkp + c * vkq;
+                }
+            }
+        }
+    }
+    ((0..n).map(|i| m[i * n + i]).collect(), v)
+}
+
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
@@ -533,5 +700,24 @@ mod tests {
         let wqw: f64 = lw.iter().map(|x| x * x).sum();
         let direct = vbar - 2.0 * w.iter().zip(&z).map(|(a, b)| a * b).sum::<f64>() + wqw;
         assert!((u - direct).abs() < 1e-9 * vbar, "{u} {direct}");
+    }
+
+    /// With all `N − 1` contrasts the reduced fit is REML: the same `σ̂²`, and likelihoods
+    /// that differ between models by the same constant.
+    #[test]
+    fn all_contrasts_give_reml() {
+        let lmax = degree_cut(2.0 / 0.36);
+        let xs = lobe_set(12, 10.0);
+        let sharp = footprints(&xs, 10.0, 16.0);
+        let design = Design::new(xs, sharp, lmax);
+        let a = Model::new(&design, 0.6, 1e-3).unwrap();
+        let b = Model::new(&design, 1.0, 1e-2).unwrap();
+        let c = Contrasts::new(&a, 11);
+        let y: Vec<f64> = (0..12).map(|j| 1.0 + (j as f64 * 0.7).sin()).collect();
+        let t = c.apply(&y);
+        let (fa, fb) = (a.reduced(&c).unwrap().fit(&t), b.reduced(&c).unwrap().fit(&t));
+        let (ra, rb) = (a.reml(&y), b.reml(&y));
+        assert!((fa.0 - ra.0).abs() < 1e-9 * ra.0 && (fb.0 - rb.0).abs() < 1e-9 * rb.0);
+        assert!(((fa.1 - fb.1) - (ra.1 - rb.1)).abs() < 1e-7, "{fa:?} {fb:?} {ra:?} {rb:?}");
     }
 }

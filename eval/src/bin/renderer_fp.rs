@@ -39,11 +39,13 @@ use reference::envmap::{luminance, EnvMap};
 use sphere_quadrature::envmap::{EquirectMap, MipPyramid};
 use sphere_quadrature::footprint::Kind;
 use sphere_quadrature::Vec3;
-use sphere_quadrature_eval::fp::{degree_cut, footprints, lobe_set, Design, Integrand, Model};
+use sphere_quadrature_eval::fp::{
+    degree_cut, footprints, lobe_set, Contrasts, Design, Integrand, Model, Reduced,
+};
 use sphere_quadrature_eval::parallel::parallel_map;
 use sphere_quadrature_eval::renderer::scenes::{truths, Light, Scene};
 use sphere_quadrature_eval::renderer::{SEED_QUERIES, SEED_SYNTHETIC};
-use sphere_quadrature_eval::renderer_engine::{self as engine, Brdf, LobeFrame};
+use sphere_quadrature_eval::renderer_engine::{self as engine, Brdf, LobeFrame, Query};
 use sphere_quadrature_eval::{cli, compare, tiers};
 
 /// renderer_fp: Bayesian Monte Carlo on footprint lookups, on real maps
@@ -76,6 +78,21 @@ struct Cli {
     /// The error bar family's nuggets
     #[arg(long, value_delimiter = ',', default_values_t = [1e-5, 1e-4, 1e-3, 1e-2])]
     family_sigma: Vec<f64>,
+    /// Choose (c, l, σ′) per (BRDF, N) on the training maps from the --grid-* values
+    #[arg(long)]
+    select: bool,
+    /// --select's footprint sizes
+    #[arg(long, value_delimiter = ',', default_values_t = [8.0, 16.0, 32.0])]
+    grid_c: Vec<f64>,
+    /// --select's kernel lengths
+    #[arg(long, value_delimiter = ',', default_values_t = [0.2, 0.35, 0.6, 1.0])]
+    grid_l: Vec<f64>,
+    /// --select's nuggets
+    #[arg(long, value_delimiter = ',', default_values_t = [1e-5, 1e-4, 1e-3, 1e-2])]
+    grid_sigma: Vec<f64>,
+    /// Contrasts of the reduced error bar (eigenvectors of the weights' model)
+    #[arg(long, default_value_t = 12)]
+    reduce: usize,
     /// Synthetic mixtures
     #[arg(long, default_value_t = 10)]
     mixtures: usize,
@@ -142,146 +159,43 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
     let mut report = String::new();
     for &brdf in &brdfs {
         let truth = truths(brdf, &scenes, &queries, threads);
-        let c = if brdf == Brdf::Diffuse { o.c[0] } else { *o.c.last().unwrap_or(&16.0) };
-        let morph = brdf.exponent();
-        let lmax =
-            o.family_l.iter().chain([&o.l]).map(|&l| degree_cut(2.0 / (l * l))).max().unwrap_or(40);
         for &n in &o.ns {
-            let xs = lobe_set(n, morph);
-            let sharp = footprints(&xs, morph, c);
-            let design = Design::new(xs.clone(), sharp.clone(), lmax);
-            let own = Model::new(&design, o.l, o.sigma)
-                .ok_or("the weights' Q is not positive definite")?;
-            let mut family = Vec::new();
-            for &l in &o.family_l {
-                for &s in &o.family_sigma {
-                    family.push(
-                        Model::new(&design, l, s).ok_or("a family Q is not positive definite")?,
-                    );
-                }
-            }
-            // Plans per query.
-            let plans: Vec<Plan> = parallel_map(&queries, threads, |_, q| {
-                let frame = LobeFrame::new(brdf, q);
-                let p = match brdf {
-                    Brdf::Diffuse => Integrand::irradiance(),
-                    Brdf::Phong(e) => Integrand::phong(e, frame.cos_alpha.clamp(-1.0, 1.0).acos()),
-                };
-                let coef = p.coefficients(lmax, 160);
-                let w = own.weights(&design, &coef);
-                let residual = design.residual_power(&coef, &w);
-                let mut u: Vec<f64> =
-                    family.iter().map(|m| m.unit_variance(&residual, &w)).collect();
-                u.push(own.unit_variance(&residual, &w));
-                let world = xs
-                    .iter()
-                    .map(|x| {
-                        frame.direction(x[2], (x[0] * x[0] + x[1] * x[1]).sqrt(), x[1].atan2(x[0]))
-                    })
-                    .collect();
-                let sharpness = sharp.iter().map(|&s| s as u32).collect();
-                Plan { world, sharpness, w, u, mass: (4.0 * PI).sqrt() * coef[0] }
-            });
-            // Per scene: estimates and coverage.
-            let per_scene: Vec<([f64; 4], [f64; 2])> =
-                parallel_map(&(0..scenes.len()).collect::<Vec<_>>(), threads, |_, &si| {
-                    let scene = &scenes[si];
-                    let map = match &scene.light {
-                        Light::Map { map, .. } => Some(map),
-                        Light::Mixture(_) => None,
-                    };
-                    let mut buffer =
-                        vec![
-                            [0.0f32; 3];
-                            map.map_or(0, |m| MipPyramid::buffer_len(m.width, m.height))
-                        ];
-                    let eq =
-                        map.map(|m| EquirectMap::new(m.width, m.height, &m.pixels).expect("a map"));
-                    let pyramid =
-                        eq.as_ref().map(|m| MipPyramid::new(m, &mut buffer).expect("a pyramid"));
-                    let read = |x: [f64; 3], s: u32| -> f64 {
-                        match (&pyramid, &scene.light) {
-                            (Some(p), _) => {
-                                let d = Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32);
-                                let rgb = p
-                                    .footprint_sample(d, Kind::Gaussian { sharpness: s })
-                                    .expect("a lookup");
-                                luminance(rgb.map(f64::from))
-                            }
-                            (None, Light::Mixture(m)) => {
-                                m.constant
-                                    + m.lobes
-                                        .iter()
-                                        .map(|g| {
-                                            engine::sg_filtered(
-                                                g.axis,
-                                                g.sharpness,
-                                                g.amplitude,
-                                                x,
-                                                f64::from(s),
-                                            )
-                                        })
-                                        .sum::<f64>()
-                            }
-                            _ => unreachable!("a map has a pyramid"),
-                        }
-                    };
-                    let mut se = [0.0f64; 4];
-                    let mut abs = 0.0;
-                    let mut covered = [0usize; 2];
-                    for (qi, (q, plan)) in queries.iter().zip(&plans).enumerate() {
-                        let t = truth[si][qi];
-                        let y: Vec<f64> = plan
-                            .world
-                            .iter()
-                            .zip(&plan.sharpness)
-                            .map(|(&x, &s)| read(x, s))
-                            .collect();
-                        let fp: f64 = plan.w.iter().zip(&y).map(|(w, y)| w * y).sum();
-                        let mut fis = 0.0;
-                        let mut sf = 0.0;
-                        for &x in &plan.world {
-                            let omega = (1.0 / (n as f64 * brdf.pdf(q, x))).min(4.0 * PI);
-                            fis += scene.filtered(x, omega) * brdf.qmc_factor(q, x);
-                            sf += scene.lum(x) * brdf.qmc_factor(q, x);
-                        }
-                        let (fis, sf) = (fis / n as f64, sf / n as f64);
-                        let split = match (brdf, &pyramid, &scene.light) {
-                            (Brdf::Phong(e), Some(p), _) => {
-                                let r = Vec3::new(q.r[0] as f32, q.r[1] as f32, q.r[2] as f32);
-                                let rgb = p
-                                    .footprint_sample(r, Kind::CosinePower { exponent: e as u32 })
-                                    .expect("a lookup");
-                                luminance(rgb.map(f64::from)) * plan.mass
-                            }
-                            _ => f64::NAN,
-                        };
-                        for (k, est) in [fp, fis, sf, split].into_iter().enumerate() {
-                            se[k] += (est - t).powi(2);
-                        }
-                        abs += t.abs();
-                        // Error bars.
-                        let (s2_own, _) = own.reml(&y);
-                        let single = s2_own * plan.u[family.len()];
-                        let fits: Vec<(f64, f64)> = family.iter().map(|m| m.reml(&y)).collect();
-                        let top = fits.iter().map(|f| f.1).fold(f64::NEG_INFINITY, f64::max);
-                        let (mut num, mut den) = (0.0, 0.0);
-                        for (k, (s2, ll)) in fits.iter().enumerate() {
-                            let pi = (ll - top).exp();
-                            num += pi * s2 * plan.u[k];
-                            den += pi;
-                        }
-                        let average = num / den;
-                        let err = (fp - t).abs();
-                        covered[0] += usize::from(err <= 2.0 * single.sqrt());
-                        covered[1] += usize::from(err <= 2.0 * average.sqrt());
-                    }
-                    let nq = queries.len() as f64;
-                    let rel = se.map(|s| (s / nq).sqrt() / (abs / nq));
-                    (rel, covered.map(|c| c as f64 / nq))
-                });
+            let cx = Context {
+                brdf,
+                n,
+                scenes: &scenes,
+                truth: &truth,
+                queries: &queries,
+                family_l: &o.family_l,
+                family_sigma: &o.family_sigma,
+                reduce: o.reduce,
+                threads,
+            };
+            let setting = choose(o, &cx)?;
+            let all: Vec<usize> = (0..scenes.len()).collect();
+            let per_scene = study(&cx, setting, &all)?;
             // Report.
             let bname = brdf.name();
+            // Calibration: the factor on σ that puts 95 % of the training maps' clamp and smooth
+            // queries inside 2σ.
+            let factors: [f64; 3] = std::array::from_fn(|k| {
+                let mut z: Vec<f64> = (0..scenes.len())
+                    .filter(|&i| {
+                        !scenes[i].held_out && (scenes[i].tier == 1 || scenes[i].tier == 2)
+                    })
+                    .flat_map(|i| per_scene[i].1[k].iter().copied())
+                    .collect();
+                z.sort_by(f64::total_cmp);
+                if z.is_empty() {
+                    return 1.0;
+                }
+                z[((0.95 * z.len() as f64) as usize).min(z.len() - 1)] / 2.0
+            });
+            let _ = writeln!(
+                report,
+                "{bname:>8} N={n:<3} calibration factors single {:.3} average {:.3} reduced {:.3}",
+                factors[0], factors[1], factors[2]
+            );
             for (t, tier) in TIERS.iter().enumerate() {
                 let members: Vec<usize> =
                     (0..scenes.len()).filter(|&i| scenes[i].tier == t).collect();
@@ -298,11 +212,14 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
                             );
                         }
                     }
-                    for (k, bar) in ["single", "average"].iter().enumerate() {
+                    for (k, bar) in ["single", "average", "reduced"].iter().enumerate() {
+                        let z = &per_scene[i].1[k];
+                        let fraction =
+                            z.iter().filter(|&&z| z <= 2.0).count() as f64 / z.len() as f64;
                         let _ = writeln!(
                             csv,
                             "coverage,{tier},{bar},{n},{bname},{},{:.4}",
-                            scenes[i].name, per_scene[i].1[k]
+                            scenes[i].name, fraction
                         );
                     }
                 }
@@ -324,10 +241,12 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
                     if set.is_empty() {
                         return "–".into();
                     }
-                    format!(
-                        "{:.3}",
-                        set.iter().map(|&i| per_scene[i].1[k]).sum::<f64>() / set.len() as f64
-                    )
+                    let f = |scale: f64| {
+                        let z: Vec<f64> =
+                            set.iter().flat_map(|&i| per_scene[i].1[k].iter().copied()).collect();
+                        z.iter().filter(|&&z| z * scale <= 2.0).count() as f64 / z.len() as f64
+                    };
+                    format!("{:.3}→{:.3}", f(1.0), f(1.0 / factors[k]))
                 };
                 let fp_abs = if held.is_empty() {
                     f64::NAN
@@ -336,7 +255,7 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
                 };
                 let _ = writeln!(
                     report,
-                    "{bname:>8} N={n:<3} {tier:<9} fp {:.4}%  fp/fis {}  fp/sf {}  fp/split {}  2σ single {} / {} (train)  average {} / {} (train)",
+                    "{bname:>8} N={n:<3} {tier:<9} fp {:.4}%  fp/fis {}  fp/sf {}  fp/split {}  2σ single {} / {} (train)  average {} / {} (train)  reduced {} / {} (train)",
                     100.0 * fp_abs,
                     ratio(1),
                     ratio(2),
@@ -345,6 +264,8 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
                     cover(&train, 0),
                     cover(&held, 1),
                     cover(&train, 1),
+                    cover(&held, 2),
+                    cover(&train, 2),
                 );
             }
             eprintln!("{bname} N = {n} done");
@@ -355,4 +276,221 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
         std::fs::write(path, csv)?;
     }
     Ok(())
+}
+
+/// Relative RMSE per estimator ([`EST`]) and `|error|/σ` per query of the error bars (single,
+/// average, reduced) of one scene.
+type SceneResult = ([f64; 4], [Vec<f64>; 3]);
+
+/// One weight setting.
+#[derive(Clone, Copy, Debug)]
+struct Setting {
+    c: f64,
+    l: f64,
+    sigma: f64,
+}
+
+/// The model's context for one (BRDF, N).
+struct Context<'a> {
+    brdf: Brdf,
+    n: usize,
+    scenes: &'a [Scene],
+    truth: &'a [Vec<f64>],
+    queries: &'a [Query],
+    family_l: &'a [f64],
+    family_sigma: &'a [f64],
+    threads: usize,
+    reduce: usize,
+}
+
+/// Relative RMSE per estimator ([`EST`]) and 2σ coverage (single, average) of the scenes
+/// `which` with weights of `setting`.
+fn study(cx: &Context, setting: Setting, which: &[usize]) -> Result<Vec<SceneResult>, String> {
+    let Context { brdf, n, scenes, truth, queries, family_l, family_sigma, threads, .. } = *cx;
+    let morph = brdf.exponent();
+    let c = setting.c;
+    let lmax =
+        family_l.iter().chain([&setting.l]).map(|&l| degree_cut(2.0 / (l * l))).max().unwrap_or(40);
+    let xs = lobe_set(n, morph);
+    let sharp = footprints(&xs, morph, c);
+    let design = Design::new(xs.clone(), sharp.clone(), lmax);
+    let own = Model::new(&design, setting.l, setting.sigma)
+        .ok_or("the weights' Q is not positive definite")?;
+    let mut family = Vec::new();
+    for &l in family_l {
+        for &s in family_sigma {
+            family.push(Model::new(&design, l, s).ok_or("a family Q is not positive definite")?);
+        }
+    }
+    let contrasts = Contrasts::new(&own, cx.reduce.clamp(1, n - 1));
+    let reduced: Vec<Reduced> = family
+        .iter()
+        .map(|m| m.reduced(&contrasts).ok_or("a reduced covariance is not positive definite"))
+        .collect::<Result<_, _>>()?;
+    // Plans per query.
+    let plans: Vec<Plan> = parallel_map(queries, threads, |_, q| {
+        let frame = LobeFrame::new(brdf, q);
+        let p = match brdf {
+            Brdf::Diffuse => Integrand::irradiance(),
+            Brdf::Phong(e) => Integrand::phong(e, frame.cos_alpha.clamp(-1.0, 1.0).acos()),
+        };
+        let coef = p.coefficients(lmax, 160);
+        let w = own.weights(&design, &coef);
+        let residual = design.residual_power(&coef, &w);
+        let mut u: Vec<f64> = family.iter().map(|m| m.unit_variance(&residual, &w)).collect();
+        u.push(own.unit_variance(&residual, &w));
+        let world = xs
+            .iter()
+            .map(|x| frame.direction(x[2], (x[0] * x[0] + x[1] * x[1]).sqrt(), x[1].atan2(x[0])))
+            .collect();
+        let sharpness = sharp.iter().map(|&s| s as u32).collect();
+        Plan { world, sharpness, w, u, mass: (4.0 * PI).sqrt() * coef[0] }
+    });
+    // Per scene: estimates and coverage.
+    let per_scene: Vec<SceneResult> = parallel_map(which, threads, |_, &si| {
+        let scene = &scenes[si];
+        let map = match &scene.light {
+            Light::Map { map, .. } => Some(map),
+            Light::Mixture(_) => None,
+        };
+        let mut buffer =
+            vec![[0.0f32; 3]; map.map_or(0, |m| MipPyramid::buffer_len(m.width, m.height))];
+        let eq = map.map(|m| EquirectMap::new(m.width, m.height, &m.pixels).expect("a map"));
+        let pyramid = eq.as_ref().map(|m| MipPyramid::new(m, &mut buffer).expect("a pyramid"));
+        let read = |x: [f64; 3], s: u32| -> f64 {
+            match (&pyramid, &scene.light) {
+                (Some(p), _) => {
+                    let d = Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32);
+                    let rgb =
+                        p.footprint_sample(d, Kind::Gaussian { sharpness: s }).expect("a lookup");
+                    luminance(rgb.map(f64::from))
+                }
+                (None, Light::Mixture(m)) => {
+                    m.constant
+                        + m.lobes
+                            .iter()
+                            .map(|g| {
+                                engine::sg_filtered(
+                                    g.axis,
+                                    g.sharpness,
+                                    g.amplitude,
+                                    x,
+                                    f64::from(s),
+                                )
+                            })
+                            .sum::<f64>()
+                }
+                _ => unreachable!("a map has a pyramid"),
+            }
+        };
+        let mut se = [0.0f64; 4];
+        let mut abs = 0.0;
+        let mut zs: [Vec<f64>; 3] = Default::default();
+        for (qi, (q, plan)) in queries.iter().zip(&plans).enumerate() {
+            let t = truth[si][qi];
+            let y: Vec<f64> =
+                plan.world.iter().zip(&plan.sharpness).map(|(&x, &s)| read(x, s)).collect();
+            let fp: f64 = plan.w.iter().zip(&y).map(|(w, y)| w * y).sum();
+            let mut fis = 0.0;
+            let mut sf = 0.0;
+            for &x in &plan.world {
+                let omega = (1.0 / (n as f64 * brdf.pdf(q, x))).min(4.0 * PI);
+                fis += scene.filtered(x, omega) * brdf.qmc_factor(q, x);
+                sf += scene.lum(x) * brdf.qmc_factor(q, x);
+            }
+            let (fis, sf) = (fis / n as f64, sf / n as f64);
+            let split = match (brdf, &pyramid, &scene.light) {
+                (Brdf::Phong(e), Some(p), _) => {
+                    let r = Vec3::new(q.r[0] as f32, q.r[1] as f32, q.r[2] as f32);
+                    let rgb = p
+                        .footprint_sample(r, Kind::CosinePower { exponent: e as u32 })
+                        .expect("a lookup");
+                    luminance(rgb.map(f64::from)) * plan.mass
+                }
+                _ => f64::NAN,
+            };
+            for (k, est) in [fp, fis, sf, split].into_iter().enumerate() {
+                se[k] += (est - t).powi(2);
+            }
+            abs += t.abs();
+            // Error bars.
+            let (s2_own, _) = own.reml(&y);
+            let single = s2_own * plan.u[family.len()];
+            let fits: Vec<(f64, f64)> = family.iter().map(|m| m.reml(&y)).collect();
+            let top = fits.iter().map(|f| f.1).fold(f64::NEG_INFINITY, f64::max);
+            let (mut num, mut den) = (0.0, 0.0);
+            for (k, (s2, ll)) in fits.iter().enumerate() {
+                let pi = (ll - top).exp();
+                num += pi * s2 * plan.u[k];
+                den += pi;
+            }
+            let average = num / den;
+            let tv = contrasts.apply(&y);
+            let fits: Vec<(f64, f64)> = reduced.iter().map(|m| m.fit(&tv)).collect();
+            let top = fits.iter().map(|f| f.1).fold(f64::NEG_INFINITY, f64::max);
+            let (mut num, mut den) = (0.0, 0.0);
+            for (k, (s2, ll)) in fits.iter().enumerate() {
+                let pi = (ll - top).exp();
+                num += pi * s2 * plan.u[k];
+                den += pi;
+            }
+            let reduced_bar = num / den;
+            let err = (fp - t).abs();
+            for (z, v) in zs.iter_mut().zip([single, average, reduced_bar]) {
+                z.push(err / v.sqrt());
+            }
+        }
+        let nq = queries.len() as f64;
+        let rel = se.map(|s| (s / nq).sqrt() / (abs / nq));
+        (rel, zs)
+    });
+    Ok(per_scene)
+}
+
+/// The setting of `--c`, `--l`, `--sigma`, or with `--select` the grid point with the
+/// smallest mean over the training maps of `ln(fp/fis)` on `clamp` plus `ln(fp/sf)` on
+/// `smooth`.
+fn choose(o: &Cli, cx: &Context) -> Result<Setting, String> {
+    let c_given = if cx.brdf == Brdf::Diffuse { o.c[0] } else { *o.c.last().unwrap_or(&16.0) };
+    if !o.select {
+        return Ok(Setting { c: c_given, l: o.l, sigma: o.sigma });
+    }
+    let train: Vec<usize> = (0..cx.scenes.len())
+        .filter(|&i| !cx.scenes[i].held_out && (cx.scenes[i].tier == 1 || cx.scenes[i].tier == 2))
+        .collect();
+    if train.is_empty() {
+        return Err("--select needs training maps".into());
+    }
+    let mut best = (f64::INFINITY, Setting { c: c_given, l: o.l, sigma: o.sigma });
+    for &c in &o.grid_c {
+        for &l in &o.grid_l {
+            for &sigma in &o.grid_sigma {
+                let setting = Setting { c, l, sigma };
+                let Ok(r) = study(cx, setting, &train) else { continue };
+                let score: f64 = train
+                    .iter()
+                    .zip(&r)
+                    .map(|(&i, (rel, _))| {
+                        let b = if cx.scenes[i].tier == 1 { 1 } else { 2 };
+                        (rel[0] / rel[b]).ln()
+                    })
+                    .sum::<f64>()
+                    / train.len() as f64;
+                if score < best.0 {
+                    best = (score, setting);
+                }
+            }
+        }
+    }
+    let s = best.1;
+    eprintln!(
+        "{} N = {}: chose c = {}, l = {}, σ′ = {} (score {:.3})",
+        cx.brdf.name(),
+        cx.n,
+        s.c,
+        s.l,
+        s.sigma,
+        best.0
+    );
+    Ok(s)
 }
