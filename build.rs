@@ -98,6 +98,11 @@ fn main() {
         let (file, text) = config(gen::glossy::CONFIG_FILE, GLOSSY_ENV);
         gen::glossy_files(&file, &text, renderer_sweep, &read_crate)
     });
+    // The footprint renderer's sets.
+    bake(&["footprint_tables.rs"], None, false, &|| {
+        let file = gen::fp::CONFIG_FILE;
+        gen::fp_files(file, &read_crate(file)?)
+    });
     // The feature `footprint-sweep` adds the footprint benchmark's extra footprints.
     let footprint_sweep = sweep("CARGO_FEATURE_FOOTPRINT_SWEEP");
     bake(&["probe_tables.rs", "probe_size.rs"], Some(PROBE_ENV), footprint_sweep, &|| {

@@ -17,6 +17,7 @@ pub fn error_line(file: &str, message: &str) -> String {
     located.unwrap_or_else(|| format!("error: {file}: {one_line}"))
 }
 pub mod cache;
+pub mod fp;
 pub mod glossy;
 pub mod probe;
 pub mod sg;
@@ -104,6 +105,13 @@ pub fn probe_files(file: &str, text: &str, sweep: bool, read: Read) -> Result<Fi
     ])
 }
 
+/// The footprint renderer's sets of the config `text` (read from `file`).
+pub fn fp_files(file: &str, text: &str) -> Result<Files, Failure> {
+    let (family, specs) = fp::parse(text).map_err(failure(file))?;
+    let sets = fp::bake_all(&family, &specs).map_err(failure(file))?;
+    Ok(vec![("footprint_tables.rs", fp::render(&family, &sets))])
+}
+
 /// Every file the crate's own tables bake (no user table, no feature sweep), in the order
 /// `build.rs` writes them: what [`cache`] stores. `read` reads a file of the crate by its
 /// path relative to the crate root.
@@ -112,5 +120,6 @@ pub fn default_files(read: Read) -> Result<Files, Failure> {
     files.extend(bmc_files(bmc::CONFIG_FILE, &read(bmc::CONFIG_FILE)?)?);
     files.extend(glossy_files(glossy::CONFIG_FILE, &read(glossy::CONFIG_FILE)?, false, read)?);
     files.extend(probe_files(probe::CONFIG_FILE, &read(probe::CONFIG_FILE)?, false, read)?);
+    files.extend(fp_files(fp::CONFIG_FILE, &read(fp::CONFIG_FILE)?)?);
     Ok(files)
 }

@@ -108,7 +108,9 @@
 //! [`eval/src/bin/renderer.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/renderer.rs
 //! [`docs/accuracy.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/accuracy.md
 
+pub mod footprint;
 pub mod glossy;
+pub use footprint::{FootprintRenderer, FootprintSize};
 pub use glossy::{GlossyRenderer, GlossySize};
 
 use crate::error::Error;

@@ -18,3 +18,7 @@ include!(concat!(env!("OUT_DIR"), "/probe_tables.rs"));
 // `GLOSSY_SETS`, the glossy renderer's weights and the `bmc::GlossySize` impls (generator
 // `gen/glossy.rs`, sets in `tables/glossy.txt`).
 include!(concat!(env!("OUT_DIR"), "/glossy_tables.rs"));
+
+// `FOOTPRINT_SETS`, the footprint renderer's tables and the `bmc::FootprintSize` impls
+// (generator `gen/fp.rs`, sets in `tables/footprint_renderer.txt`).
+include!(concat!(env!("OUT_DIR"), "/footprint_tables.rs"));

@@ -406,7 +406,7 @@ type Rows = (&'static [u32], &'static [u32]);
 /// other function; `s` from the cross product stays accurate near normal incidence). `r·n ≤ 0`
 /// is grazing (`θₙ = π/2`).
 #[inline(always)]
-fn interval(normal: Vec3, mirror: Vec3) -> Result<(usize, [f32; 2]), Error> {
+pub(crate) fn interval(normal: Vec3, mirror: Vec3) -> Result<(usize, [f32; 2]), Error> {
     let (nn, rr) = (normal.length_squared(), mirror.length_squared());
     // Fast path: |n|² and |r|² in [2⁻¹⁶, 2¹⁶), both tested by one unsigned comparison of their
     // bits (the range is 2²⁸ bit patterns wide; l² ≥ 0 or NaN, whose bits are above ∞'s).

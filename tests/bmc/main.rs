@@ -17,6 +17,7 @@ mod common;
 mod baked;
 mod bmc;
 mod fixed_point;
+mod footprint;
 mod glossy;
 mod sg;
 mod sg_tables;

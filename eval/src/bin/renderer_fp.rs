@@ -307,12 +307,12 @@ struct Context<'a> {
 /// `which` with weights of `setting`.
 fn study(cx: &Context, setting: Setting, which: &[usize]) -> Result<Vec<SceneResult>, String> {
     let Context { brdf, n, scenes, truth, queries, family_l, family_sigma, threads, .. } = *cx;
-    let morph = brdf.exponent();
+    let morph = brdf.exponent() as u32;
     let c = setting.c;
     let lmax =
         family_l.iter().chain([&setting.l]).map(|&l| degree_cut(2.0 / (l * l))).max().unwrap_or(40);
     let xs = lobe_set(n, morph);
-    let sharp = footprints(&xs, morph, c);
+    let sharp = footprints(&xs, f64::from(morph), c);
     let design = Design::new(xs.clone(), sharp.clone(), lmax);
     let own = Model::new(&design, setting.l, setting.sigma)
         .ok_or("the weights' Q is not positive definite")?;

@@ -1,0 +1,486 @@
+//! The footprint renderer form: Bayesian Monte Carlo of the renderer integrals from `N`
+//! prefiltered lookups, each through a footprint matched to the local sample density, with an
+//! error bar.
+//!
+//! The integrals are the renderer's: irradiance `E(n) = ∫ L(x)·max(0, n·x) dx` ([`Diffuse`])
+//! and the normalised Phong lobe with the cosine factor and the horizon,
+//! `I(n, r) = ∫ L(x)·(e+1)/(2π)·max(0, r·x)ᵉ·max(0, n·x) dx` ([`Phong<E>`]).
+//! [`FootprintRenderer::fill_directions`] places the hemisphere spherical Fibonacci set
+//! morphed onto the lobe (the [`GlossyRenderer`](super::GlossyRenderer) set for Phong, the
+//! cosine-morphed set about `n` for irradiance). Sample `j` is not the radiance in direction
+//! `xⱼ` but the map seen through the normalised spherical Gaussian of sharpness `sⱼ`
+//! ([`FootprintRenderer::footprints`]): a footprint whose solid angle `2π/sⱼ` is a fixed
+//! multiple `c` of the sample's share `1/(N·pdf(xⱼ))`, wide where the samples are sparse.
+//! [`envmap::MipPyramid::footprint_sample`](crate::envmap::MipPyramid::footprint_sample)
+//! (fast) or [`envmap::EquirectMap::footprint_sample`](crate::envmap::EquirectMap::footprint_sample)
+//! (exact) read a map that way; a renderer with its own prefiltered mips reads the level whose
+//! filter matches.
+//!
+//! # Model
+//! The radiance is a Gaussian process with a constant mean and the kernel
+//! `σ²·exp(−|x − x′|²/l²)`; a lookup through a spherical Gaussian footprint multiplies the
+//! kernel's degree-`l` part by `i_l(s)/i₀(s)` (Funk–Hecke), so every covariance is an exact
+//! series. The weights are the generalised-least-squares weights of one `(c, l, σ′)` per
+//! `(N, BRDF)`, chosen on training maps, baked at build time on the glossy renderer's grid of
+//! `θₙ = acos(r·n)` and interpolated the same way: [`FootprintRenderer::estimate`] is O(N).
+//!
+//! The error bar of [`FootprintRenderer::estimate_with_variance`] does not trust one model:
+//! real maps are rougher than some kernels and smoother than others. It averages the error
+//! variance of the estimate over a family of kernels (lengths `l` × nuggets `σ′`), each
+//! weighted by its likelihood for the query's own lookups, with the signal variance `σ̂²` of
+//! each model fitted to them; the likelihoods use `k` fixed contrasts of the lookups
+//! (orthogonal to constants), so the call costs `O(kN + Lk² + LSk)` for `L` lengths and `S`
+//! nuggets, not a factorisation. A factor learned on training maps scales the result.
+//!
+//! ```
+//! use sphere_quadrature::bmc::footprint::{FootprintRenderer, Phong};
+//! use sphere_quadrature::Vec3;
+//!
+//! let r = FootprintRenderer::<32, Phong<50>>::new();
+//! let (n, mirror) = (Vec3::Z, Vec3::new(0.6, 0.0, 0.8));
+//! let mut dirs = [Vec3::ZERO; 32];
+//! r.fill_directions(n, mirror, &mut dirs)?;
+//! // Constant light c gives c·∫p, with no error.
+//! let e = r.estimate_with_variance(n, mirror, &[2.0f32; 32])?;
+//! assert!(e.value > 1.4 && e.value < 1.8 && e.variance == 0.0);
+//! # Ok::<(), sphere_quadrature::Error>(())
+//! ```
+//!
+//! # Bad input
+//! A zero or non-finite normal or mirror direction gives [`Error::InvalidDirection`]; a NaN or
+//! infinite lookup gives [`Error::InvalidRadiance`]. A mirror direction below the horizon
+//! (`r·n < 0`) is treated as grazing, as [`GlossyRenderer`](super::GlossyRenderer) does.
+
+use super::glossy::interval;
+use super::Size;
+use crate::error::Error;
+use crate::footprint::Kind;
+use crate::math;
+use crate::probe::Estimate;
+use crate::radiance::{from_channels, Radiance};
+use crate::sf::FibonacciPoints;
+use crate::vec3::Vec3;
+use crate::warp::{Frame, Lobe};
+
+/// Irradiance, `p(x) = max(0, n·x)`.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::bmc::footprint::{Diffuse, FootprintRenderer};
+/// use sphere_quadrature::Vec3;
+///
+/// // Constant radiance 1 gives the irradiance π.
+/// let e = FootprintRenderer::<64, Diffuse>::new().estimate(Vec3::Z, Vec3::Z, &[1.0f32; 64])?;
+/// assert!((e - core::f32::consts::PI).abs() < 1e-4);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Diffuse;
+
+/// The normalised Phong lobe of exponent `E` about the mirror direction, with the cosine
+/// factor and the horizon.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::bmc::footprint::{FootprintRenderer, Phong};
+/// use sphere_quadrature::Vec3;
+///
+/// // At normal incidence constant radiance 1 gives ∫ (e + 1)/(2π)·cosᵉθ·cos θ = (e + 1)/(e + 2).
+/// let e = FootprintRenderer::<64, Phong<10>>::new().estimate(Vec3::Z, Vec3::Z, &[1.0f32; 64])?;
+/// assert!((e - 11.0 / 12.0).abs() < 1e-3);
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Phong<const E: u32>;
+
+/// The integrand of a [`FootprintRenderer`]: [`Diffuse`] or [`Phong<E>`]; sealed.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::bmc::footprint::{Brdf, Diffuse, FootprintRenderer, Phong};
+/// use sphere_quadrature::bmc::{FootprintSize, Size};
+///
+/// // The same code for any baked integrand: the widest footprint of the set.
+/// fn widest<B: Brdf>() -> u32
+/// where
+///     Size<32>: FootprintSize<B>,
+/// {
+///     FootprintRenderer::<32, B>::new()
+///         .footprints()
+///         .iter()
+///         .map(|k| match k {
+///             sphere_quadrature::footprint::Kind::Gaussian { sharpness } => *sharpness,
+///             _ => u32::MAX,
+///         })
+///         .min()
+///         .unwrap_or(0)
+/// }
+/// assert!(widest::<Diffuse>() >= 1 && widest::<Phong<50>>() >= 1);
+/// ```
+pub trait Brdf: sealed::Kind {}
+impl Brdf for Diffuse {}
+impl<const E: u32> Brdf for Phong<E> {}
+
+/// Implemented for exactly the sizes `N` whose footprint renderer tables are baked for `B`;
+/// sealed.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::bmc::footprint::{FootprintRenderer, Phong, BAKED_SETS};
+/// use sphere_quadrature::bmc::{FootprintSize, Size};
+///
+/// fn renderer<const N: usize>() -> FootprintRenderer<N, Phong<50>>
+/// where
+///     Size<N>: FootprintSize<Phong<50>>,
+/// {
+///     FootprintRenderer::new()
+/// }
+/// let _ = renderer::<64>();
+/// assert!(BAKED_SETS.contains(&(64, 50)));
+/// ```
+#[diagnostic::on_unimplemented(
+    message = "no footprint renderer tables are baked for `{Self}` and `{B}`",
+    label = "this sample count and BRDF have no baked tables",
+    note = "the baked (N, BRDF) pairs are the `set` lines of tables/footprint_renderer.txt"
+)]
+pub trait FootprintSize<B: Brdf>: sealed::Sealed<B> {}
+
+/// The baked `(N, e)` pairs, `e = 0` for [`Diffuse`].
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::bmc::footprint::BAKED_SETS;
+///
+/// assert!(BAKED_SETS.contains(&(32, 0)) && BAKED_SETS.contains(&(32, 10)));
+/// ```
+pub const BAKED_SETS: &[(usize, u32)] = &crate::tables::FOOTPRINT_SETS;
+
+/// The most models an error bar family may have.
+const MAX_MODELS: usize = 64;
+
+pub(crate) mod sealed {
+    /// What `build.rs` baked for one `(N, BRDF)` (f32 bits, `gen/fp.rs`).
+    #[derive(Clone, Copy, Debug)]
+    pub struct Set {
+        /// θₙ nodes (1 for irradiance).
+        pub nodes: usize,
+        /// Contrasts.
+        pub k: usize,
+        /// Family lengths.
+        pub lengths: usize,
+        /// `nodes·N` weights, node-major.
+        pub weights: &'static [u32],
+        /// `nodes·lengths`: the weights' error variance per family length, no nugget.
+        pub residual: &'static [u32],
+        /// `nodes`: `|w|²`.
+        pub weight_norm: &'static [u32],
+        /// `N·k` contrasts, row-major.
+        pub contrasts: &'static [u32],
+        /// `lengths·k·k` eigenvectors (columns of row-major `k×k` blocks).
+        pub eigenvectors: &'static [u32],
+        /// `lengths·k` eigenvalues.
+        pub eigenvalues: &'static [u32],
+        /// `lengths·nuggets` log-determinants.
+        pub log_det: &'static [u32],
+        /// `N` footprint sharpnesses.
+        pub sharpness: &'static [u16],
+        /// The factor on the error bar's standard deviation.
+        pub calibration: f32,
+    }
+
+    pub trait Sealed<B> {
+        const SET: Set;
+    }
+
+    pub trait Kind {
+        /// The Phong exponent, 0 for irradiance.
+        const EXPONENT: u32;
+    }
+    impl Kind for super::Diffuse {
+        const EXPONENT: u32 = 0;
+    }
+    impl<const E: u32> Kind for super::Phong<E> {
+        const EXPONENT: u32 = E;
+    }
+}
+
+/// Bayesian Monte Carlo of the integral `B` from `N` footprint lookups, with baked weights
+/// and a likelihood-averaged error bar (module docs). Zero-sized.
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::bmc::footprint::{Diffuse, FootprintRenderer};
+/// use sphere_quadrature::{Error, Vec3};
+///
+/// let r = FootprintRenderer::<32, Diffuse>::new();
+/// let n = Vec3::new(0.0, 0.6, 0.8);
+/// let mut dirs = [Vec3::ZERO; 32];
+/// r.fill_directions(n, n, &mut dirs)?;
+/// // Light 1 + x·n seen through any footprint is 1 + g₁·x·n: irradiance π + (2π/3)·g₁ …
+/// let lookups: [f32; 32] = core::array::from_fn(|j| {
+///     let g1 = r.footprints()[j].gain(1).unwrap() as f32;
+///     1.0 + g1 * dirs[j].dot(n)
+/// });
+/// let e = r.estimate(n, n, &lookups)?;
+/// assert!((e - (core::f32::consts::PI + 2.0 * core::f32::consts::PI / 3.0)).abs() < 1e-3);
+/// // … and a NaN lookup is an error.
+/// let mut bad = lookups;
+/// bad[3] = f32::NAN;
+/// assert_eq!(r.estimate(n, n, &bad), Err(Error::InvalidRadiance));
+/// # Ok::<(), sphere_quadrature::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct FootprintRenderer<const N: usize, B: Brdf>(core::marker::PhantomData<B>)
+where
+    Size<N>: FootprintSize<B>;
+
+impl<const N: usize, B: Brdf> FootprintRenderer<N, B>
+where
+    Size<N>: FootprintSize<B>,
+{
+    const SET: sealed::Set = <Size<N> as sealed::Sealed<B>>::SET;
+    const E: u32 = <B as sealed::Kind>::EXPONENT;
+
+    /// The renderer.
+    #[must_use]
+    pub const fn new() -> Self {
+        Self(core::marker::PhantomData)
+    }
+
+    /// The lobe frame `(t₁, t₂, a)`: for Phong `a = r` with `t₁` towards `n`; for irradiance
+    /// `a = n`. Both vectors normalised; errors as the public calls.
+    fn frame(normal: Vec3, mirror: Vec3) -> Result<[Vec3; 3], Error> {
+        let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
+        let r = mirror.try_normalize().ok_or(Error::InvalidDirection)?;
+        if Self::E == 0 {
+            let f = Frame::from_unit(n);
+            return Ok([f.t, f.b, n]);
+        }
+        let c = r.dot(n).clamp(0.0, 1.0);
+        let t1 = match (n - r * c).try_normalize() {
+            Some(t) => t,
+            None => Frame::from_unit(r).to_world(Vec3::X),
+        };
+        Ok([t1, r.cross(t1), r])
+    }
+
+    /// Writes the `N` lookup directions for normal `n` and mirror direction `r` (both
+    /// normalised first; [`Diffuse`] ignores `r` but checks it, so pass `n`).
+    ///
+    /// # Errors
+    /// [`Error::InvalidDirection`] for a zero or non-finite vector.
+    pub fn fill_directions(
+        &self,
+        normal: Vec3,
+        mirror: Vec3,
+        out: &mut [Vec3; N],
+    ) -> Result<(), Error> {
+        let [t1, t2, a] = Self::frame(normal, mirror)?;
+        let set = FibonacciPoints::hemisphere(N)?;
+        let lobe = if Self::E == 0 { Lobe::Cosine } else { Lobe::Phong(Self::E as f32) };
+        for (j, slot) in out.iter_mut().enumerate() {
+            let (c, s) = lobe.morph(set.one_minus_z(j));
+            let (sp, cp) = math::sin_cos_turns(set.phase_of(j));
+            *slot = t1 * (s * cp) + t2 * (s * sp) + a * c;
+        }
+        Ok(())
+    }
+
+    /// The footprint of each lookup, in the order of
+    /// [`fill_directions`](Self::fill_directions): normalised spherical Gaussians.
+    #[must_use]
+    pub fn footprints(&self) -> [Kind; N] {
+        let s = Self::SET.sharpness;
+        core::array::from_fn(|j| Kind::Gaussian {
+            sharpness: u32::from(s.get(j).copied().unwrap_or(1)),
+        })
+    }
+
+    /// The node interval and its coefficients for `(n, r)`.
+    fn rows(normal: Vec3, mirror: Vec3) -> Result<(usize, [f32; 2]), Error> {
+        if Self::SET.nodes == 1 {
+            normal.try_normalize().ok_or(Error::InvalidDirection)?;
+            mirror.try_normalize().ok_or(Error::InvalidDirection)?;
+            return Ok((0, [1.0, 0.0]));
+        }
+        interval(normal, mirror)
+    }
+
+    /// Row `k` of a node-major table of `width` entries per node.
+    fn row(table: &'static [u32], k: usize, width: usize) -> Result<&'static [u32], Error> {
+        table.get(k * width..(k + 1) * width).ok_or(Error::Internal)
+    }
+
+    /// The interpolated weights for `(n, r)`, in the order of
+    /// [`fill_directions`](Self::fill_directions).
+    ///
+    /// # Errors
+    /// [`Error::InvalidDirection`] for a zero or non-finite vector.
+    pub fn weights(&self, normal: Vec3, mirror: Vec3, out: &mut [f32; N]) -> Result<(), Error> {
+        let (k, [alpha, beta]) = Self::rows(normal, mirror)?;
+        let a = Self::row(Self::SET.weights, k, N)?;
+        let b = if beta == 0.0 { a } else { Self::row(Self::SET.weights, k + 1, N)? };
+        for ((o, &a), &b) in out.iter_mut().zip(a).zip(b) {
+            *o = alpha * f32::from_bits(a) + beta * f32::from_bits(b);
+        }
+        Ok(())
+    }
+
+    /// The integral from the lookups `Y` in the directions of
+    /// [`fill_directions`](Self::fill_directions), through [`footprints`](Self::footprints):
+    /// `Σ wⱼYⱼ`, O(N).
+    ///
+    /// # Errors
+    /// [`Error::InvalidDirection`] for a zero or non-finite vector, [`Error::InvalidRadiance`]
+    /// for a NaN or infinite lookup.
+    pub fn estimate<T: Radiance>(
+        &self,
+        normal: Vec3,
+        mirror: Vec3,
+        lookups: &[T; N],
+    ) -> Result<T, Error> {
+        let mut w = [0.0f32; N];
+        self.weights(normal, mirror, &mut w)?;
+        let mut sum = T::ZERO;
+        for (&y, &w) in lookups.iter().zip(&w) {
+            sum = sum.mul_add(y, w);
+        }
+        finite_or_invalid(sum, lookups)
+    }
+
+    /// [`estimate`](Self::estimate) with its error bar: the variance per channel, averaged
+    /// over the family of models by their likelihoods for the lookups (the channels' likelihoods
+    /// pooled), times the calibration factor squared. `unit_variance` is the averaged error
+    /// variance for a signal variance of 1. A channel whose lookups are all equal has variance 0.
+    ///
+    /// # Errors
+    /// As [`estimate`](Self::estimate), and [`Error::InvalidChannel`] for radiance of more
+    /// than 4 channels.
+    pub fn estimate_with_variance<T: Radiance>(
+        &self,
+        normal: Vec3,
+        mirror: Vec3,
+        lookups: &[T; N],
+    ) -> Result<Estimate<T>, Error> {
+        let value = self.estimate(normal, mirror, lookups)?;
+        let set = Self::SET;
+        let (k, [alpha, beta]) = Self::rows(normal, mirror)?;
+        let nuggets = &crate::tables::FOOTPRINT_NUGGETS;
+        let lengths = set.lengths;
+        let models = lengths * nuggets.len();
+        if models > MAX_MODELS || set.k > N {
+            return Err(Error::Internal);
+        }
+        let at = |table: &'static [u32], width: usize, i: usize| -> Result<f32, Error> {
+            let a = f32::from_bits(*table.get(k * width + i).ok_or(Error::Internal)?);
+            let b = if beta == 0.0 {
+                a
+            } else {
+                f32::from_bits(*table.get((k + 1) * width + i).ok_or(Error::Internal)?)
+            };
+            Ok(alpha * a + beta * b)
+        };
+        // The weights' error variance per model: a_l + σ′²·|w|².
+        let norm = at(set.weight_norm, 1, 0)?;
+        let mut unit = [0.0f32; MAX_MODELS];
+        for li in 0..lengths {
+            let a = at(set.residual, lengths, li)?.max(0.0);
+            for (si, &s2) in nuggets.iter().enumerate() {
+                unit[li * nuggets.len() + si] = a + f32::from_bits(s2) * norm;
+            }
+        }
+        // Per channel and model: σ̂² (of the channel scaled to max |y| = 1) and the log
+        // likelihood; the likelihoods pooled over the channels.
+        let mut log_lik = [0.0f32; MAX_MODELS];
+        let mut signal = [[0.0f32; MAX_MODELS]; 4];
+        let mut scales = [0.0f32; 4];
+        let channels = T::CHANNELS;
+        if channels > 4 {
+            return Err(Error::InvalidChannel);
+        }
+        for c in 0..channels {
+            // Centred (the contrasts ignore constants; centring makes a constant channel's
+            // contrasts exactly 0) and scaled to max |y − ȳ| = 1.
+            let mean = lookups.iter().map(|y| y.channel(c)).sum::<f32>() / N as f32;
+            let top = lookups.iter().fold(0.0f32, |m, y| m.max(math::abs(y.channel(c) - mean)));
+            scales[c] = top;
+            if top == 0.0 {
+                continue;
+            }
+            let inv = 1.0 / top;
+            let mut t = [0.0f32; N];
+            for (j, y) in lookups.iter().enumerate() {
+                let y = (y.channel(c) - mean) * inv;
+                let row = Self::row(set.contrasts, j, set.k)?;
+                for (tj, &a) in t.iter_mut().zip(row) {
+                    *tj += f32::from_bits(a) * y;
+                }
+            }
+            let t = &t[..set.k];
+            for li in 0..lengths {
+                let vectors = Self::row(set.eigenvectors, li, set.k * set.k)?;
+                let values = Self::row(set.eigenvalues, li, set.k)?;
+                let mut v = [0.0f32; N];
+                for (i, &ti) in t.iter().enumerate() {
+                    let row = &vectors[i * set.k..(i + 1) * set.k];
+                    for (vj, &e) in v.iter_mut().zip(row) {
+                        *vj += f32::from_bits(e) * ti;
+                    }
+                }
+                for (si, &s2) in nuggets.iter().enumerate() {
+                    let s2 = f32::from_bits(s2);
+                    let q: f32 = v[..set.k]
+                        .iter()
+                        .zip(values)
+                        .map(|(&v, &lam)| v * v / (f32::from_bits(lam) + s2))
+                        .sum();
+                    let m = li * nuggets.len() + si;
+                    let sigma2 = q / set.k as f32;
+                    signal[c][m] = sigma2;
+                    if sigma2 > 0.0 {
+                        let d = f32::from_bits(*set.log_det.get(m).ok_or(Error::Internal)?);
+                        log_lik[m] += -0.5 * set.k as f32 * math::ln(sigma2) - 0.5 * d;
+                    }
+                }
+            }
+        }
+        let top = log_lik[..models].iter().fold(f32::NEG_INFINITY, |m, &l| m.max(l));
+        let mut weight = [0.0f32; MAX_MODELS];
+        let mut total = 0.0f32;
+        for m in 0..models {
+            weight[m] = math::exp(log_lik[m] - top);
+            total += weight[m];
+        }
+        let f2 = set.calibration * set.calibration;
+        let mut unit_variance = 0.0f32;
+        for m in 0..models {
+            unit_variance += weight[m] * unit[m];
+        }
+        unit_variance *= f2 / total;
+        let variance = from_channels::<T>(|c| {
+            if c >= channels || scales[c] == 0.0 {
+                return 0.0;
+            }
+            let mut v = 0.0f32;
+            for m in 0..models {
+                v += weight[m] * signal[c][m] * unit[m];
+            }
+            f2 * v / total * scales[c] * scales[c]
+        });
+        Ok(Estimate { value, variance, unit_variance })
+    }
+}
+
+/// `sum` when it is finite; otherwise [`Error::InvalidRadiance`] if a lookup is NaN or
+/// infinite (the sum of finite lookups may still overflow to infinity, which is returned).
+fn finite_or_invalid<T: Radiance>(sum: T, lookups: &[T]) -> Result<T, Error> {
+    let finite = |v: T| (0..T::CHANNELS).all(|c| v.channel(c).is_finite());
+    if finite(sum) || lookups.iter().all(|&y| finite(y)) {
+        Ok(sum)
+    } else {
+        Err(Error::InvalidRadiance)
+    }
+}
