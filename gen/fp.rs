@@ -779,6 +779,9 @@ pub struct Baked {
     pub eigenvalues: Vec<f64>,
     /// Per (length, nugget), `Σᵢ ln(λᵢ + σ′²)`.
     pub log_det: Vec<f64>,
+    /// Per interval of θₙ (Phong), the interpolated weights' error at its midpoint: the mass
+    /// error `|Σ δw|` and the norm `|δw|₂` (interval-major); empty for irradiance.
+    pub interpolation: Vec<f64>,
     /// The contrasts' count `k`.
     pub k: usize,
 }
@@ -821,6 +824,28 @@ pub fn bake(spec: &Spec, family: &Family) -> Result<Baked, String> {
         weight_norm.push(w.iter().map(|w| w * w).sum());
         weights.extend(w);
     }
+    // The interpolation's error at each interval's midpoint (Phong): the mass error
+    // |Σ(wᵢₙₜ − w)| and the norm |wᵢₙₜ − w|₂ of the weights the library interpolates with
+    // sin(θₖ₊₁ − θ) and sin(θ − θₖ).
+    let mut interpolation = Vec::new();
+    if nodes > 1 {
+        for k in 0..nodes - 1 {
+            let (t0, t1) = (super::glossy::grid_angle(k), super::glossy::grid_angle(k + 1));
+            let t = 0.5 * (t0 + t1);
+            let coef = Integrand::phong(f64::from(spec.e), t).coefficients(lmax, P_NODES);
+            let exact = own.weights(&design, &coef);
+            let d = (t1 - t0).sin();
+            let (alpha, beta) = ((t1 - t).sin() / d, (t - t0).sin() / d);
+            let (mut mass, mut l1) = (0.0, 0.0);
+            for j in 0..n {
+                let w = alpha * weights[k * n + j] + beta * weights[(k + 1) * n + j];
+                mass += w - exact[j];
+                l1 += (w - exact[j]).powi(2);
+            }
+            interpolation.push(mass.abs());
+            interpolation.push(l1.sqrt());
+        }
+    }
     let c = Contrasts::new(&own, family.contrasts.min(n - 1));
     let k = c.k;
     let mut eigenvectors = Vec::new();
@@ -861,6 +886,7 @@ pub fn bake(spec: &Spec, family: &Family) -> Result<Baked, String> {
         eigenvectors,
         eigenvalues,
         log_det,
+        interpolation,
         k,
     };
     let finite = |x: &f64| (*x as f32).is_finite();
@@ -872,6 +898,7 @@ pub fn bake(spec: &Spec, family: &Family) -> Result<Baked, String> {
         &baked.eigenvectors,
         &baked.eigenvalues,
         &baked.log_det,
+        &baked.interpolation,
     ];
     if all.iter().all(|v| v.iter().all(finite)) {
         Ok(baked)
@@ -934,6 +961,7 @@ pub fn render(family: &Family, sets: &[Baked]) -> String {
         words(&mut s, &format!("{tag}_V"), &b.eigenvectors);
         words(&mut s, &format!("{tag}_L"), &b.eigenvalues);
         words(&mut s, &format!("{tag}_D"), &b.log_det);
+        words(&mut s, &format!("{tag}_I"), &b.interpolation);
         let sharp: Vec<String> = b.sharpness.iter().map(|x| x.to_string()).collect();
         let _ = writeln!(s, "static {tag}_S: [u16; {n}] = [{}];", sharp.join(", "));
         let marker = if e == 0 { "Diffuse".to_string() } else { format!("Phong<{e}>") };
@@ -943,7 +971,7 @@ pub fn render(family: &Family, sets: &[Baked]) -> String {
              const SET: crate::bmc::footprint::sealed::Set = crate::bmc::footprint::sealed::Set {{\n        \
              nodes: {},\n        k: {},\n        lengths: {},\n        weights: &{tag}_W,\n        residual: &{tag}_A,\n        \
              weight_norm: &{tag}_B,\n        contrasts: &{tag}_C,\n        eigenvectors: &{tag}_V,\n        eigenvalues: &{tag}_L,\n        \
-             log_det: &{tag}_D,\n        sharpness: &{tag}_S,\n        calibration: f32::from_bits(0x{:08x}),\n    }};\n}}",
+             log_det: &{tag}_D,\n        interpolation: &{tag}_I,\n        sharpness: &{tag}_S,\n        calibration: f32::from_bits(0x{:08x}),\n    }};\n}}",
             b.nodes,
             b.k,
             family.lengths.len(),

@@ -234,5 +234,5 @@ fn bad_input_is_an_error() {
     assert_eq!(r.estimate_with_variance(Vec3::Z, Vec3::Z, &five), Err(Error::InvalidChannel));
     // A mirror direction below the horizon is grazing, not an error.
     let below = r.estimate_with_variance(Vec3::Z, Vec3::new(1.0, 0.0, -0.2), &ones).unwrap();
-    assert!(below.value.is_finite() && below.variance == 0.0);
+    assert!(below.value.is_finite() && below.variance < 1e-10);
 }

@@ -36,6 +36,8 @@ use std::path::PathBuf;
 
 use clap::Parser;
 use reference::envmap::{luminance, EnvMap};
+use sphere_quadrature::bmc::footprint::{self as fpr, Diffuse, FootprintRenderer, Phong};
+use sphere_quadrature::bmc::{FootprintSize, Size};
 use sphere_quadrature::envmap::{EquirectMap, MipPyramid};
 use sphere_quadrature::footprint::Kind;
 use sphere_quadrature::Vec3;
@@ -105,7 +107,45 @@ struct Cli {
 
 const TIERS: [&str; 4] = ["raw", "clamp", "smooth", "synthetic"];
 /// Estimators: bmc-fp (pyramid lookups), qmc-fis, qmc-sf, split-sum.
-const EST: [&str; 4] = ["bmc-fp-pyramid", "qmc-fis", "qmc-sf", "split-sum"];
+const EST: [&str; 5] = ["bmc-fp-f64", "qmc-fis", "qmc-sf", "split-sum", "bmc-fp-pyramid"];
+/// The error bars: the f64 model's (single, average, reduced) and the crate's.
+const BARS: [&str; 4] = ["single", "average", "reduced", "crate"];
+
+/// The crate's renderer on one query: `(estimate, variance)` from pyramid lookups `read`.
+type CrateFn = fn(Vec3, Vec3, &dyn Fn(Vec3, u32) -> f64) -> (f64, f64);
+
+fn crate_query<const N: usize, B: fpr::Brdf>(
+    n: Vec3,
+    r: Vec3,
+    read: &dyn Fn(Vec3, u32) -> f64,
+) -> (f64, f64)
+where
+    Size<N>: FootprintSize<B>,
+{
+    let fr = FootprintRenderer::<N, B>::new();
+    let mut dirs = [Vec3::ZERO; N];
+    fr.fill_directions(n, r, &mut dirs).expect("directions");
+    let kinds = fr.footprints();
+    let y: [f32; N] = std::array::from_fn(|j| match kinds[j] {
+        Kind::Gaussian { sharpness } => read(dirs[j], sharpness) as f32,
+        _ => f32::NAN,
+    });
+    let e = fr.estimate_with_variance(n, r, &y).expect("an estimate");
+    (f64::from(e.value), f64::from(e.variance))
+}
+
+/// The crate's renderer for `(N, e)` (`e = 0`: irradiance), if baked.
+fn crate_fn(n: usize, e: u32) -> Option<CrateFn> {
+    Some(match (n, e) {
+        (32, 0) => crate_query::<32, Diffuse>,
+        (64, 0) => crate_query::<64, Diffuse>,
+        (32, 10) => crate_query::<32, Phong<10>>,
+        (64, 10) => crate_query::<64, Phong<10>>,
+        (32, 50) => crate_query::<32, Phong<50>>,
+        (64, 50) => crate_query::<64, Phong<50>>,
+        _ => return None,
+    })
+}
 
 /// Per (query, N): everything that does not depend on the map.
 struct Plan {
@@ -178,7 +218,7 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
             let bname = brdf.name();
             // Calibration: the factor on σ that puts 95 % of the training maps' clamp and smooth
             // queries inside 2σ.
-            let factors: [f64; 3] = std::array::from_fn(|k| {
+            let factors: [f64; 4] = std::array::from_fn(|k| {
                 let mut z: Vec<f64> = (0..scenes.len())
                     .filter(|&i| {
                         !scenes[i].held_out && (scenes[i].tier == 1 || scenes[i].tier == 2)
@@ -193,8 +233,8 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
             });
             let _ = writeln!(
                 report,
-                "{bname:>8} N={n:<3} calibration factors single {:.3} average {:.3} reduced {:.3}",
-                factors[0], factors[1], factors[2]
+                "{bname:>8} N={n:<3} calibration factors single {:.3} average {:.3} reduced {:.3} crate {:.3}",
+                factors[0], factors[1], factors[2], factors[3]
             );
             for (t, tier) in TIERS.iter().enumerate() {
                 let members: Vec<usize> =
@@ -212,8 +252,11 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
                             );
                         }
                     }
-                    for (k, bar) in ["single", "average", "reduced"].iter().enumerate() {
+                    for (k, bar) in BARS.iter().enumerate() {
                         let z = &per_scene[i].1[k];
+                        if z.is_empty() {
+                            continue;
+                        }
                         let fraction =
                             z.iter().filter(|&&z| z <= 2.0).count() as f64 / z.len() as f64;
                         let _ = writeln!(
@@ -227,18 +270,21 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
                     members.iter().copied().filter(|&i| scenes[i].held_out).collect();
                 let train: Vec<usize> =
                     members.iter().copied().filter(|&i| !scenes[i].held_out).collect();
-                let ratio = |b: usize| -> String {
-                    if held.is_empty() || !per_scene[held[0]].0[b].is_finite() {
+                let ratio = |a: usize, b: usize| -> String {
+                    if held.is_empty()
+                        || !per_scene[held[0]].0[b].is_finite()
+                        || !per_scene[held[0]].0[a].is_finite()
+                    {
                         return "–".into();
                     }
                     let r: Vec<f64> =
-                        held.iter().map(|&i| per_scene[i].0[0] / per_scene[i].0[b]).collect();
+                        held.iter().map(|&i| per_scene[i].0[a] / per_scene[i].0[b]).collect();
                     let mean = r.iter().sum::<f64>() / r.len() as f64;
                     let worst = r.iter().cloned().fold(0.0, f64::max);
                     format!("{mean:.3} ({worst:.3})")
                 };
                 let cover = |set: &[usize], k: usize| -> String {
-                    if set.is_empty() {
+                    if set.is_empty() || per_scene[set[0]].1[k].is_empty() {
                         return "–".into();
                     }
                     let f = |scale: f64| {
@@ -255,11 +301,15 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
                 };
                 let _ = writeln!(
                     report,
-                    "{bname:>8} N={n:<3} {tier:<9} fp {:.4}%  fp/fis {}  fp/sf {}  fp/split {}  2σ single {} / {} (train)  average {} / {} (train)  reduced {} / {} (train)",
+                    "{bname:>8} N={n:<3} {tier:<9} fp {:.4}%  fp/fis {}  fp/sf {}  fp/split {}  crate/fis {} crate/split {}  2σ crate {} / {} (train)  single {} / {} (train)  average {} / {} (train)  reduced {} / {} (train)",
                     100.0 * fp_abs,
-                    ratio(1),
-                    ratio(2),
-                    ratio(3),
+                    ratio(0, 1),
+                    ratio(0, 2),
+                    ratio(0, 3),
+                    ratio(4, 1),
+                    ratio(4, 3),
+                    cover(&held, 3),
+                    cover(&train, 3),
                     cover(&held, 0),
                     cover(&train, 0),
                     cover(&held, 1),
@@ -280,7 +330,7 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
 
 /// Relative RMSE per estimator ([`EST`]) and `|error|/σ` per query of the error bars (single,
 /// average, reduced) of one scene.
-type SceneResult = ([f64; 4], [Vec<f64>; 3]);
+type SceneResult = ([f64; 5], [Vec<f64>; 4]);
 
 /// One weight setting.
 #[derive(Clone, Copy, Debug)]
@@ -383,9 +433,10 @@ fn study(cx: &Context, setting: Setting, which: &[usize]) -> Result<Vec<SceneRes
                 _ => unreachable!("a map has a pyramid"),
             }
         };
-        let mut se = [0.0f64; 4];
+        let mut se = [0.0f64; 5];
         let mut abs = 0.0;
-        let mut zs: [Vec<f64>; 3] = Default::default();
+        let mut zs: [Vec<f64>; 4] = Default::default();
+        let crate_fn = crate_fn(n, brdf.exponent() as u32 * u32::from(brdf != Brdf::Diffuse));
         for (qi, (q, plan)) in queries.iter().zip(&plans).enumerate() {
             let t = truth[si][qi];
             let y: Vec<f64> =
@@ -409,7 +460,21 @@ fn study(cx: &Context, setting: Setting, which: &[usize]) -> Result<Vec<SceneRes
                 }
                 _ => f64::NAN,
             };
-            for (k, est) in [fp, fis, sf, split].into_iter().enumerate() {
+            let (crate_value, crate_variance) = match (crate_fn, &pyramid) {
+                (Some(f), Some(p)) => {
+                    let v = |d: [f64; 3]| Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32);
+                    let read = |d: Vec3, s: u32| -> f64 {
+                        let rgb = p
+                            .footprint_sample(d, Kind::Gaussian { sharpness: s })
+                            .expect("a lookup");
+                        luminance(rgb.map(f64::from))
+                    };
+                    let r = if brdf == Brdf::Diffuse { q.n } else { q.r };
+                    f(v(q.n), v(r), &read)
+                }
+                _ => (f64::NAN, f64::NAN),
+            };
+            for (k, est) in [fp, fis, sf, split, crate_value].into_iter().enumerate() {
                 se[k] += (est - t).powi(2);
             }
             abs += t.abs();
@@ -438,6 +503,9 @@ fn study(cx: &Context, setting: Setting, which: &[usize]) -> Result<Vec<SceneRes
             let err = (fp - t).abs();
             for (z, v) in zs.iter_mut().zip([single, average, reduced_bar]) {
                 z.push(err / v.sqrt());
+            }
+            if crate_value.is_finite() {
+                zs[3].push((crate_value - t).abs() / crate_variance.sqrt());
             }
         }
         let nq = queries.len() as f64;
