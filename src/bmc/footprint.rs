@@ -161,6 +161,9 @@ pub const BAKED_SETS: &[(usize, u32)] = &crate::tables::FOOTPRINT_SETS;
 /// The most models an error bar family may have.
 const MAX_MODELS: usize = 64;
 
+/// The most channels [`FootprintRenderer::estimate_with_variance`] takes.
+const MAX_CHANNELS: usize = 4;
+
 pub(crate) mod sealed {
     /// What `build.rs` baked for one `(N, BRDF)` (f32 bits, `gen/fp.rs`).
     #[derive(Clone, Copy, Debug)]
@@ -340,18 +343,38 @@ where
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite vector, [`Error::InvalidRadiance`]
     /// for a NaN or infinite lookup.
+    ///
+    /// # Cost
+    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
+    /// [`examples/cortex-m4`], whose output CI checks these lines against), lookups not counted:
+    /// - `m4:footprint_renderer_estimate N=64`: 470 instructions (e = 50, one channel)
+    ///
+    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
     pub fn estimate<T: Radiance>(
         &self,
         normal: Vec3,
         mirror: Vec3,
         lookups: &[T; N],
     ) -> Result<T, Error> {
-        let mut w = [0.0f32; N];
-        self.weights(normal, mirror, &mut w)?;
-        let mut sum = T::ZERO;
-        for (&y, &w) in lookups.iter().zip(&w) {
-            sum = sum.mul_add(y, w);
-        }
+        let (k, [alpha, beta]) = Self::rows(normal, mirror)?;
+        let a = Self::row(Self::SET.weights, k, N)?;
+        // Σ wⱼYⱼ = α·Σ aⱼYⱼ + β·Σ bⱼYⱼ (the interpolation fused into the sums, as
+        // `GlossyRenderer::estimate`); one row for irradiance.
+        let sum = if beta == 0.0 {
+            let mut s = T::ZERO;
+            for (&y, &a) in lookups.iter().zip(a) {
+                s = s.mul_add(y, f32::from_bits(a));
+            }
+            s.scale(alpha)
+        } else {
+            let b = Self::row(Self::SET.weights, k + 1, N)?;
+            let (mut sa, mut sb) = (T::ZERO, T::ZERO);
+            for ((&y, &a), &b) in lookups.iter().zip(a).zip(b) {
+                sa = sa.mul_add(y, f32::from_bits(a));
+                sb = sb.mul_add(y, f32::from_bits(b));
+            }
+            sa.scale(alpha).add(sb.scale(beta))
+        };
         finite_or_invalid(sum, lookups)
     }
 
@@ -366,6 +389,11 @@ where
     /// # Errors
     /// As [`estimate`](Self::estimate), and [`Error::InvalidChannel`] for radiance of more
     /// than 4 channels.
+    ///
+    /// # Cost
+    /// Cortex-M4F instructions per call (as [`estimate`](Self::estimate)):
+    /// - `m4:footprint_renderer_estimate_with_variance N=64`: 30 324 instructions (e = 50, one
+    ///   channel, 8 × 4 models, 24 contrasts)
     pub fn estimate_with_variance<T: Radiance>(
         &self,
         normal: Vec3,
@@ -374,127 +402,129 @@ where
     ) -> Result<Estimate<T>, Error> {
         let value = self.estimate(normal, mirror, lookups)?;
         let set = Self::SET;
-        let (k, [alpha, beta]) = Self::rows(normal, mirror)?;
+        let (node, [alpha, beta]) = Self::rows(normal, mirror)?;
         let nuggets = &crate::tables::FOOTPRINT_NUGGETS;
-        let lengths = set.lengths;
+        let (k, lengths) = (set.k, set.lengths);
         let models = lengths * nuggets.len();
-        if models > MAX_MODELS || set.k > N {
+        if models == 0 || models > MAX_MODELS || k == 0 || k > N {
             return Err(Error::Internal);
         }
-        let at = |table: &'static [u32], width: usize, i: usize| -> Result<f32, Error> {
-            let a = f32::from_bits(*table.get(k * width + i).ok_or(Error::Internal)?);
-            let b = if beta == 0.0 {
-                a
-            } else {
-                f32::from_bits(*table.get((k + 1) * width + i).ok_or(Error::Internal)?)
-            };
-            Ok(alpha * a + beta * b)
-        };
-        // The weights' error variance per model: a_l + σ′²·|w|².
-        let norm = at(set.weight_norm, 1, 0)?;
-        let mut unit = [0.0f32; MAX_MODELS];
-        for li in 0..lengths {
-            let a = at(set.residual, lengths, li)?.max(0.0);
-            for (si, &s2) in nuggets.iter().enumerate() {
-                unit[li * nuggets.len() + si] = a + f32::from_bits(s2) * norm;
-            }
-        }
-        // Per channel and model: σ̂² (of the channel scaled to max |y| = 1) and the log
-        // likelihood; the likelihoods pooled over the channels.
-        let mut log_lik = [0.0f32; MAX_MODELS];
-        let mut signal = [[0.0f32; MAX_MODELS]; 4];
-        let mut scales = [0.0f32; 4];
-        let mut numeric = [0.0f32; 4];
-        let mut w = [0.0f32; N];
-        self.weights(normal, mirror, &mut w)?;
-        let (mass_error, l1_error) =
-            match (set.interpolation.get(2 * k), set.interpolation.get(2 * k + 1)) {
-                (Some(&a), Some(&b)) if beta != 0.0 => (f32::from_bits(a), f32::from_bits(b)),
-                _ => (0.0, 0.0),
-            };
         let channels = T::CHANNELS;
-        if channels > 4 {
+        if channels > MAX_CHANNELS {
             return Err(Error::InvalidChannel);
         }
-        for c in 0..channels {
+        // A per-node table entry, interpolated as the weights are.
+        let at = |table: &'static [u32], width: usize, i: usize| -> Result<f32, Error> {
+            let get = |n: usize| table.get(n * width + i).map(|&b| f32::from_bits(b));
+            let a = get(node).ok_or(Error::Internal)?;
+            let b = if beta == 0.0 { a } else { get(node + 1).ok_or(Error::Internal)? };
+            Ok(alpha * a + beta * b)
+        };
+        // The weights' error variance under each model: a_l + σ′²·|w|².
+        let norm = at(set.weight_norm, 1, 0)?;
+        let mut unit = [0.0f32; MAX_MODELS];
+        for (li, row) in unit.chunks_exact_mut(nuggets.len()).take(lengths).enumerate() {
+            let a = at(set.residual, lengths, li)?.max(0.0);
+            for (u, &s2) in row.iter_mut().zip(nuggets) {
+                *u = a + f32::from_bits(s2) * norm;
+            }
+        }
+        let mut w = [0.0f32; N];
+        self.weights(normal, mirror, &mut w)?;
+        let interpolation =
+            |i: usize| set.interpolation.get(2 * node + i).map_or(0.0, |&b| f32::from_bits(b));
+        let (mass_error, norm_error) =
+            if beta == 0.0 { (0.0, 0.0) } else { (interpolation(0), interpolation(1)) };
+        // Per channel and model: σ̂² of the centred channel scaled to max |y − ȳ| = 1, and the
+        // log likelihood, pooled over the channels.
+        let mut log_lik = [0.0f32; MAX_MODELS];
+        let mut signal = [[0.0f32; MAX_MODELS]; MAX_CHANNELS];
+        let mut scales = [0.0f32; MAX_CHANNELS];
+        let mut numeric = [0.0f32; MAX_CHANNELS];
+        for (c, ((signal, scale), numeric)) in
+            signal.iter_mut().zip(&mut scales).zip(&mut numeric).take(channels).enumerate()
+        {
             // Centred (the contrasts ignore constants; centring makes a constant channel's
             // contrasts exactly 0) and scaled to max |y − ȳ| = 1.
             let mean = lookups.iter().map(|y| y.channel(c)).sum::<f32>() / N as f32;
             let top = lookups.iter().fold(0.0f32, |m, y| m.max(math::abs(y.channel(c) - mean)));
-            scales[c] = top;
+            *scale = top;
             // The arithmetic's own error, apart from the model: f32 rounding of the weights and
             // the sum, about (√N + 1)·2⁻²⁴·Σ|wⱼyⱼ|, and the interpolation between the θₙ nodes,
-            // at most |Σδw|·|ȳ| + Σ|δw|·max|y − ȳ| (measured at the interval's midpoint).
+            // about |Σδw|·|ȳ| + |δw|₂·rms(y − ȳ) (δw measured at the interval's midpoint).
             let sum_abs: f32 =
                 lookups.iter().zip(&w).map(|(y, w)| math::abs(w * y.channel(c))).sum();
             let rounding = (math::sqrt(N as f32) + 1.0) * f32::EPSILON * 0.5 * sum_abs;
-            let interpolation = mass_error * math::abs(mean) + l1_error * top;
-            numeric[c] = rounding * rounding + interpolation * interpolation;
+            let spread: f32 =
+                lookups.iter().map(|y| (y.channel(c) - mean) * (y.channel(c) - mean)).sum();
+            let interp = mass_error * math::abs(mean) + norm_error * math::sqrt(spread / N as f32);
+            *numeric = rounding * rounding + interp * interp;
             if top == 0.0 {
                 continue;
             }
             let inv = 1.0 / top;
+            // t = Aᵀ(y − ȳ)/top.
             let mut t = [0.0f32; N];
-            for (j, y) in lookups.iter().enumerate() {
+            let contrasts = set.contrasts.get(..N * k).ok_or(Error::Internal)?;
+            for (y, row) in lookups.iter().zip(contrasts.chunks_exact(k)) {
                 let y = (y.channel(c) - mean) * inv;
-                let row = Self::row(set.contrasts, j, set.k)?;
                 for (tj, &a) in t.iter_mut().zip(row) {
                     *tj += f32::from_bits(a) * y;
                 }
             }
-            let t = &t[..set.k];
-            for li in 0..lengths {
-                let vectors = Self::row(set.eigenvectors, li, set.k * set.k)?;
-                let values = Self::row(set.eigenvalues, li, set.k)?;
+            let t = t.get(..k).ok_or(Error::Internal)?;
+            let vectors = set.eigenvectors.get(..lengths * k * k).ok_or(Error::Internal)?;
+            let values = set.eigenvalues.get(..lengths * k).ok_or(Error::Internal)?;
+            let log_det = set.log_det.get(..models).ok_or(Error::Internal)?;
+            let blocks = vectors.chunks_exact(k * k).zip(values.chunks_exact(k));
+            let per_length =
+                signal.chunks_exact_mut(nuggets.len()).zip(log_lik.chunks_exact_mut(nuggets.len()));
+            for (((vectors, values), (signal, log_lik)), log_det) in
+                blocks.zip(per_length).zip(log_det.chunks_exact(nuggets.len()))
+            {
+                // v = Wᵀt in the eigenbasis of AᵀK_lA.
                 let mut v = [0.0f32; N];
-                for (i, &ti) in t.iter().enumerate() {
-                    let row = &vectors[i * set.k..(i + 1) * set.k];
+                for (&ti, row) in t.iter().zip(vectors.chunks_exact(k)) {
                     for (vj, &e) in v.iter_mut().zip(row) {
                         *vj += f32::from_bits(e) * ti;
                     }
                 }
-                for (si, &s2) in nuggets.iter().enumerate() {
+                for (((s, ll), &d), &s2) in signal.iter_mut().zip(log_lik).zip(log_det).zip(nuggets)
+                {
                     let s2 = f32::from_bits(s2);
-                    let q: f32 = v[..set.k]
+                    let q: f32 = v
                         .iter()
                         .zip(values)
                         .map(|(&v, &lam)| v * v / (f32::from_bits(lam) + s2))
                         .sum();
-                    let m = li * nuggets.len() + si;
-                    let sigma2 = q / set.k as f32;
-                    signal[c][m] = sigma2;
-                    if sigma2 > 0.0 {
-                        let d = f32::from_bits(*set.log_det.get(m).ok_or(Error::Internal)?);
-                        log_lik[m] += -0.5 * set.k as f32 * math::ln(sigma2) - 0.5 * d;
+                    *s = q / k as f32;
+                    if *s > 0.0 {
+                        *ll += -0.5 * k as f32 * math::ln(*s) - 0.5 * f32::from_bits(d);
                     }
                 }
             }
         }
-        let top = log_lik[..models].iter().fold(f32::NEG_INFINITY, |m, &l| m.max(l));
+        let log_lik = log_lik.get(..models).ok_or(Error::Internal)?;
+        let top = log_lik.iter().fold(f32::NEG_INFINITY, |m, &l| m.max(l));
         let mut weight = [0.0f32; MAX_MODELS];
         let mut total = 0.0f32;
-        for m in 0..models {
-            weight[m] = math::exp(log_lik[m] - top);
-            total += weight[m];
+        for (p, &l) in weight.iter_mut().zip(log_lik) {
+            *p = math::exp(l - top);
+            total += *p;
         }
         let f2 = set.calibration * set.calibration;
-        let mut unit_variance = 0.0f32;
-        for m in 0..models {
-            unit_variance += weight[m] * unit[m];
-        }
-        unit_variance *= f2 / total;
+        let unit_variance = f2 * weight.iter().zip(&unit).map(|(p, u)| p * u).sum::<f32>() / total;
         let variance = from_channels::<T>(|c| {
-            if c >= channels {
+            let (Some(signal), Some(&scale), Some(&numeric)) =
+                (signal.get(c), scales.get(c), numeric.get(c))
+            else {
                 return 0.0;
+            };
+            if scale == 0.0 {
+                return f2 * numeric;
             }
-            if scales[c] == 0.0 {
-                return f2 * numeric[c];
-            }
-            let mut v = 0.0f32;
-            for m in 0..models {
-                v += weight[m] * signal[c][m] * unit[m];
-            }
-            f2 * (v / total * scales[c] * scales[c] + numeric[c])
+            let v: f32 = weight.iter().zip(signal).zip(&unit).map(|((p, s), u)| p * s * u).sum();
+            f2 * (v / total * scale * scale + numeric)
         });
         Ok(Estimate { value, variance, unit_variance })
     }

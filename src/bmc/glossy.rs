@@ -353,9 +353,9 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:glossy_renderer_estimate N=16`: 161 instructions (e = 50, one channel)
-    /// - `m4:glossy_renderer_estimate N=64`: 417 instructions (e = 50, one channel)
-    /// - `m4:glossy_renderer_estimate N=80`: 498 instructions (e = 50, one channel)
+    /// - `m4:glossy_renderer_estimate N=16`: 163 instructions (e = 50, one channel)
+    /// - `m4:glossy_renderer_estimate N=64`: 416 instructions (e = 50, one channel)
+    /// - `m4:glossy_renderer_estimate N=80`: 496 instructions (e = 50, one channel)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):

@@ -111,6 +111,14 @@ fn main() -> ! {
     report!("glossy_renderer_estimate", 16, 100, || g16.estimate(gn, gr, black_box(y16)));
     report!("glossy_renderer_estimate", 64, 50, || g64.estimate(gn, gr, black_box(y64)));
     report!("glossy_renderer_estimate", 80, 50, || g80.estimate(gn, gr, black_box(y80)));
+    // The footprint renderer at the same N, query and exponent: the estimate, and the estimate
+    // with its error bar (lookups that vary, so that no channel is constant).
+    let f64r = bmc::FootprintRenderer::<64, bmc::footprint::Phong<50>>::new();
+    let yv: [f32; 64] = core::array::from_fn(|j| 1.0 + 0.01 * j as f32);
+    report!("footprint_renderer_estimate", 64, 50, || f64r.estimate(gn, gr, black_box(y64)));
+    report!("footprint_renderer_estimate_with_variance", 64, 10, || {
+        f64r.estimate_with_variance(gn, gr, black_box(&yv))
+    });
     probe_counts::<16, Point>("probe", 20, 200);
     probe_counts::<64, Point>("probe", 4, 100);
     probe_counts::<256, Point>("probe", 1, 50);

@@ -167,6 +167,19 @@ fn bmc_renderer() {
     let g = sphere_quadrature::bmc::GlossyRenderer::<64, 50>::new();
     keep(g.fill_directions(dir(), dir2(), &mut out));
     keep(g.estimate(dir(), dir2(), black_box(&[1.5f32; 64])));
+    let f = sphere_quadrature::bmc::FootprintRenderer::<
+        64,
+        sphere_quadrature::bmc::footprint::Phong<50>,
+    >::new();
+    keep(f.fill_directions(dir(), dir2(), &mut out));
+    keep(f.footprints());
+    keep(f.estimate(dir(), dir2(), black_box(&[1.5f32; 64])));
+    keep(f.estimate_with_variance(dir(), dir2(), black_box(&[[1.5f32; 3]; 64])));
+    let d = sphere_quadrature::bmc::FootprintRenderer::<
+        32,
+        sphere_quadrature::bmc::footprint::Diffuse,
+    >::new();
+    keep(d.estimate_with_variance(dir(), dir(), black_box(&[1.5f32; 32])));
 }
 
 /// A second black-box direction.
