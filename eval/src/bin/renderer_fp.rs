@@ -1,31 +1,44 @@
-//! The footprint renderer's model on real maps (the design study before the crate's type):
-//! Bayesian Monte Carlo of the renderer integrals from lookups whose footprints follow the
-//! sample density, against filtered importance sampling, QMC and split-sum, with the error
-//! bar's 2σ coverage.
+//! The footprint renderer on real maps: the crate's `bmc::FootprintRenderer` and its f64 model
+//! (`gen/fp.rs`), Bayesian Monte Carlo of the renderer integrals from lookups whose footprints
+//! follow the sample density, against filtered importance sampling, QMC and split-sum, with
+//! the error bars' 2σ coverage; and the choice of each baked set's `(c, l, σ′)` and
+//! calibration factor on the training maps.
 //!
 //! ```text
 //! cargo eval renderer_fp --                       # ten bundled maps, 48 queries, N = 32, 64
-//! cargo eval renderer_fp -- --brdfs 10,50 --ns 16,32,64,128 --queries 96 a.hdr b.hdr
+//! cargo eval renderer_fp -- --select              # choose (c, l, σ′) per (BRDF, N) first
+//! cargo eval renderer_fp -- --brdfs 50 --ns 64 --c 16 --l 0.35 --sigma 1e-5 a.hdr b.hdr --csv rows.csv
 //! ```
 //!
-//! # Model (`sphere_quadrature_eval::fp`)
-//! Per query, the lobe-morphed hemisphere spherical Fibonacci set at phase 0 in the lobe
-//! frame (`t₁` towards the normal: the `GlossyRenderer` set; the cosine-morphed set about `n`
-//! for diffuse). Sample `j` reads the map through the normalised spherical Gaussian of
-//! sharpness `sⱼ = round(2π·N·pdf(xⱼ)/c)` (solid angle `c` times the sample's share) with
-//! `MipPyramid::footprint_sample`. The weights are the GLS weights of one model `(l, σ′)`
-//! (`--c`, `--l`, `--sigma`), exact for the query's `θₙ` (no grid).
+//! # Estimators
+//! Per query (the renderer benchmark's queries), the lobe-morphed hemisphere spherical
+//! Fibonacci set at phase 0 in the lobe frame (`t₁` towards the normal: the `GlossyRenderer`
+//! set; the cosine-morphed set about `n` for diffuse):
+//! - `bmc-fp-f64`: sample `j` reads the map through the normalised spherical Gaussian of
+//!   sharpness `sⱼ = round(2π·N·pdf(xⱼ)/c)` with `MipPyramid::footprint_sample`; the GLS
+//!   weights of the model `(c, l, σ′)` (`--c`, `--l`, `--sigma`, or `--select`), exact for the
+//!   query's `θₙ`, in f64;
+//! - `bmc-fp-pyramid`: the crate's renderer (its baked f32 weights, interpolated in `θₙ`) on
+//!   the same pyramid lookups, for the sets the crate bakes;
+//! - `qmc-fis`, `qmc-sf`: as the renderer benchmark, on the same directions;
+//! - `split-sum` (Phong): one `CosinePower` lookup of the lobe's exponent along the mirror
+//!   direction, times the lobe's exact `∫p`.
 //!
 //! # Error bars
 //! - `single`: `σ̂²·u` of the weights' own model (`σ̂²` by REML);
 //! - `average`: over the family `l ∈ --family-l` × `σ′ ∈ --family-sigma` (same footprints),
 //!   `Σ πₘ·σ̂²ₘ·uₘ(w)`, `uₘ(w)` the error variance of the chosen weights under model `m` and
-//!   `πₘ ∝` its restricted likelihood.
+//!   `πₘ ∝` its restricted likelihood;
+//! - `reduced`: the same average with each model's `σ̂²` and likelihood from `--reduce k`
+//!   contrasts of the lookups (what the crate computes);
+//! - `crate`: the crate's `estimate_with_variance`.
+//!
+//! Each bar is reported as is and with the factor on σ that puts 95 % of the training maps'
+//! clamp and smooth queries inside 2σ (`raw→calibrated`).
 //!
 //! # Output
 //! Per (BRDF, N, tier): over the held-out maps the mean of per-map RMSE ratios (worst map)
-//! of `bmc-fp` to `qmc-fis`, `qmc-sf` and `split-sum`, and 2σ coverage of both error bars on
-//! held-out and training maps. `--csv FILE` writes rows
+//! and the 2σ coverage on held-out and training maps. `--csv FILE` writes rows
 //! `renderer,<tier>,<estimator>,<n>,<brdf>,<map>,<rel_rmse>` and
 //! `coverage,<tier>,<bar>,<n>,<brdf>,<map>,<fraction>`.
 
