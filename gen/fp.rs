@@ -34,7 +34,7 @@ use std::f64::consts::PI;
 
 use std::fmt::Write as _;
 
-use super::probe::{bessel_ratios, sg_coefficients};
+use super::probe::{bessel_ratios, legendre_series, sg_coefficients};
 use super::sg::gauss_legendre;
 
 /// Index of the real spherical harmonic `(l, m)`, `−l ≤ m ≤ l`.
@@ -276,35 +276,11 @@ impl Model {
         let lmax = design.lmax;
         let kappa = sg_coefficients(lambda, lmax + 1);
         let n = design.len();
-        let mut q = vec![0.0; n * n];
+        let mut q = design.kernel_matrix(l);
         for i in 0..n {
-            for j in 0..=i {
-                let t = dot(design.xs[i], design.xs[j]).clamp(-1.0, 1.0);
-                let (ri, rj) = (
-                    &design.rho[i * (lmax + 1)..][..lmax + 1],
-                    &design.rho[j * (lmax + 1)..][..lmax + 1],
-                );
-                let (mut p0, mut p1) = (1.0, t);
-                let mut sum = 0.0;
-                for l in 0..=lmax {
-                    let p = match l {
-                        0 => 1.0,
-                        1 => t,
-                        _ => {
-                            let p2 = ((2 * l - 1) as f64 * t * p1 - (l - 1) as f64 * p0) / l as f64;
-                            p0 = p1;
-                            p1 = p2;
-                            p2
-                        }
-                    };
-                    sum += kappa[l] * ri[l] * rj[l] * (2 * l + 1) as f64 / (4.0 * PI) * p;
-                }
-                q[i * n + j] = sum;
-                q[j * n + i] = sum;
-            }
             q[i * n + i] += sigma * sigma;
         }
-        let factor = cholesky(&q, n)?;
+        let factor = super::bmc::cholesky(&q, n).ok()?;
         let log_det = 2.0 * (0..n).map(|i| factor[i * n + i].ln()).sum::<f64>();
         let mut m = Self { lambda, sigma, kappa, n, factor, q1: Vec::new(), s1: 0.0, log_det };
         m.q1 = m.solve(&vec![1.0; n]);
@@ -403,7 +379,7 @@ impl Model {
                 m[i * k + j] = (0..n).map(|r| b[r * k + i] * b[r * k + j]).sum();
             }
         }
-        let factor = cholesky(&m, k)?;
+        let factor = super::bmc::cholesky(&m, k).ok()?;
         let log_det = 2.0 * (0..k).map(|i| factor[i * k + i].ln()).sum::<f64>();
         Some(Reduced { k, factor, log_det })
     }
@@ -542,26 +518,6 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-/// Lower Cholesky factor of the symmetric `n×n` matrix `a` (row-major).
-fn cholesky(a: &[f64], n: usize) -> Option<Vec<f64>> {
-    let mut l = vec![0.0; n * n];
-    for i in 0..n {
-        for j in 0..=i {
-            let s: f64 = (0..j).map(|k| l[i * n + k] * l[j * n + k]).sum();
-            if i == j {
-                let d = a[i * n + i] - s;
-                if d <= 0.0 || !d.is_finite() {
-                    return None;
-                }
-                l[i * n + i] = d.sqrt();
-            } else {
-                l[i * n + j] = (a[i * n + j] - s) / l[j * n + j];
-            }
-        }
-    }
-    Some(l)
-}
-
 /// The lobe-morphed hemisphere spherical Fibonacci set in the lobe frame at phase 0 (the
 /// glossy renderer's set, [`super::glossy::local_direction`]): `cos θⱼ = uⱼ^{1/(e+1)}`,
 /// `uⱼ = 1 − (2j + 1)/(2N)`, golden azimuth; `e = 1` (the cosine) for irradiance.
@@ -593,24 +549,11 @@ impl Design {
         let mut q = vec![0.0; n * n];
         for i in 0..n {
             for j in 0..=i {
-                let t = dot(self.xs[i], self.xs[j]).clamp(-1.0, 1.0);
+                let t = dot(self.xs[i], self.xs[j]);
                 let ri = &self.rho[i * (lmax + 1)..][..lmax + 1];
                 let rj = &self.rho[j * (lmax + 1)..][..lmax + 1];
-                let (mut p0, mut p1) = (1.0, t);
-                let mut sum = 0.0;
-                for l in 0..=lmax {
-                    let p = match l {
-                        0 => 1.0,
-                        1 => t,
-                        _ => {
-                            let p2 = ((2 * l - 1) as f64 * t * p1 - (l - 1) as f64 * p0) / l as f64;
-                            p0 = p1;
-                            p1 = p2;
-                            p2
-                        }
-                    };
-                    sum += kappa[l] * ri[l] * rj[l] * (2 * l + 1) as f64 / (4.0 * PI) * p;
-                }
+                let a: Vec<f64> = (0..=lmax).map(|l| kappa[l] * ri[l] * rj[l]).collect();
+                let sum = legendre_series(&a, t);
                 q[i * n + j] = sum;
                 q[j * n + i] = sum;
             }

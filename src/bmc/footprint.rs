@@ -52,7 +52,7 @@
 //! infinite lookup gives [`Error::InvalidRadiance`]. A mirror direction below the horizon
 //! (`r·n < 0`) is treated as grazing, as [`GlossyRenderer`](super::GlossyRenderer) does.
 
-use super::glossy::interval;
+use super::glossy::{interval, lobe_frame};
 use super::Size;
 use crate::error::Error;
 use crate::footprint::Kind;
@@ -260,18 +260,13 @@ where
     /// The lobe frame `(t₁, t₂, a)`: for Phong `a = r` with `t₁` towards `n`; for irradiance
     /// `a = n`. Both vectors normalised; errors as the public calls.
     fn frame(normal: Vec3, mirror: Vec3) -> Result<[Vec3; 3], Error> {
-        let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
-        let r = mirror.try_normalize().ok_or(Error::InvalidDirection)?;
         if Self::E == 0 {
+            let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
+            mirror.try_normalize().ok_or(Error::InvalidDirection)?;
             let f = Frame::from_unit(n);
             return Ok([f.t, f.b, n]);
         }
-        let c = r.dot(n).clamp(0.0, 1.0);
-        let t1 = match (n - r * c).try_normalize() {
-            Some(t) => t,
-            None => Frame::from_unit(r).to_world(Vec3::X),
-        };
-        Ok([t1, r.cross(t1), r])
+        Ok(lobe_frame(normal, mirror)?.0)
     }
 
     /// Writes the `N` lookup directions for normal `n` and mirror direction `r` (both

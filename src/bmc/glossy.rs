@@ -276,19 +276,6 @@ where
         (Self::SET.length_scale, Self::SET.noise)
     }
 
-    /// The lobe frame `(t₁, t₂, r)` with `t₁` towards `n`, and `r·n` clamped to `[0, 1]`.
-    fn frame(normal: Vec3, mirror: Vec3) -> Result<([Vec3; 3], f32), Error> {
-        let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
-        let r = mirror.try_normalize().ok_or(Error::InvalidDirection)?;
-        let c = r.dot(n).clamp(0.0, 1.0);
-        let t1 = match (n - r * c).try_normalize() {
-            Some(t) => t,
-            // n ∥ r: the integrand is symmetric about r, any perpendicular serves.
-            None => Frame::from_unit(r).to_world(Vec3::X),
-        };
-        Ok(([t1, r.cross(t1), r], c))
-    }
-
     /// Writes the `N` sample directions for normal `n` and mirror direction `r` (both
     /// normalised first): the set `S` in the frame `(t₁, t₂, r)`, `t₁` towards `n`.
     ///
@@ -300,7 +287,7 @@ where
         mirror: Vec3,
         out: &mut [Vec3; N],
     ) -> Result<(), Error> {
-        let ([t1, t2, r], _) = Self::frame(normal, mirror)?;
+        let ([t1, t2, r], _) = lobe_frame(normal, mirror)?;
         if <S as sealed::Kind>::OPTIMAL {
             let local = Self::SET.directions.chunks_exact(3);
             if local.len() != N {
@@ -393,6 +380,20 @@ where
         step(yr, ar, br);
         Ok(sa.scale(alpha).add(sb.scale(beta)))
     }
+}
+
+/// The lobe frame `(t₁, t₂, r)` with `t₁` towards `n`, and `r·n` clamped to `[0, 1]` (both
+/// vectors normalised first).
+pub(crate) fn lobe_frame(normal: Vec3, mirror: Vec3) -> Result<([Vec3; 3], f32), Error> {
+    let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
+    let r = mirror.try_normalize().ok_or(Error::InvalidDirection)?;
+    let c = r.dot(n).clamp(0.0, 1.0);
+    let t1 = match (n - r * c).try_normalize() {
+        Some(t) => t,
+        // n ∥ r: the integrand is symmetric about r, any perpendicular serves.
+        None => Frame::from_unit(r).to_world(Vec3::X),
+    };
+    Ok(([t1, r.cross(t1), r], c))
 }
 
 /// Two weight rows (f32 bits).

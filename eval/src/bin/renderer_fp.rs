@@ -495,24 +495,10 @@ fn study(cx: &Context, setting: Setting, which: &[usize]) -> Result<Vec<SceneRes
             let (s2_own, _) = own.reml(&y);
             let single = s2_own * plan.u[family.len()];
             let fits: Vec<(f64, f64)> = family.iter().map(|m| m.reml(&y)).collect();
-            let top = fits.iter().map(|f| f.1).fold(f64::NEG_INFINITY, f64::max);
-            let (mut num, mut den) = (0.0, 0.0);
-            for (k, (s2, ll)) in fits.iter().enumerate() {
-                let pi = (ll - top).exp();
-                num += pi * s2 * plan.u[k];
-                den += pi;
-            }
-            let average = num / den;
+            let average = likelihood_average(&fits, &plan.u);
             let tv = contrasts.apply(&y);
             let fits: Vec<(f64, f64)> = reduced.iter().map(|m| m.fit(&tv)).collect();
-            let top = fits.iter().map(|f| f.1).fold(f64::NEG_INFINITY, f64::max);
-            let (mut num, mut den) = (0.0, 0.0);
-            for (k, (s2, ll)) in fits.iter().enumerate() {
-                let pi = (ll - top).exp();
-                num += pi * s2 * plan.u[k];
-                den += pi;
-            }
-            let reduced_bar = num / den;
+            let reduced_bar = likelihood_average(&fits, &plan.u);
             let err = (fp - t).abs();
             for (z, v) in zs.iter_mut().zip([single, average, reduced_bar]) {
                 z.push(err / v.sqrt());
@@ -526,6 +512,18 @@ fn study(cx: &Context, setting: Setting, which: &[usize]) -> Result<Vec<SceneRes
         (rel, zs)
     });
     Ok(per_scene)
+}
+
+/// `Σ πₘ·σ̂²ₘ·uₘ / Σ πₘ` over the models' fits `(σ̂²ₘ, ℓₘ)`, `πₘ ∝ exp(ℓₘ)`.
+fn likelihood_average(fits: &[(f64, f64)], u: &[f64]) -> f64 {
+    let top = fits.iter().map(|f| f.1).fold(f64::NEG_INFINITY, f64::max);
+    let (mut num, mut den) = (0.0, 0.0);
+    for ((s2, ll), u) in fits.iter().zip(u) {
+        let pi = (ll - top).exp();
+        num += pi * s2 * u;
+        den += pi;
+    }
+    num / den
 }
 
 /// The setting of `--c`, `--l`, `--sigma`, or with `--select` the grid point with the
