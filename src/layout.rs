@@ -121,18 +121,18 @@
 //! relative noise of 1 % and readings of a real environment map:
 //! - `m4:layout_init K=6`: 77 740 instructions ([`LayoutProbe::new`])
 //! - `m4:layout_init K=16`: 369 640 instructions
-//! - `m4:layout_update K=6`: 4 000 instructions ([`LayoutProbe::update`])
-//! - `m4:layout_update K=16`: 19 260 instructions
+//! - `m4:layout_update K=6`: 4 010 instructions ([`LayoutProbe::update`])
+//! - `m4:layout_update K=16`: 19 280 instructions
 //! - `m4:layout_update_rgb K=6`: 12 400 instructions (`LayoutProbe<6, [f32; 3]>`)
 //! - `m4:layout_update_rgb K=16`: 63 620 instructions (`LayoutProbe<16, [f32; 3]>`)
 //! - `m4:layout_update_absolute K=6`: 3 020 instructions (an absolute noise of 1 % of the
 //!   mean reading instead: no per-reading solve)
 //! - `m4:layout_update_absolute K=16`: 6 870 instructions
-//! - `m4:layout_irradiance K=6`: 370 instructions ([`LayoutProbe::irradiance`])
-//! - `m4:layout_irradiance K=16`: 793 instructions
+//! - `m4:layout_irradiance K=6`: 371 instructions ([`LayoutProbe::irradiance`])
+//! - `m4:layout_irradiance K=16`: 794 instructions
 //! - `m4:layout_irradiance_variance K=6`: 624 instructions
 //!   ([`LayoutProbe::irradiance_variance`])
-//! - `m4:layout_irradiance_variance K=16`: 1 926 instructions
+//! - `m4:layout_irradiance_variance K=16`: 1 925 instructions
 //!
 //! Flash (release, LTO) that one call adds, the first on top of an empty program and the
 //! others on top of [`LayoutProbe::new`] (`K = 6`, one channel):

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use crate::renderer_engine::Brdf;
 
 pub mod evaluation;
+pub mod footprint;
 pub mod hyperparameters;
 pub mod learning;
 pub mod plans;
@@ -30,9 +31,12 @@ pub const ESTIMATORS: [&str; E] = [
     "bmc-sobol",
     "bmc-sf-sel",
     "bmc-opt",
+    "bmc-fp",
+    "bmc-fp-pyramid",
+    "split-sum",
 ];
 /// Number of estimators.
-pub const E: usize = 9;
+pub const E: usize = 12;
 pub const MC: usize = 0;
 pub const SOBOL: usize = 1;
 pub const SF: usize = 2;
@@ -42,6 +46,11 @@ pub const BMC_F64: usize = 5;
 pub const BMC_SOBOL: usize = 6;
 pub const BMC_SF_SEL: usize = 7;
 pub const BMC_OPT: usize = 8;
+/// The crate's footprint renderer with exact lookups (on the first `exact_queries` queries).
+pub const BMC_FP: usize = 9;
+/// The crate's footprint renderer with `MipPyramid` lookups.
+pub const BMC_FP_PYRAMID: usize = 10;
+pub const SPLIT_SUM: usize = 11;
 /// The family of `bmc-sf-sel` (per-query REML selection): σ′ ∈ `SEL_SIGMAS` × l ∈ the learned
 /// l times `SEL_L_FACTORS`.
 pub const SEL_SIGMAS: [f64; 6] = [1e-4, 1e-3, 1e-2, 0.1, 0.3, 1.0];
@@ -106,6 +115,8 @@ pub struct Options {
     pub queries: usize,
     pub mixtures: usize,
     pub sobol_queries: usize,
+    /// Queries per map of `bmc-fp` (exact lookups).
+    pub exact_queries: usize,
     pub paths: Vec<PathBuf>,
     pub args: Vec<String>,
 }

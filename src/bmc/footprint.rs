@@ -24,13 +24,27 @@
 //! `(N, BRDF)`, chosen on training maps, baked at build time on the glossy renderer's grid of
 //! `θₙ = acos(r·n)` and interpolated the same way: [`FootprintRenderer::estimate`] is O(N).
 //!
-//! The error bar of [`FootprintRenderer::estimate_with_variance`] does not trust one model:
-//! real maps are rougher than some kernels and smoother than others. It averages the error
-//! variance of the estimate over a family of kernels (lengths `l` × nuggets `σ′`), each
-//! weighted by its likelihood for the query's own lookups, with the signal variance `σ̂²` of
-//! each model fitted to them; the likelihoods use `k` fixed contrasts of the lookups
+//! The error bar of [`FootprintRenderer::estimate_with_variance`] does not trust the weights'
+//! own model: real maps are rougher than some kernels and smoother than others. From a family
+//! of kernels (lengths `l` × nuggets `σ′`) it takes the one most likely for the query's own
+//! lookups, with its signal variance `σ̂²` fitted to them, and returns the estimate's error
+//! variance under that model; the likelihoods use `k` fixed contrasts of the lookups
 //! (orthogonal to constants), so the call costs `O(kN + Lk² + LSk)` for `L` lengths and `S`
 //! nuggets, not a factorisation. A factor learned on training maps scales the result.
+//!
+//! # Accuracy
+//! On six held-out real environment maps (luminance clamped at 30× the mean, 256 queries each;
+//! `cargo eval renderer`, `docs/renderer.md`), with `MipPyramid` lookups, the relative RMSE at
+//! N = 32–128 is 0.08–0.15 of filtered importance sampling's on the same set for irradiance
+//! and 0.001–0.014 for Phong 10, 50 and 200 (means of per-map ratios), and 0.002–0.025 of
+//! split-sum's for Phong. The error bar holds 88–96 % of those queries inside 2σ, except
+//! Phong 200 at N ≥ 32 (99–100 %); on smooth light at N ≥ 64 it is conservative (up to 100 %).
+//!
+//! # Sizes
+//! Baked: [`Diffuse`], [`Phong<10>`], [`Phong<50>`] and [`Phong<200>`] at N = 16, 32 and 64,
+//! and at N = 128 with the feature `footprint-128` ([`BAKED_SETS`] lists them). Another pair
+//! is a compile error; `tables/footprint_renderer.txt` says how a set is baked and what it
+//! costs in flash.
 //!
 //! ```
 //! use sphere_quadrature::bmc::footprint::{FootprintRenderer, Phong};
@@ -156,7 +170,7 @@ pub trait FootprintSize<B: Brdf>: sealed::Sealed<B> {}
 ///
 /// assert!(BAKED_SETS.contains(&(32, 0)) && BAKED_SETS.contains(&(32, 10)));
 /// ```
-pub const BAKED_SETS: &[(usize, u32)] = &crate::tables::FOOTPRINT_SETS;
+pub const BAKED_SETS: &[(usize, u32)] = crate::tables::FOOTPRINT_SETS;
 
 /// The most models an error bar family may have.
 const MAX_MODELS: usize = 64;
@@ -214,7 +228,7 @@ pub(crate) mod sealed {
 }
 
 /// Bayesian Monte Carlo of the integral `B` from `N` footprint lookups, with baked weights
-/// and a likelihood-averaged error bar (module docs). Zero-sized.
+/// and an error bar from the most likely of a family of models (module docs). Zero-sized.
 ///
 /// # Examples
 /// ```
@@ -373,13 +387,14 @@ where
         finite_or_invalid(sum, lookups)
     }
 
-    /// [`estimate`](Self::estimate) with its error bar: the variance per channel, averaged
-    /// over the family of models by their likelihoods for the lookups (the channels' likelihoods
-    /// pooled), times the calibration factor squared. `unit_variance` is the averaged error
-    /// variance for a signal variance of 1. Added to each channel's variance before the
-    /// calibration: the arithmetic's own error (f32 rounding of the weighted sum, and the
-    /// interpolation of the weights between the baked `θₙ` nodes, measured at each interval's
-    /// midpoint when baked), which is all a channel whose lookups are equal has.
+    /// [`estimate`](Self::estimate) with its error bar: the variance per channel under the
+    /// family's model most likely for the lookups (the channels' likelihoods pooled), times
+    /// the calibration factor squared. `unit_variance` is that model's error variance for a
+    /// signal variance of 1. Added to each channel's variance before the calibration: the
+    /// arithmetic's own error (f32 rounding of the weighted sum, and the interpolation of the
+    /// weights between the baked `θₙ` nodes: the error measured at each interval's midpoint
+    /// when baked, times `4t(1 − t)` at the fraction `t` of the interval), which is all a
+    /// channel whose lookups are equal has.
     ///
     /// # Errors
     /// As [`estimate`](Self::estimate), and [`Error::InvalidChannel`] for radiance of more
@@ -387,7 +402,7 @@ where
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (as [`estimate`](Self::estimate)):
-    /// - `m4:footprint_renderer_estimate_with_variance N=64`: 30 080 instructions (e = 50, one
+    /// - `m4:footprint_renderer_estimate_with_variance N=64`: 27 520 instructions (e = 50, one
     ///   channel, 8 × 4 models, 24 contrasts)
     pub fn estimate_with_variance<T: Radiance>(
         &self,
@@ -428,8 +443,13 @@ where
         self.weights(normal, mirror, &mut w)?;
         let interpolation =
             |i: usize| set.interpolation.get(2 * node + i).map_or(0.0, |&b| f32::from_bits(b));
-        let (mass_error, norm_error) =
-            if beta == 0.0 { (0.0, 0.0) } else { (interpolation(0), interpolation(1)) };
+        // Linear interpolation's error grows as 4αβ from the nodes to the midpoint.
+        let shape = 4.0 * alpha * beta;
+        let (mass_error, norm_error) = if beta == 0.0 {
+            (0.0, 0.0)
+        } else {
+            (shape * interpolation(0), shape * interpolation(1))
+        };
         // Per channel and model: σ̂² of the centred channel scaled to max |y − ȳ| = 1, and the
         // log likelihood, pooled over the channels.
         let mut log_lik = [0.0f32; MAX_MODELS];
@@ -498,15 +518,17 @@ where
             }
         }
         let log_lik = log_lik.get(..models).ok_or(Error::Internal)?;
-        let top = log_lik.iter().fold(f32::NEG_INFINITY, |m, &l| m.max(l));
-        let mut weight = [0.0f32; MAX_MODELS];
-        let mut total = 0.0f32;
-        for (p, &l) in weight.iter_mut().zip(log_lik) {
-            *p = math::exp(l - top);
-            total += *p;
-        }
+        // The most likely model (the first of equals).
+        let (best, _) = log_lik.iter().enumerate().fold((0, f32::NEG_INFINITY), |b, (i, &l)| {
+            if l > b.1 {
+                (i, l)
+            } else {
+                b
+            }
+        });
         let f2 = set.calibration * set.calibration;
-        let unit_variance = f2 * weight.iter().zip(&unit).map(|(p, u)| p * u).sum::<f32>() / total;
+        let unit_best = unit.get(best).copied().unwrap_or(0.0);
+        let unit_variance = f2 * unit_best;
         let variance = from_channels::<T>(|c| {
             let (Some(signal), Some(&scale), Some(&numeric)) =
                 (signal.get(c), scales.get(c), numeric.get(c))
@@ -516,8 +538,8 @@ where
             if scale == 0.0 {
                 return f2 * numeric;
             }
-            let v: f32 = weight.iter().zip(signal).zip(&unit).map(|((p, s), u)| p * s * u).sum();
-            f2 * (v / total * scale * scale + numeric)
+            let s = signal.get(best).copied().unwrap_or(0.0);
+            f2 * (s * unit_best * scale * scale + numeric)
         });
         Ok(Estimate { value, variance, unit_variance })
     }

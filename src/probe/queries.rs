@@ -122,8 +122,8 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_masked_irradiance_variance_M16_m0 N=64`: 261 700 instructions (none missing)
-    /// - `m4:probe_masked_irradiance_variance_M8_m8 N=64`: 518 420 instructions (8 missing)
-    /// - `m4:probe_masked_irradiance_variance_M16_m16 N=64`: 547 310 instructions (16 missing)
+    /// - `m4:probe_masked_irradiance_variance_M8_m8 N=64`: 518 430 instructions (8 missing)
+    /// - `m4:probe_masked_irradiance_variance_M16_m16 N=64`: 547 330 instructions (16 missing)
     ///
     /// `M8`, `M16` in the names: the probe's capacity `M` for missing samples.
     ///
@@ -189,11 +189,11 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_glossy N=16`: 2 706 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=16`: 2 707 instructions (SG lobe of Phong e = 20)
     /// - `m4:probe_glossy N=32`: 4 907 instructions (SG lobe of Phong e = 20)
     /// - `m4:probe_glossy N=64`: 9 342 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=256`: 38 175 instructions (SG lobe of Phong e = 20)
-    /// - `m4:gaussian8_probe_glossy N=64`: 9 331 instructions (`Gaussian<8>`)
+    /// - `m4:probe_glossy N=256`: 38 174 instructions (SG lobe of Phong e = 20)
+    /// - `m4:gaussian8_probe_glossy N=64`: 9 332 instructions (`Gaussian<8>`)
     /// - `m4:photodiode_probe_glossy N=16`: 11 608 instructions (photodiodes)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
@@ -273,10 +273,10 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_glossy_variance N=16`: 773 838 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=16`: 773 836 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=32`: 894 020 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=64`: 1 217 180 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=256`: 5 495 200 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=256`: 5 495 160 instructions (soft f64 quadrature)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
@@ -360,9 +360,9 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_phong N=16`: 9 445 instructions (e = 20)
-    /// - `m4:probe_phong N=32`: 13 534 instructions (e = 20)
+    /// - `m4:probe_phong N=32`: 13 533 instructions (e = 20)
     /// - `m4:probe_phong N=64`: 21 450 instructions (e = 20)
-    /// - `m4:probe_phong N=256`: 66 521 instructions (e = 20)
+    /// - `m4:probe_phong N=256`: 66 520 instructions (e = 20)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):

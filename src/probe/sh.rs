@@ -60,7 +60,7 @@ where
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_radiance_sh N=16`: 1 316 instructions
     /// - `m4:probe_radiance_sh N=32`: 1 678 instructions
-    /// - `m4:probe_radiance_sh N=64`: 2 398 instructions
+    /// - `m4:probe_radiance_sh N=64`: 2 399 instructions
     /// - `m4:probe_radiance_sh N=256`: 6 848 instructions
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
@@ -113,9 +113,9 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_radiance_sh_variance N=16`: 353 270 instructions (soft f64)
-    /// - `m4:probe_radiance_sh_variance N=32`: 934 788 instructions (soft f64)
-    /// - `m4:probe_radiance_sh_variance N=64`: 2 787 450 instructions (soft f64)
-    /// - `m4:probe_radiance_sh_variance N=256`: 33 622 400 instructions (soft f64)
+    /// - `m4:probe_radiance_sh_variance N=32`: 934 784 instructions (soft f64)
+    /// - `m4:probe_radiance_sh_variance N=64`: 2 787 460 instructions (soft f64)
+    /// - `m4:probe_radiance_sh_variance N=256`: 33 622 360 instructions (soft f64)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):

@@ -55,7 +55,18 @@
 //!   depend on the map, so the selection costs O(N²) per member and query;
 //! - `bmc-opt`: the seed's BMC (no rough part) on the optimal set of `tables/optimal_sets.txt`
 //!   (`eval/src/bin/optimal_sets.rs`: the set minimising the model's posterior variance, in the lobe
-//!   frame) with the hyperparameters it was optimised for.
+//!   frame) with the hyperparameters it was optimised for;
+//! - `bmc-fp-pyramid`: the crate's footprint renderer `bmc::FootprintRenderer<N, B>` (N = 16,
+//!   32, 64, 128; the lobe-morphed SF set, each sample read through a normalised spherical
+//!   Gaussian footprint matched to the sample density, baked f32 weights interpolated in θₙ)
+//!   on `MipPyramid::footprint_sample` lookups, and its error bar's 2σ coverage;
+//! - `bmc-fp`: the same on exact lookups (`EquirectMap::footprint_sample`, every pixel of the
+//!   map), on the first `--exact-queries` queries of each map (default 8);
+//! - `split-sum` (Phong, maps; Karis 2013): one lookup of the map prefiltered by the lobe
+//!   `cosᵉ` along `r` (`MipPyramid`'s `CosinePower` footprint), times the exact `∫p`.
+//!
+//! On the synthetic tier both footprint renderers read the mixture's exact convolution with
+//! the footprint.
 //!
 //! # Tiers
 //! `raw`, `clamp` (luminance ≤ 30× the map mean), `smooth` (clamp → 128×64 → SG blur of
@@ -104,7 +115,7 @@ use sphere_quadrature_eval::renderer::hyperparameters::parse_hyper;
 use sphere_quadrature_eval::renderer::learning::{fmt_g, hyper_file_text, learn, learn_err};
 use sphere_quadrature_eval::renderer::plans::plans;
 use sphere_quadrature_eval::renderer::report::{
-    crate_table, plot, seed_table, selection_table, targets, tier_tables,
+    crate_table, footprint_tables, plot, seed_table, selection_table, targets, tier_tables,
 };
 use sphere_quadrature_eval::renderer::scenes::{truths, Light, Scene};
 use sphere_quadrature_eval::renderer::self_test::self_test;
@@ -137,6 +148,10 @@ struct Cli {
     /// bmc-sobol on the first Q queries only (default: all)
     #[arg(long, value_name = "Q")]
     sobol_queries: Option<usize>,
+    /// bmc-fp (the footprint renderer with exact lookups, 0.1–1 ms each) on the
+    /// first Q queries only (default 8)
+    #[arg(long, value_name = "Q", verbatim_doc_comment)]
+    exact_queries: Option<usize>,
     /// Learn (l, σ′) per (BRDF, N) on the training maps' clamp tier (REML, the
     /// seed's covariance fit, and the error-minimising fit) and write the
     /// hyperparameter file into --out (with --write: the --hyper-file)
@@ -181,6 +196,7 @@ fn parse_args() -> Options {
         queries: c.queries.unwrap_or(if c.quick { 32 } else { 256 }),
         mixtures: if c.quick { 2 } else { 10 },
         sobol_queries: c.sobol_queries.unwrap_or(usize::MAX),
+        exact_queries: c.exact_queries.unwrap_or(8),
         paths,
         args,
     }
@@ -297,7 +313,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         let (plan, fam) = plans(brdf, &queries, &h, &optimal_sets, &o, &failures)?;
         let t2 = Instant::now();
         let rel = parallel_map(&scenes, o.threads, |i, s| {
-            evaluate(s, brdf, &queries, &plan, &fam, &truth[i])
+            evaluate(s, brdf, &queries, &plan, &fam, &truth[i], o.exact_queries)
         });
         for (s, r) in scenes.iter().zip(rel) {
             let tr = &mut results[s.tier][bi];
@@ -306,6 +322,8 @@ fn main() -> Result<(), Box<dyn Error>> {
             tr.rel.push(r.rel);
             tr.selected.push(r.selected);
             tr.crate_diff.push(r.crate_diff);
+            tr.exact.push(r.exact);
+            tr.inside.push(r.inside);
         }
         let t3 = Instant::now();
         let times = ((t1 - t0).as_secs_f64(), (t2 - t1).as_secs_f64(), (t3 - t2).as_secs_f64());
@@ -413,6 +431,7 @@ fn main() -> Result<(), Box<dyn Error>> {
          irradiance, and the lobe-frame rule at double density for Phong.\n\n",
     );
     targets(&mut md, &results);
+    footprint_tables(&mut md, &results, o.exact_queries);
     crate_table(&mut md, &results);
     seed_table(&mut md, &results);
     selection_table(&mut md, &results);

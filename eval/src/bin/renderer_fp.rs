@@ -30,8 +30,10 @@
 //!   `Σ πₘ·σ̂²ₘ·uₘ(w)`, `uₘ(w)` the error variance of the chosen weights under model `m` and
 //!   `πₘ ∝` its restricted likelihood;
 //! - `reduced`: the same average with each model's `σ̂²` and likelihood from `--reduce k`
-//!   contrasts of the lookups (what the crate computes);
-//! - `crate`: the crate's `estimate_with_variance`.
+//!   contrasts of the lookups;
+//! - `crate`: the crate's `estimate_with_variance`;
+//! - `best`: the reduced family's most likely model alone, `σ̂²ₘ·uₘ(w)` (the crate's model
+//!   part, which adds the arithmetic's own error).
 //!
 //! Each bar is reported as is and with the factor on σ that puts 95 % of the training maps'
 //! clamp and smooth queries inside 2σ (`raw→calibrated`).
@@ -48,16 +50,13 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use clap::Parser;
-use reference::envmap::{luminance, EnvMap};
-use sphere_quadrature::bmc::footprint::{self as fpr, Diffuse, FootprintRenderer, Phong};
-use sphere_quadrature::bmc::{FootprintSize, Size};
-use sphere_quadrature::envmap::{EquirectMap, MipPyramid};
+use reference::envmap::EnvMap;
 use sphere_quadrature::footprint::Kind;
-use sphere_quadrature::Vec3;
 use sphere_quadrature_eval::fp::{
     degree_cut, footprints, lobe_set, Contrasts, Design, Integrand, Model, Reduced,
 };
 use sphere_quadrature_eval::parallel::parallel_map;
+use sphere_quadrature_eval::renderer::footprint::{crate_fn, exponent, v32, with_lookups};
 use sphere_quadrature_eval::renderer::scenes::{truths, Light, Scene};
 use sphere_quadrature_eval::renderer::{SEED_QUERIES, SEED_SYNTHETIC};
 use sphere_quadrature_eval::renderer_engine::{self as engine, Brdf, LobeFrame, Query};
@@ -122,43 +121,7 @@ const TIERS: [&str; 4] = ["raw", "clamp", "smooth", "synthetic"];
 /// Estimators: bmc-fp (pyramid lookups), qmc-fis, qmc-sf, split-sum.
 const EST: [&str; 5] = ["bmc-fp-f64", "qmc-fis", "qmc-sf", "split-sum", "bmc-fp-pyramid"];
 /// The error bars: the f64 model's (single, average, reduced) and the crate's.
-const BARS: [&str; 4] = ["single", "average", "reduced", "crate"];
-
-/// The crate's renderer on one query: `(estimate, variance)` from pyramid lookups `read`.
-type CrateFn = fn(Vec3, Vec3, &dyn Fn(Vec3, u32) -> f64) -> (f64, f64);
-
-fn crate_query<const N: usize, B: fpr::Brdf>(
-    n: Vec3,
-    r: Vec3,
-    read: &dyn Fn(Vec3, u32) -> f64,
-) -> (f64, f64)
-where
-    Size<N>: FootprintSize<B>,
-{
-    let fr = FootprintRenderer::<N, B>::new();
-    let mut dirs = [Vec3::ZERO; N];
-    fr.fill_directions(n, r, &mut dirs).expect("directions");
-    let kinds = fr.footprints();
-    let y: [f32; N] = std::array::from_fn(|j| match kinds[j] {
-        Kind::Gaussian { sharpness } => read(dirs[j], sharpness) as f32,
-        _ => f32::NAN,
-    });
-    let e = fr.estimate_with_variance(n, r, &y).expect("an estimate");
-    (f64::from(e.value), f64::from(e.variance))
-}
-
-/// The crate's renderer for `(N, e)` (`e = 0`: irradiance), if baked.
-fn crate_fn(n: usize, e: u32) -> Option<CrateFn> {
-    Some(match (n, e) {
-        (32, 0) => crate_query::<32, Diffuse>,
-        (64, 0) => crate_query::<64, Diffuse>,
-        (32, 10) => crate_query::<32, Phong<10>>,
-        (64, 10) => crate_query::<64, Phong<10>>,
-        (32, 50) => crate_query::<32, Phong<50>>,
-        (64, 50) => crate_query::<64, Phong<50>>,
-        _ => return None,
-    })
-}
+const BARS: [&str; 5] = ["single", "average", "reduced", "crate", "best"];
 
 /// Per (query, N): everything that does not depend on the map.
 struct Plan {
@@ -231,7 +194,7 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
             let bname = brdf.name();
             // Calibration: the factor on σ that puts 95 % of the training maps' clamp and smooth
             // queries inside 2σ.
-            let factors: [f64; 4] = std::array::from_fn(|k| {
+            let factors: [f64; 5] = std::array::from_fn(|k| {
                 let mut z: Vec<f64> = (0..scenes.len())
                     .filter(|&i| {
                         !scenes[i].held_out && (scenes[i].tier == 1 || scenes[i].tier == 2)
@@ -246,8 +209,8 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
             });
             let _ = writeln!(
                 report,
-                "{bname:>8} N={n:<3} calibration factors single {:.3} average {:.3} reduced {:.3} crate {:.3}",
-                factors[0], factors[1], factors[2], factors[3]
+                "{bname:>8} N={n:<3} calibration factors single {:.3} average {:.3} reduced {:.3} crate {:.3} best {:.3}",
+                factors[0], factors[1], factors[2], factors[3], factors[4]
             );
             for (t, tier) in TIERS.iter().enumerate() {
                 let members: Vec<usize> =
@@ -314,7 +277,7 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
                 };
                 let _ = writeln!(
                     report,
-                    "{bname:>8} N={n:<3} {tier:<9} fp {:.4}%  fp/fis {}  fp/sf {}  fp/split {}  crate/fis {} crate/split {}  2σ crate {} / {} (train)  single {} / {} (train)  average {} / {} (train)  reduced {} / {} (train)",
+                    "{bname:>8} N={n:<3} {tier:<9} fp {:.4}%  fp/fis {}  fp/sf {}  fp/split {}  crate/fis {} crate/split {}  2σ crate {} / {} (train)  single {} / {} (train)  average {} / {} (train)  reduced {} / {} (train)  best {} / {} (train)",
                     100.0 * fp_abs,
                     ratio(0, 1),
                     ratio(0, 2),
@@ -329,6 +292,8 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
                     cover(&train, 1),
                     cover(&held, 2),
                     cover(&train, 2),
+                    cover(&held, 4),
+                    cover(&train, 4),
                 );
             }
             eprintln!("{bname} N = {n} done");
@@ -343,7 +308,7 @@ fn run(o: &Cli) -> Result<(), Box<dyn Error>> {
 
 /// Relative RMSE per estimator ([`EST`]) and `|error|/σ` per query of the error bars (single,
 /// average, reduced) of one scene.
-type SceneResult = ([f64; 5], [Vec<f64>; 4]);
+type SceneResult = ([f64; 5], [Vec<f64>; 5]);
 
 /// One weight setting.
 #[derive(Clone, Copy, Debug)]
@@ -412,104 +377,63 @@ fn study(cx: &Context, setting: Setting, which: &[usize]) -> Result<Vec<SceneRes
     // Per scene: estimates and coverage.
     let per_scene: Vec<SceneResult> = parallel_map(which, threads, |_, &si| {
         let scene = &scenes[si];
-        let map = match &scene.light {
-            Light::Map { map, .. } => Some(map),
-            Light::Mixture(_) => None,
-        };
-        let mut buffer =
-            vec![[0.0f32; 3]; map.map_or(0, |m| MipPyramid::buffer_len(m.width, m.height))];
-        let eq = map.map(|m| EquirectMap::new(m.width, m.height, &m.pixels).expect("a map"));
-        let pyramid = eq.as_ref().map(|m| MipPyramid::new(m, &mut buffer).expect("a pyramid"));
-        let read = |x: [f64; 3], s: u32| -> f64 {
-            match (&pyramid, &scene.light) {
-                (Some(p), _) => {
-                    let d = Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32);
-                    let rgb =
-                        p.footprint_sample(d, Kind::Gaussian { sharpness: s }).expect("a lookup");
-                    luminance(rgb.map(f64::from))
+        with_lookups(scene, |lookups| {
+            let read =
+                |x: [f64; 3], s: u32| lookups.read(v32(x), Kind::Gaussian { sharpness: s }, false);
+            let mut se = [0.0f64; 5];
+            let mut abs = 0.0;
+            let mut zs: [Vec<f64>; 5] = Default::default();
+            let crate_fn = crate_fn(n, exponent(brdf));
+            for (qi, (q, plan)) in queries.iter().zip(&plans).enumerate() {
+                let t = truth[si][qi];
+                let y: Vec<f64> =
+                    plan.world.iter().zip(&plan.sharpness).map(|(&x, &s)| read(x, s)).collect();
+                let fp: f64 = plan.w.iter().zip(&y).map(|(w, y)| w * y).sum();
+                let mut fis = 0.0;
+                let mut sf = 0.0;
+                for &x in &plan.world {
+                    let omega = (1.0 / (n as f64 * brdf.pdf(q, x))).min(4.0 * PI);
+                    fis += scene.filtered(x, omega) * brdf.qmc_factor(q, x);
+                    sf += scene.lum(x) * brdf.qmc_factor(q, x);
                 }
-                (None, Light::Mixture(m)) => {
-                    m.constant
-                        + m.lobes
-                            .iter()
-                            .map(|g| {
-                                engine::sg_filtered(
-                                    g.axis,
-                                    g.sharpness,
-                                    g.amplitude,
-                                    x,
-                                    f64::from(s),
-                                )
-                            })
-                            .sum::<f64>()
+                let (fis, sf) = (fis / n as f64, sf / n as f64);
+                let split = match brdf {
+                    Brdf::Phong(e) => lookups.split_sum(e as u32, q.r, plan.mass),
+                    Brdf::Diffuse => f64::NAN,
+                };
+                let r = if brdf == Brdf::Diffuse { q.n } else { q.r };
+                let (crate_value, crate_variance) =
+                    crate_fn.map_or((f64::NAN, f64::NAN), |f| lookups.render(f, q.n, r, false));
+                for (k, est) in [fp, fis, sf, split, crate_value].into_iter().enumerate() {
+                    se[k] += (est - t).powi(2);
                 }
-                _ => unreachable!("a map has a pyramid"),
-            }
-        };
-        let mut se = [0.0f64; 5];
-        let mut abs = 0.0;
-        let mut zs: [Vec<f64>; 4] = Default::default();
-        let crate_fn = crate_fn(n, brdf.exponent() as u32 * u32::from(brdf != Brdf::Diffuse));
-        for (qi, (q, plan)) in queries.iter().zip(&plans).enumerate() {
-            let t = truth[si][qi];
-            let y: Vec<f64> =
-                plan.world.iter().zip(&plan.sharpness).map(|(&x, &s)| read(x, s)).collect();
-            let fp: f64 = plan.w.iter().zip(&y).map(|(w, y)| w * y).sum();
-            let mut fis = 0.0;
-            let mut sf = 0.0;
-            for &x in &plan.world {
-                let omega = (1.0 / (n as f64 * brdf.pdf(q, x))).min(4.0 * PI);
-                fis += scene.filtered(x, omega) * brdf.qmc_factor(q, x);
-                sf += scene.lum(x) * brdf.qmc_factor(q, x);
-            }
-            let (fis, sf) = (fis / n as f64, sf / n as f64);
-            let split = match (brdf, &pyramid, &scene.light) {
-                (Brdf::Phong(e), Some(p), _) => {
-                    let r = Vec3::new(q.r[0] as f32, q.r[1] as f32, q.r[2] as f32);
-                    let rgb = p
-                        .footprint_sample(r, Kind::CosinePower { exponent: e as u32 })
-                        .expect("a lookup");
-                    luminance(rgb.map(f64::from)) * plan.mass
+                abs += t.abs();
+                // Error bars.
+                let (s2_own, _) = own.reml(&y);
+                let single = s2_own * plan.u[family.len()];
+                let fits: Vec<(f64, f64)> = family.iter().map(|m| m.reml(&y)).collect();
+                let average = likelihood_average(&fits, &plan.u);
+                let tv = contrasts.apply(&y);
+                let fits: Vec<(f64, f64)> = reduced.iter().map(|m| m.fit(&tv)).collect();
+                let reduced_bar = likelihood_average(&fits, &plan.u);
+                let best = fits
+                    .iter()
+                    .zip(&plan.u)
+                    .max_by(|a, b| a.0 .1.total_cmp(&b.0 .1))
+                    .map_or(f64::NAN, |((s2, _), u)| s2 * u);
+                zs[4].push((fp - t).abs() / best.sqrt());
+                let err = (fp - t).abs();
+                for (z, v) in zs.iter_mut().zip([single, average, reduced_bar]) {
+                    z.push(err / v.sqrt());
                 }
-                _ => f64::NAN,
-            };
-            let (crate_value, crate_variance) = match (crate_fn, &pyramid) {
-                (Some(f), Some(p)) => {
-                    let v = |d: [f64; 3]| Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32);
-                    let read = |d: Vec3, s: u32| -> f64 {
-                        let rgb = p
-                            .footprint_sample(d, Kind::Gaussian { sharpness: s })
-                            .expect("a lookup");
-                        luminance(rgb.map(f64::from))
-                    };
-                    let r = if brdf == Brdf::Diffuse { q.n } else { q.r };
-                    f(v(q.n), v(r), &read)
+                if crate_value.is_finite() {
+                    zs[3].push((crate_value - t).abs() / crate_variance.sqrt());
                 }
-                _ => (f64::NAN, f64::NAN),
-            };
-            for (k, est) in [fp, fis, sf, split, crate_value].into_iter().enumerate() {
-                se[k] += (est - t).powi(2);
             }
-            abs += t.abs();
-            // Error bars.
-            let (s2_own, _) = own.reml(&y);
-            let single = s2_own * plan.u[family.len()];
-            let fits: Vec<(f64, f64)> = family.iter().map(|m| m.reml(&y)).collect();
-            let average = likelihood_average(&fits, &plan.u);
-            let tv = contrasts.apply(&y);
-            let fits: Vec<(f64, f64)> = reduced.iter().map(|m| m.fit(&tv)).collect();
-            let reduced_bar = likelihood_average(&fits, &plan.u);
-            let err = (fp - t).abs();
-            for (z, v) in zs.iter_mut().zip([single, average, reduced_bar]) {
-                z.push(err / v.sqrt());
-            }
-            if crate_value.is_finite() {
-                zs[3].push((crate_value - t).abs() / crate_variance.sqrt());
-            }
-        }
-        let nq = queries.len() as f64;
-        let rel = se.map(|s| (s / nq).sqrt() / (abs / nq));
-        (rel, zs)
+            let nq = queries.len() as f64;
+            let rel = se.map(|s| (s / nq).sqrt() / (abs / nq));
+            (rel, zs)
+        })
     });
     Ok(per_scene)
 }

@@ -9,8 +9,9 @@ use plotters::prelude::*;
 
 use super::evaluation::TierResult;
 use super::{
-    BMC_F64, BMC_OPT, BMC_SF, BMC_SF_SEL, BMC_SOBOL, BRDFS, CLAMP, E, ESTIMATORS, FIS, MC, NS, SEL,
-    SEL_L_FACTORS, SEL_SIGMAS, SF, SMOOTH, SOBOL, SYNTHETIC, TIERS,
+    BMC_F64, BMC_FP, BMC_FP_PYRAMID, BMC_OPT, BMC_SF, BMC_SF_SEL, BMC_SOBOL, BRDFS, CLAMP, E,
+    ESTIMATORS, FIS, MC, NS, SEL, SEL_L_FACTORS, SEL_SIGMAS, SF, SMOOTH, SOBOL, SPLIT_SUM,
+    SYNTHETIC, TIERS,
 };
 use crate::renderer_engine::Brdf;
 
@@ -235,7 +236,8 @@ pub fn tier_tables(md: &mut String, results: &[Vec<TierResult>]) {
     md.push_str("## Relative RMSE per tier and BRDF\n\n");
     md.push_str(
         "Means over the held-out maps (synthetic: all mixtures). `bmc-sf / qmc-sf`: the mean of \
-         per-map ratios, the ratio of the means, and the worst map's ratio.\n\n",
+         per-map ratios, the ratio of the means, and the worst map's ratio. `bmc-fp` (exact \
+         lookups, on a subset of the queries) is in the footprint renderer's section.\n\n",
     );
     for (t, tier) in TIERS.iter().enumerate() {
         for (bi, brdf) in BRDFS.iter().enumerate() {
@@ -244,6 +246,7 @@ pub fn tier_tables(md: &mut String, results: &[Vec<TierResult>]) {
                 continue;
             }
             let ests: Vec<usize> = (0..E)
+                .filter(|&e| e != BMC_FP)
                 .filter(|&e| tr.rel.iter().any(|r| r.iter().any(|v| v[e].is_finite())))
                 .collect();
             let _ = writeln!(md, "### {tier}, {}\n", brdf.name());
@@ -326,7 +329,10 @@ fn colour(e: usize) -> RGBColor {
         RGBColor(30, 150, 60),
         RGBColor(120, 40, 40),
         RGBColor(0, 0, 0),
-    ][e % 9]
+        RGBColor(230, 90, 160),
+        RGBColor(240, 60, 240),
+        RGBColor(110, 110, 40),
+    ][e % 12]
 }
 
 pub fn plot(results: &[Vec<TierResult>], path: &Path) -> Result<(), Box<dyn Error>> {
@@ -340,6 +346,7 @@ pub fn plot(results: &[Vec<TierResult>], path: &Path) -> Result<(), Box<dyn Erro
             continue;
         }
         let series: Vec<(usize, Vec<(f64, f64)>)> = (0..E)
+            .filter(|&e| e != BMC_FP)
             .map(|e| {
                 let pts = (0..NS.len())
                     .map(|ni| ((NS[ni] as f64).log2(), tr.mean(ni, e)))
@@ -390,4 +397,147 @@ pub fn plot(results: &[Vec<TierResult>], path: &Path) -> Result<(), Box<dyn Erro
     }
     root.present()?;
     Ok(())
+}
+
+/// The footprint renderer (`bmc-fp-pyramid`) against its peers, with the issue's targets;
+/// its error bar's 2σ coverage; and its exact lookups (`bmc-fp`) against the pyramid's on the
+/// same queries.
+pub fn footprint_tables(md: &mut String, results: &[Vec<TierResult>], exact_queries: usize) {
+    md.push_str("## The footprint renderer (issue #27, held-out maps)\n\n");
+    md.push_str(
+        "`bmc-fp-pyramid` is the crate's `bmc::FootprintRenderer<N, B>` (baked f32 weights, \
+         interpolated in θₙ) on `MipPyramid::footprint_sample` lookups; N = 80 has no baked set. \
+         Each cell: the mean of per-map ratios, the ratio of the mean errors, and the worst map's \
+         ratio. Targets at N ≥ 32: clamp ≤ 0.5 × qmc-fis with no map above 0.7 for diffuse, \
+         ≤ 0.35 with no map above 0.5 for Phong; raw ≤ 0.5 × qmc-fis with no map above 1.0; \
+         smooth ≤ 0.15 × qmc-sf for diffuse and ≤ 0.08 for Phong; synthetic ≤ 0.5 × qmc-sf; \
+         Phong on clamp ≤ 0.5 × split-sum. Split-sum reads the pyramid's `CosinePower` \
+         footprint along r (maps only).\n\n",
+    );
+    md.push_str(
+        "| tier | BRDF | against | N = 16 | 32 | 64 | 128 | target met |\n\
+         | --- | --- | --- | ---: | ---: | ---: | ---: | --- |\n",
+    );
+    let shown: Vec<usize> = (0..NS.len()).filter(|&ni| NS[ni] != 80).collect();
+    let tiers = [(0usize, FIS), (CLAMP, FIS), (CLAMP, SPLIT_SUM), (SMOOTH, SF), (SYNTHETIC, SF)];
+    for (t, base) in tiers {
+        for (bi, &brdf) in BRDFS.iter().enumerate() {
+            let phong = brdf != Brdf::Diffuse;
+            if base == SPLIT_SUM && !phong {
+                continue;
+            }
+            let tr = &results[t][bi];
+            if tr.names.is_empty() {
+                continue;
+            }
+            let (bound, worst_bound) = match (t, base) {
+                (_, SPLIT_SUM) => (0.5, f64::INFINITY),
+                (CLAMP, _) if phong => (0.35, 0.5),
+                (CLAMP, _) => (0.5, 0.7),
+                (SMOOTH, _) if phong => (0.08, f64::INFINITY),
+                (SMOOTH, _) => (0.15, f64::INFINITY),
+                (SYNTHETIC, _) => (0.5, f64::INFINITY),
+                _ => (0.5, 1.0),
+            };
+            let mut met = true;
+            let mut cells = Vec::new();
+            for &ni in &shown {
+                let (mr, rm, worst, wmap) = tr.ratios(ni, BMC_FP_PYRAMID, base);
+                if mr.is_finite() {
+                    cells.push(format!("{} / {} ({} {wmap})", ratio(mr), ratio(rm), ratio(worst)));
+                    met &= NS[ni] < 32 || (mr <= bound && worst <= worst_bound);
+                } else {
+                    cells.push("—".into());
+                }
+            }
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {} | {} |",
+                TIERS[t],
+                brdf.name(),
+                ESTIMATORS[base],
+                cells.join(" | "),
+                if met { "yes" } else { "**no**" }
+            );
+        }
+    }
+    md.push_str(
+        "\n### Error bar\n\nFraction of the held-out maps' queries whose `bmc-fp-pyramid` \
+         error is inside 2σ of its posterior variance (`estimate_with_variance`). Target: \
+         85–99.5 % on clamp and smooth.\n\n",
+    );
+    md.push_str(
+        "| tier | BRDF | N = 16 | 32 | 64 | 128 | target met |\n| --- | --- | ---: | ---: | ---: | ---: | --- |\n",
+    );
+    for (t, tier) in TIERS.iter().enumerate() {
+        for (bi, brdf) in BRDFS.iter().enumerate() {
+            let tr = &results[t][bi];
+            if tr.names.is_empty() {
+                continue;
+            }
+            let s = tr.subset();
+            let mut met = true;
+            let cells: Vec<String> = shown
+                .iter()
+                .map(|&ni| {
+                    let (a, b) = s.iter().fold((0, 0), |(a, b), &k| {
+                        (a + tr.inside[k][ni][0], b + tr.inside[k][ni][1])
+                    });
+                    if b == 0 {
+                        return "—".into();
+                    }
+                    let f = a as f64 / b as f64;
+                    met &= (0.85..=0.995).contains(&f);
+                    format!("{:.1}%", 100.0 * f)
+                })
+                .collect();
+            let judged = t == CLAMP || t == SMOOTH;
+            let _ = writeln!(
+                md,
+                "| {tier} | {} | {} | {} |",
+                brdf.name(),
+                cells.join(" | "),
+                match (judged, met) {
+                    (false, _) => "—",
+                    (true, true) => "yes",
+                    (true, false) => "**no**",
+                }
+            );
+        }
+    }
+    let _ = writeln!(
+        md,
+        "\n### Exact lookups\n\nRelative RMSE of the footprint renderer with exact lookups \
+         (`bmc-fp`: `EquirectMap::footprint_sample`, every pixel) and with pyramid lookups \
+         (`bmc-fp-pyramid`) on the same queries, the first {exact_queries} of each map; means \
+         over the held-out maps (synthetic: the lookups are the mixture's exact convolution in \
+         both).\n"
+    );
+    md.push_str(
+        "| tier | BRDF | N = 16 | 32 | 64 | 128 |\n| --- | --- | ---: | ---: | ---: | ---: |\n",
+    );
+    for (t, tier) in TIERS.iter().enumerate() {
+        for (bi, brdf) in BRDFS.iter().enumerate() {
+            let tr = &results[t][bi];
+            if tr.names.is_empty() {
+                continue;
+            }
+            let s = tr.subset();
+            let cells: Vec<String> = shown
+                .iter()
+                .map(|&ni| {
+                    let m = |k: usize| {
+                        s.iter().map(|&i| tr.exact[i][ni][k]).sum::<f64>() / s.len().max(1) as f64
+                    };
+                    if m(0).is_finite() {
+                        format!("{} / {}", pct(m(0)), pct(m(1)))
+                    } else {
+                        "—".into()
+                    }
+                })
+                .collect();
+            let _ = writeln!(md, "| {tier} | {} | {} |", brdf.name(), cells.join(" | "));
+        }
+    }
+    md.push('\n');
 }
