@@ -92,8 +92,10 @@
 //! `--out DIR/renderer.md` (tables: targets, the seed's 80-sample table, σ′ selection, relative
 //! RMSE per tier and BRDF) and `DIR/renderer.png` (log-log RMSE against N, tier × BRDF), and
 //! with `--csv FILE` one row `renderer,<tier>,<estimator>,<n>,<brdf>,<map>,<rel_rmse>` per
-//! (tier, estimator, N, BRDF, map). The full run takes about 3 minutes on 2 cores, `--quick`
-//! under 20 s, `--learn` 30 s.
+//! (tier, estimator, N, BRDF, map), and one row
+//! `coverage,<tier>,bmc-fp-pyramid,<n>,<brdf>,<map>,<fraction>` per (tier, N, BRDF, map) with
+//! a footprint renderer set. The full run takes about 12 minutes on 2 cores (most of it the
+//! footprint renderer's lookups), `--quick` under 30 s, `--learn` 30 s.
 //!
 //! [`rough_z`]: sphere_quadrature_eval::renderer::plans::rough_z
 
@@ -136,8 +138,10 @@ struct Cli {
     /// docs/renderer.png only with --out docs)
     #[arg(long, value_name = "DIR", verbatim_doc_comment)]
     out: Option<PathBuf>,
-    /// Also write rows `renderer,<tier>,<estimator>,<n>,<brdf>,<map>,<rel_rmse>`
-    #[arg(long, value_name = "FILE")]
+    /// Also write rows `renderer,<tier>,<estimator>,<n>,<brdf>,<map>,<rel_rmse>`,
+    /// and `coverage,<tier>,bmc-fp-pyramid,<n>,<brdf>,<map>,<fraction>`: the
+    /// footprint renderer's queries inside 2σ
+    #[arg(long, value_name = "FILE", verbatim_doc_comment)]
     csv: Option<PathBuf>,
     /// CI smoke run: 2 maps, 2 mixtures, 32 queries (seconds)
     #[arg(long)]
@@ -355,6 +359,16 @@ fn main() -> Result<(), Box<dyn Error>> {
                                 BRDFS[bi].name()
                             );
                         }
+                    }
+                    let [inside, total] = tr.inside[k][ni];
+                    if total > 0 {
+                        let _ = writeln!(
+                            csv,
+                            "coverage,{},bmc-fp-pyramid,{n},{},{name},{:.4}",
+                            TIERS[t],
+                            BRDFS[bi].name(),
+                            inside as f64 / total as f64
+                        );
                     }
                 }
             }
