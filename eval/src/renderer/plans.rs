@@ -9,6 +9,7 @@ use reference::vec::dot;
 use sphere_quadrature::qmc::LobeSampler;
 use sphere_quadrature::{Lobe, Vec3};
 
+use super::footprint::v32;
 use super::hyperparameters::{hyper, key_sf, HyperMap};
 use super::{Options, KEYS, NS, SEED_MC, SEED_PHASE, SEED_SOBOL, SEL_L_FACTORS, SEL_SIGMAS};
 use crate::optimal;
@@ -82,10 +83,6 @@ pub fn rough_z(z: &[f64], key: &str, q: &Query, xs: &[[f64; 3]], sigma: f64) -> 
 
 fn v64(d: Vec3) -> [f64; 3] {
     [d.x as f64, d.y as f64, d.z as f64]
-}
-
-fn v32(d: [f64; 3]) -> Vec3 {
-    Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32)
 }
 
 /// One member of a per-query selection family: its REML likelihood and GLS solver, the
