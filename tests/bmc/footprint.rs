@@ -247,3 +247,31 @@ fn bad_input_is_an_error() {
     let below = r.estimate_with_variance(Vec3::Z, Vec3::new(1.0, 0.0, -0.2), &ones).unwrap();
     assert!(below.value.is_finite() && below.variance < 1e-10);
 }
+
+/// A `set` line may name the feature its set is compiled under; every item of the set is
+/// then behind that `#[cfg]`, and a malformed line names its line.
+#[test]
+fn a_set_behind_a_feature_is_compiled_under_it() {
+    let head = "family_l = 1.0 3.0\nfamily_sigma = 1e-3\ncontrasts = 4\n";
+    let text = format!("{head}set = diffuse 8 8 1.0 1e-3 1.0 feature=extra-sets\n");
+    let (family, specs) = gen::fp::parse(&text).unwrap();
+    assert_eq!(specs[0].feature.as_deref(), Some("extra-sets"));
+    let baked = gen::fp::bake(&specs[0], &family).unwrap();
+    let source = gen::fp::render(&family, &[baked]);
+    let cfg = "#[cfg(feature = \"extra-sets\")]";
+    assert!(source.contains(&format!("    {cfg}\n    (8, 0),")), "the pair is behind it");
+    let items = source.lines().filter(|l| l.starts_with("static ") || l.starts_with("impl "));
+    let lines: Vec<&str> = source.lines().collect();
+    let mut count = 0;
+    for item in items {
+        let at = lines.iter().position(|l| *l == item).unwrap();
+        assert_eq!(lines[at - 1], cfg, "{item}");
+        count += 1;
+    }
+    assert!(count >= 10, "{count} items");
+    for bad in ["feature=", "feat=extra", "feature=a;b"] {
+        let text = format!("{head}set = diffuse 8 8 1.0 1e-3 1.0 {bad}\n");
+        let err = gen::fp::parse(&text).unwrap_err();
+        assert!(err.starts_with("line 4:"), "{bad}: {err}");
+    }
+}
