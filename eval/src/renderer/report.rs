@@ -149,24 +149,19 @@ pub fn crate_table(md: &mut String, results: &[Vec<TierResult>]) {
          |truth|:\n\n",
     );
     md.push_str("| tier | BRDF | N = 16 | 32 | 64 | 80 | 128 |\n| --- | --- | ---: | ---: | ---: | ---: | ---: |\n");
-    for (t, per_brdf) in results.iter().enumerate() {
-        for (bi, tr) in per_brdf.iter().enumerate() {
-            if tr.names.is_empty() {
-                continue;
-            }
-            let s = tr.subset();
-            let cells: Vec<String> = (0..NS.len())
-                .map(|ni| {
-                    let worst = s.iter().map(|&k| tr.crate_diff[k][ni]).fold(f64::NAN, f64::max);
-                    if worst.is_finite() {
-                        format!("{worst:.1e}")
-                    } else {
-                        "—".into()
-                    }
-                })
-                .collect();
-            let _ = writeln!(md, "| {} | {} | {} |", TIERS[t], BRDFS[bi].name(), cells.join(" | "));
-        }
+    for (t, bi, tr) in measured(results) {
+        let s = tr.subset();
+        let cells: Vec<String> = (0..NS.len())
+            .map(|ni| {
+                let worst = s.iter().map(|&k| tr.crate_diff[k][ni]).fold(f64::NAN, f64::max);
+                if worst.is_finite() {
+                    format!("{worst:.1e}")
+                } else {
+                    "—".into()
+                }
+            })
+            .collect();
+        let _ = writeln!(md, "| {} | {} | {} |", TIERS[t], BRDFS[bi].name(), cells.join(" | "));
     }
     md.push('\n');
 }
@@ -399,6 +394,17 @@ pub fn plot(results: &[Vec<TierResult>], path: &Path) -> Result<(), Box<dyn Erro
     Ok(())
 }
 
+/// `(tier, BRDF index, results)` of every tier and BRDF with results.
+fn measured(results: &[Vec<TierResult>]) -> impl Iterator<Item = (usize, usize, &TierResult)> {
+    results.iter().enumerate().flat_map(|(t, per_brdf)| {
+        per_brdf
+            .iter()
+            .enumerate()
+            .filter(|(_, tr)| !tr.names.is_empty())
+            .map(move |(bi, tr)| (t, bi, tr))
+    })
+}
+
 /// The footprint renderer (`bmc-fp-pyramid`) against its peers, with the issue's targets;
 /// its error bar's 2σ coverage; and its exact lookups (`bmc-fp`) against the pyramid's on the
 /// same queries.
@@ -469,41 +475,36 @@ pub fn footprint_tables(md: &mut String, results: &[Vec<TierResult>], exact_quer
     md.push_str(
         "| tier | BRDF | N = 16 | 32 | 64 | 128 | target met |\n| --- | --- | ---: | ---: | ---: | ---: | --- |\n",
     );
-    for (t, tier) in TIERS.iter().enumerate() {
-        for (bi, brdf) in BRDFS.iter().enumerate() {
-            let tr = &results[t][bi];
-            if tr.names.is_empty() {
-                continue;
-            }
-            let s = tr.subset();
-            let mut met = true;
-            let cells: Vec<String> = shown
-                .iter()
-                .map(|&ni| {
-                    let (a, b) = s.iter().fold((0, 0), |(a, b), &k| {
-                        (a + tr.inside[k][ni][0], b + tr.inside[k][ni][1])
-                    });
-                    if b == 0 {
-                        return "—".into();
-                    }
-                    let f = a as f64 / b as f64;
-                    met &= (0.85..=0.995).contains(&f);
-                    format!("{:.1}%", 100.0 * f)
-                })
-                .collect();
-            let judged = t == CLAMP || t == SMOOTH;
-            let _ = writeln!(
-                md,
-                "| {tier} | {} | {} | {} |",
-                brdf.name(),
-                cells.join(" | "),
-                match (judged, met) {
-                    (false, _) => "—",
-                    (true, true) => "yes",
-                    (true, false) => "**no**",
+    for (t, bi, tr) in measured(results) {
+        let (tier, brdf) = (TIERS[t], BRDFS[bi]);
+        let s = tr.subset();
+        let mut met = true;
+        let cells: Vec<String> = shown
+            .iter()
+            .map(|&ni| {
+                let (a, b) = s
+                    .iter()
+                    .fold((0, 0), |(a, b), &k| (a + tr.inside[k][ni][0], b + tr.inside[k][ni][1]));
+                if b == 0 {
+                    return "—".into();
                 }
-            );
-        }
+                let f = a as f64 / b as f64;
+                met &= (0.85..=0.995).contains(&f);
+                format!("{:.1}%", 100.0 * f)
+            })
+            .collect();
+        let judged = t == CLAMP || t == SMOOTH;
+        let _ = writeln!(
+            md,
+            "| {tier} | {} | {} | {} |",
+            brdf.name(),
+            cells.join(" | "),
+            match (judged, met) {
+                (false, _) => "—",
+                (true, true) => "yes",
+                (true, false) => "**no**",
+            }
+        );
     }
     let _ = writeln!(
         md,
@@ -516,28 +517,23 @@ pub fn footprint_tables(md: &mut String, results: &[Vec<TierResult>], exact_quer
     md.push_str(
         "| tier | BRDF | N = 16 | 32 | 64 | 128 |\n| --- | --- | ---: | ---: | ---: | ---: |\n",
     );
-    for (t, tier) in TIERS.iter().enumerate() {
-        for (bi, brdf) in BRDFS.iter().enumerate() {
-            let tr = &results[t][bi];
-            if tr.names.is_empty() {
-                continue;
-            }
-            let s = tr.subset();
-            let cells: Vec<String> = shown
-                .iter()
-                .map(|&ni| {
-                    let m = |k: usize| {
-                        s.iter().map(|&i| tr.exact[i][ni][k]).sum::<f64>() / s.len().max(1) as f64
-                    };
-                    if m(0).is_finite() {
-                        format!("{} / {}", pct(m(0)), pct(m(1)))
-                    } else {
-                        "—".into()
-                    }
-                })
-                .collect();
-            let _ = writeln!(md, "| {tier} | {} | {} |", brdf.name(), cells.join(" | "));
-        }
+    for (t, bi, tr) in measured(results) {
+        let (tier, brdf) = (TIERS[t], BRDFS[bi]);
+        let s = tr.subset();
+        let cells: Vec<String> = shown
+            .iter()
+            .map(|&ni| {
+                let m = |k: usize| {
+                    s.iter().map(|&i| tr.exact[i][ni][k]).sum::<f64>() / s.len().max(1) as f64
+                };
+                if m(0).is_finite() {
+                    format!("{} / {}", pct(m(0)), pct(m(1)))
+                } else {
+                    "—".into()
+                }
+            })
+            .collect();
+        let _ = writeln!(md, "| {tier} | {} | {} |", brdf.name(), cells.join(" | "));
     }
     md.push('\n');
 }
