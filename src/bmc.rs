@@ -110,6 +110,7 @@
 
 pub mod footprint;
 pub mod glossy;
+mod scaled;
 pub use footprint::{FootprintRenderer, FootprintSize};
 pub use glossy::{GlossyRenderer, GlossySize};
 

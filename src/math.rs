@@ -422,3 +422,54 @@ pub const fn sin_cos_turns(phase: u64) -> (f32, f32) {
 pub(crate) fn clamp_unit(x: f32) -> f32 {
     x.clamp(-1.0, 1.0)
 }
+
+/// `2^e`, exact for `e ∈ [−149, 127]` (subnormal below −126); `e` is clamped to that range.
+#[must_use]
+pub(crate) fn pow2(e: i32) -> f32 {
+    let e = e.clamp(-149, 127);
+    if e >= -126 {
+        f32::from_bits(((e + 127) as u32) << 23)
+    } else {
+        f32::from_bits(1u32 << (e + 149))
+    }
+}
+
+/// `⌊log₂ x⌋` for a positive normal `x` (the exponent field); −127 for zero and subnormals,
+/// 128 for infinities and NaN.
+#[must_use]
+pub(crate) fn exponent(x: f32) -> i32 {
+    ((x.to_bits() >> 23) & 0xff) as i32 - 127
+}
+
+/// `⌊log₂ |x|⌋` for any finite non-zero `x`, subnormals included (0 for zero).
+#[must_use]
+pub(crate) fn binade(x: f32) -> i32 {
+    if x == 0.0 {
+        0
+    } else {
+        libm::frexpf(x).1 - 1
+    }
+}
+
+/// `x·2^e` for any `e`, rounded once: `±∞` beyond `f32::MAX`, subnormal or 0 below the
+/// normal range.
+#[must_use]
+pub(crate) fn ldexp(x: f32, e: i32) -> f32 {
+    if (-126..=127).contains(&e) {
+        x * pow2(e)
+    } else {
+        libm::scalbnf(x, e)
+    }
+}
+
+/// A variance `v ≥ 0` times `2^e`, rounded up where it is positive but below the least
+/// positive f32: an error bar is never rounded to 0 unless it is 0.
+#[must_use]
+pub(crate) fn ldexp_variance(v: f32, e: i32) -> f32 {
+    let scaled = ldexp(v, e);
+    if scaled == 0.0 && v > 0.0 {
+        f32::from_bits(1)
+    } else {
+        scaled
+    }
+}

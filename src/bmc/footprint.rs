@@ -64,10 +64,16 @@
 //! # Bad input
 //! A zero or non-finite normal or mirror direction gives [`Error::InvalidDirection`]; a NaN or
 //! infinite lookup gives [`Error::InvalidRadiance`]. A mirror direction below the horizon
-//! (`r·n < 0`) is treated as grazing, as [`GlossyRenderer`](super::GlossyRenderer) does.
+//! (`r·n < 0`) is treated as grazing, as [`GlossyRenderer`](super::GlossyRenderer) does: as its
+//! projection onto the tangent plane.
+//!
+//! Lookups of any finite size are good input. For lookups `c·Y` the estimate is `c` times
+//! that of `Y` and the variance `c²` times, to f32 rounding (exactly, for a power of two `c`),
+//! with `+∞` only where the result exceeds `f32::MAX`; each channel is computed at its own
+//! scale. A variance below the least positive f32 is rounded up to it, never to 0.
 
 use super::glossy::{interval, lobe_frame};
-use super::Size;
+use super::{scaled, Size};
 use crate::error::Error;
 use crate::footprint::Kind;
 use crate::math;
@@ -280,7 +286,7 @@ where
             let f = Frame::from_unit(n);
             return Ok([f.t, f.b, n]);
         }
-        Ok(lobe_frame(normal, mirror)?.0)
+        lobe_frame(normal, mirror)
     }
 
     /// Writes the `N` lookup directions for normal `n` and mirror direction `r` (both
@@ -384,7 +390,15 @@ where
             }
             sa.scale(alpha).add(sb.scale(beta))
         };
-        finite_or_invalid(sum, lookups)
+        if scaled::in_range(sum) {
+            return Ok(sum);
+        }
+        // Not finite, or too small to trust: the lookups checked and summed at their own scale.
+        let b = if beta == 0.0 { a } else { Self::row(Self::SET.weights, k + 1, N)? };
+        scaled::rescaled_sum(lookups, |j| {
+            let w = |row: &[u32]| row.get(j).map_or(0.0, |&w| f32::from_bits(w));
+            alpha * w(a) + beta * w(b)
+        })
     }
 
     /// [`estimate`](Self::estimate) with its error bar: the variance per channel under the
@@ -451,24 +465,35 @@ where
             (shape * interpolation(0), shape * interpolation(1))
         };
         // Per channel and model: σ̂² of the centred channel scaled to max |y − ȳ| = 1, and the
-        // log likelihood, pooled over the channels.
+        // log likelihood, pooled over the channels. Each channel is first divided by the power
+        // of two `2^k` at its largest |y| (exact), so that nothing below depends on the units:
+        // the variance is multiplied by `2^2k` last.
         let mut log_lik = [0.0f32; MAX_MODELS];
         let mut signal = [[0.0f32; MAX_MODELS]; MAX_CHANNELS];
         let mut scales = [0.0f32; MAX_CHANNELS];
         let mut numeric = [0.0f32; MAX_CHANNELS];
-        for (c, ((signal, scale), numeric)) in
-            signal.iter_mut().zip(&mut scales).zip(&mut numeric).take(channels).enumerate()
+        let mut binades = [0i32; MAX_CHANNELS];
+        for (c, (((signal, scale), numeric), binade)) in signal
+            .iter_mut()
+            .zip(&mut scales)
+            .zip(&mut numeric)
+            .zip(&mut binades)
+            .take(channels)
+            .enumerate()
         {
+            *binade = scaled::channel_binade(lookups, c);
+            let y: [f32; N] = core::array::from_fn(|j| {
+                lookups.get(j).map_or(0.0, |y| math::ldexp(y.channel(c), -*binade))
+            });
             // Centred (the contrasts ignore constants; centring makes a constant channel's
             // contrasts exactly 0) and scaled to max |y − ȳ| = 1.
-            let mean = lookups.iter().map(|y| y.channel(c)).sum::<f32>() / N as f32;
-            let top = lookups.iter().fold(0.0f32, |m, y| m.max(math::abs(y.channel(c) - mean)));
+            let mean = y.iter().sum::<f32>() / N as f32;
+            let top = y.iter().fold(0.0f32, |m, &y| m.max(math::abs(y - mean)));
             *scale = top;
             // The arithmetic's own error, apart from the model: f32 rounding of the weights and
             // the sum, about (√N + 1)·2⁻²⁴·Σ|wⱼyⱼ|, and the interpolation between the θₙ nodes,
             // about |Σδw|·|ȳ| + |δw|₂·max|y − ȳ| (δw measured at the interval's midpoint).
-            let sum_abs: f32 =
-                lookups.iter().zip(&w).map(|(y, w)| math::abs(w * y.channel(c))).sum();
+            let sum_abs: f32 = y.iter().zip(&w).map(|(&y, w)| math::abs(w * y)).sum();
             let rounding = (math::sqrt(N as f32) + 1.0) * f32::EPSILON * 0.5 * sum_abs;
             let interp = mass_error * math::abs(mean) + norm_error * top;
             *numeric = rounding * rounding + interp * interp;
@@ -479,8 +504,8 @@ where
             // t = Aᵀ(y − ȳ)/top.
             let mut t = [0.0f32; N];
             let contrasts = set.contrasts.get(..N * k).ok_or(Error::Internal)?;
-            for (y, row) in lookups.iter().zip(contrasts.chunks_exact(k)) {
-                let y = (y.channel(c) - mean) * inv;
+            for (&y, row) in y.iter().zip(contrasts.chunks_exact(k)) {
+                let y = (y - mean) * inv;
                 for (tj, &a) in t.iter_mut().zip(row) {
                     *tj += f32::from_bits(a) * y;
                 }
@@ -530,28 +555,19 @@ where
         let unit_best = unit.get(best).copied().unwrap_or(0.0);
         let unit_variance = f2 * unit_best;
         let variance = from_channels::<T>(|c| {
-            let (Some(signal), Some(&scale), Some(&numeric)) =
-                (signal.get(c), scales.get(c), numeric.get(c))
+            let (Some(signal), Some(&scale), Some(&numeric), Some(&binade)) =
+                (signal.get(c), scales.get(c), numeric.get(c), binades.get(c))
             else {
                 return 0.0;
             };
-            if scale == 0.0 {
-                return f2 * numeric;
-            }
-            let s = signal.get(best).copied().unwrap_or(0.0);
-            f2 * (s * unit_best * scale * scale + numeric)
+            let normalised = if scale == 0.0 {
+                f2 * numeric
+            } else {
+                let s = signal.get(best).copied().unwrap_or(0.0);
+                f2 * (s * unit_best * scale * scale + numeric)
+            };
+            math::ldexp_variance(normalised, 2 * binade)
         });
         Ok(Estimate { value, variance, unit_variance })
-    }
-}
-
-/// `sum` when it is finite; otherwise [`Error::InvalidRadiance`] if a lookup is NaN or
-/// infinite (the sum of finite lookups may still overflow to infinity, which is returned).
-fn finite_or_invalid<T: Radiance>(sum: T, lookups: &[T]) -> Result<T, Error> {
-    let finite = |v: T| (0..T::CHANNELS).all(|c| v.channel(c).is_finite());
-    if finite(sum) || lookups.iter().all(|&y| finite(y)) {
-        Ok(sum)
-    } else {
-        Err(Error::InvalidRadiance)
     }
 }

@@ -64,16 +64,20 @@
 //! ```
 //!
 //! # Bad input
-//! A zero or non-finite normal or mirror direction gives [`Error::InvalidDirection`]; a mirror
-//! direction below the horizon (`r·n < 0`) is treated as grazing (`θₙ = π/2`).
+//! A zero or non-finite normal or mirror direction gives [`Error::InvalidDirection`]; a NaN or
+//! infinite sample gives [`Error::InvalidRadiance`]. A mirror direction below the horizon
+//! (`r·n < 0`) is treated as grazing (`θₙ = π/2`): as its projection onto the tangent plane
+//! (any tangent for `r = −n`). Samples of any finite size are good input: the estimate of
+//! `c·Y` is `c` times that of `Y` to f32 rounding, `±∞` only where it exceeds `f32::MAX`.
 //!
 //! [`tests/bmc/glossy.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/bmc/glossy.rs
 //! [`docs/renderer.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/renderer.md
 //! [`eval/src/bin/optimal_sets.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/optimal_sets.rs
 //! [`docs/optimal_sets.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/optimal_sets.md
 
-use super::Size;
+use super::{scaled, Size};
 use crate::error::Error;
+use crate::math;
 use crate::radiance::Radiance;
 use crate::sf::FibonacciPoints;
 use crate::vec3::Vec3;
@@ -287,7 +291,7 @@ where
         mirror: Vec3,
         out: &mut [Vec3; N],
     ) -> Result<(), Error> {
-        let ([t1, t2, r], _) = lobe_frame(normal, mirror)?;
+        let [t1, t2, r] = lobe_frame(normal, mirror)?;
         if <S as sealed::Kind>::OPTIMAL {
             let local = Self::SET.directions.chunks_exact(3);
             if local.len() != N {
@@ -335,7 +339,8 @@ where
     /// [`GlossyRenderer::fill_directions`], in order; O(N) (the interpolation is fused into the sum).
     ///
     /// # Errors
-    /// [`Error::InvalidDirection`] for a zero or non-finite vector.
+    /// [`Error::InvalidDirection`] for a zero or non-finite vector, [`Error::InvalidRadiance`]
+    /// for a NaN or infinite sample.
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
@@ -357,11 +362,11 @@ where
         mirror: Vec3,
         samples: &[T; N],
     ) -> Result<T, Error> {
-        let ((a, b), [alpha, beta]) = Self::rows(normal, mirror)?;
+        let ((rows_a, rows_b), [alpha, beta]) = Self::rows(normal, mirror)?;
         // Σ wⱼYⱼ = α·Σ aⱼYⱼ + β·Σ bⱼYⱼ. The sums start from the first products, and run in
         // blocks of 32 (unrolled: the loop's own instructions are negligible per sample).
         let (Some((&y0, y)), Some((&a0, a)), Some((&b0, b))) =
-            (samples.split_first(), a.split_first(), b.split_first())
+            (samples.split_first(), rows_a.split_first(), rows_b.split_first())
         else {
             return Ok(T::ZERO);
         };
@@ -378,22 +383,49 @@ where
             step(y, a, b);
         }
         step(yr, ar, br);
-        Ok(sa.scale(alpha).add(sb.scale(beta)))
+        let sum = sa.scale(alpha).add(sb.scale(beta));
+        if scaled::in_range(sum) {
+            return Ok(sum);
+        }
+        // Not finite, or too small to trust: the samples checked and summed at their own scale.
+        scaled::rescaled_sum(samples, |j| {
+            let w = |row: &[u32]| row.get(j).map_or(0.0, |&w| f32::from_bits(w));
+            alpha * w(rows_a) + beta * w(rows_b)
+        })
     }
 }
 
-/// The lobe frame `(t₁, t₂, r)` with `t₁` towards `n`, and `r·n` clamped to `[0, 1]` (both
-/// vectors normalised first).
-pub(crate) fn lobe_frame(normal: Vec3, mirror: Vec3) -> Result<([Vec3; 3], f32), Error> {
+/// The lobe frame `(t₁, t₂, a)` of a mirror direction `r` at the normal `n` (both normalised
+/// first): `a = r` with `t₁` towards `n`. A mirror below the horizon (`r·n < 0`) is grazing:
+/// `a` is then `r` projected onto the tangent plane of `n` (any tangent for `r = −n`), where
+/// the weights of `θₙ = π/2` apply. The three vectors are orthonormal to f32 rounding for
+/// every pair of valid directions, `r = ±n` included.
+pub(crate) fn lobe_frame(normal: Vec3, mirror: Vec3) -> Result<[Vec3; 3], Error> {
     let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
     let r = mirror.try_normalize().ok_or(Error::InvalidDirection)?;
-    let c = r.dot(n).clamp(0.0, 1.0);
-    let t1 = match (n - r * c).try_normalize() {
-        Some(t) => t,
-        // n ∥ r: the integrand is symmetric about r, any perpendicular serves.
-        None => Frame::from_unit(r).to_world(Vec3::X),
-    };
-    Ok(([t1, r.cross(t1), r], c))
+    let a = if r.dot(n) < 0.0 { perpendicular_towards(n, r) } else { r };
+    let t1 = perpendicular_towards(a, n);
+    Ok([t1, a.cross(t1), a])
+}
+
+/// The unit vector perpendicular to the unit `a` in the plane of `a` and `v` (unit), on `v`'s
+/// side: Gram–Schmidt, and again where the first pass left `|a·u| > 2⁻²⁰` (it loses
+/// orthogonality as `v` nears `±a`). Where `v` is within 10⁻⁶ rad of `±a` the plane is not
+/// defined by f32 data, and any perpendicular of `a` serves.
+fn perpendicular_towards(a: Vec3, v: Vec3) -> Vec3 {
+    let u = v - a * a.dot(v);
+    if u.length_squared() >= 1e-12 {
+        if let Some(u) = u.try_normalize() {
+            let d = a.dot(u);
+            if math::abs(d) <= 1.0 / 1_048_576.0 {
+                return u;
+            }
+            if let Some(u) = (u - a * d).try_normalize() {
+                return u;
+            }
+        }
+    }
+    Frame::from_unit(a).t
 }
 
 /// Two weight rows (f32 bits).

@@ -13,21 +13,7 @@ use crate::radiance::{from_channels, Radiance};
 const MIN_EXPONENT: i32 = -126;
 const MAX_EXPONENT: i32 = 127;
 
-/// `2^e`, exact for `e ∈ [−149, 127]` (subnormal below −126); `e` is clamped to that range.
-pub(super) fn pow2(e: i32) -> f32 {
-    let e = e.clamp(-149, 127);
-    if e >= -126 {
-        f32::from_bits(((e + 127) as u32) << 23)
-    } else {
-        f32::from_bits(1u32 << (e + 149))
-    }
-}
-
-/// `⌊log₂ x⌋` for a positive normal `x` (the exponent field); −127 for zero and subnormals,
-/// 128 for infinities and NaN.
-pub(super) fn exponent(x: f32) -> i32 {
-    ((x.to_bits() >> 23) & 0xff) as i32 - 127
-}
+pub(super) use crate::math::{exponent, pow2};
 
 /// The centred samples `(Yᵢ − Y₀)/s` and the per-channel scale `s = 2^k`, `k = ⌊log₂ max |Yᵢ −
 /// Y₀|⌋` clamped to [−126, 127] (`s = 1` for a constant channel): the largest normalised

@@ -9,6 +9,7 @@
 #[path = "../../gen/mod.rs"]
 mod gen;
 
+mod contract;
 mod hardening;
 mod properties;
 mod scale;

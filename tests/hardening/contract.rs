@@ -1,0 +1,370 @@
+//! One contract for every estimator, asked of every type by the same generic code: the
+//! renderers' directions are unit for every valid pair of directions; values scale with the
+//! input (`c×`) and variances with its square (`c²×`) from 10⁻³⁰ to 10³⁰, subnormal inputs
+//! included, with `±∞` only where the true answer exceeds `f32::MAX` and never NaN; a
+//! non-finite input is [`Error::InvalidRadiance`] everywhere.
+//!
+//! Each type enters through a small adapter ([`Renderer`]) that maps the suite's questions
+//! onto its calls; the questions themselves are written once.
+
+use reference::rng::Rng;
+use sphere_quadrature::bmc::footprint::{Brdf, Diffuse, FootprintRenderer, Phong};
+use sphere_quadrature::bmc::{self, BakedSize, FootprintSize, GlossyRenderer, GlossySize, Size};
+use sphere_quadrature::{Error, Estimate, Vec3};
+
+/// What the suite asks of a renderer: its sample directions for a normal and a mirror
+/// direction, and its estimate (with an error bar where it has one) from one value per
+/// direction.
+trait Renderer {
+    const NAME: &'static str;
+    /// Whether the directions depend on the mirror direction.
+    const USES_MIRROR: bool;
+    fn directions(n: Vec3, r: Vec3) -> Result<Vec<Vec3>, Error>;
+    fn estimate(n: Vec3, r: Vec3, y: &[f32]) -> Result<f32, Error>;
+    /// `None` where the type has no error bar.
+    fn estimate_with_variance(n: Vec3, r: Vec3, y: &[f32]) -> Option<Result<Estimate<f32>, Error>>;
+}
+
+struct Irradiance<const N: usize>;
+struct Glossy<const N: usize, const E: u32>;
+struct Footprint<const N: usize, B>(core::marker::PhantomData<B>);
+
+fn array<const N: usize>(y: &[f32]) -> [f32; N] {
+    core::array::from_fn(|j| y[j])
+}
+
+impl<const N: usize> Renderer for Irradiance<N>
+where
+    Size<N>: BakedSize,
+{
+    const NAME: &'static str = "Renderer";
+    const USES_MIRROR: bool = false;
+    fn directions(n: Vec3, _r: Vec3) -> Result<Vec<Vec3>, Error> {
+        let mut out = [Vec3::ZERO; N];
+        bmc::Renderer::<N>::new().fill_directions(n, 0, &mut out)?;
+        Ok(out.to_vec())
+    }
+    fn estimate(_n: Vec3, _r: Vec3, y: &[f32]) -> Result<f32, Error> {
+        Ok(bmc::Renderer::<N>::new().estimate(&array::<N>(y)))
+    }
+    fn estimate_with_variance(_: Vec3, _: Vec3, _: &[f32]) -> Option<Result<Estimate<f32>, Error>> {
+        None
+    }
+}
+
+impl<const N: usize, const E: u32> Renderer for Glossy<N, E>
+where
+    Size<N>: GlossySize<E>,
+{
+    const NAME: &'static str = "GlossyRenderer";
+    const USES_MIRROR: bool = true;
+    fn directions(n: Vec3, r: Vec3) -> Result<Vec<Vec3>, Error> {
+        let mut out = [Vec3::ZERO; N];
+        GlossyRenderer::<N, E>::new().fill_directions(n, r, &mut out)?;
+        Ok(out.to_vec())
+    }
+    fn estimate(n: Vec3, r: Vec3, y: &[f32]) -> Result<f32, Error> {
+        GlossyRenderer::<N, E>::new().estimate(n, r, &array::<N>(y))
+    }
+    fn estimate_with_variance(_: Vec3, _: Vec3, _: &[f32]) -> Option<Result<Estimate<f32>, Error>> {
+        None
+    }
+}
+
+impl<const N: usize, B: Brdf> Renderer for Footprint<N, B>
+where
+    Size<N>: FootprintSize<B>,
+{
+    const NAME: &'static str = "FootprintRenderer";
+    const USES_MIRROR: bool = true;
+    fn directions(n: Vec3, r: Vec3) -> Result<Vec<Vec3>, Error> {
+        let mut out = [Vec3::ZERO; N];
+        FootprintRenderer::<N, B>::new().fill_directions(n, r, &mut out)?;
+        Ok(out.to_vec())
+    }
+    fn estimate(n: Vec3, r: Vec3, y: &[f32]) -> Result<f32, Error> {
+        FootprintRenderer::<N, B>::new().estimate(n, r, &array::<N>(y))
+    }
+    fn estimate_with_variance(n: Vec3, r: Vec3, y: &[f32]) -> Option<Result<Estimate<f32>, Error>> {
+        Some(FootprintRenderer::<N, B>::new().estimate_with_variance(n, r, &array::<N>(y)))
+    }
+}
+
+fn v32(d: [f64; 3]) -> Vec3 {
+    Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32)
+}
+
+/// Pairs `(n, r)` of valid directions: random pairs (half of them below the horizon), `r = n`
+/// and `r = −n` for random and axis normals, `r` within a few ulps of `±n`, and the audit's
+/// `n = r = (1, −1, 1)`; each also with lengths far from 1.
+fn pairs(seed: u64) -> Vec<(Vec3, Vec3)> {
+    let mut rng = Rng::new(seed);
+    let mut out = vec![(Vec3::new(1.0, -1.0, 1.0), Vec3::new(1.0, -1.0, 1.0))];
+    for _ in 0..400 {
+        let n = v32(rng.uniform_sphere());
+        let r = v32(rng.uniform_sphere());
+        out.push((n, r));
+        out.push((n, n));
+        out.push((n, -n));
+        let tiny = v32(rng.uniform_sphere()) * 3e-7;
+        out.push((n, n + tiny));
+        out.push((n, -n + tiny));
+    }
+    for axis in [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z] {
+        out.push((axis, axis));
+        out.push((axis, -axis));
+    }
+    let scaled: Vec<_> = out
+        .iter()
+        .step_by(7)
+        .flat_map(|&(n, r)| [(n * 1e-30, r * 1e30), (n * 1e20, r * 1e-20)])
+        .collect();
+    out.extend(scaled);
+    out
+}
+
+/// Every direction of every valid pair is unit to 10⁻⁶.
+fn directions_are_unit<R: Renderer>() {
+    let mut worst = 0.0f64;
+    for (n, r) in pairs(1) {
+        let dirs = R::directions(n, r).unwrap_or_else(|e| panic!("{}: {n:?} {r:?}: {e}", R::NAME));
+        for d in dirs {
+            let len =
+                (f64::from(d.x).powi(2) + f64::from(d.y).powi(2) + f64::from(d.z).powi(2)).sqrt();
+            assert!((len - 1.0).abs() <= 1e-6, "{}: n = {n:?}, r = {r:?}: |d| = {len}", R::NAME);
+            worst = worst.max((len - 1.0).abs());
+        }
+    }
+    eprintln!("{}: largest |len − 1| = {worst:.1e}", R::NAME);
+}
+
+/// How far the directions stray from the great circle through the first one and the one
+/// farthest from it (0 when they all lie in one plane through the origin).
+fn spread(dirs: &[Vec3]) -> f32 {
+    let far =
+        dirs.iter().fold(dirs[0], |f, d| if d.dot(dirs[0]) < f.dot(dirs[0]) { *d } else { f });
+    let m = dirs[0].cross(far).try_normalize().expect("two distinct directions");
+    dirs.iter().map(|d| d.dot(m).abs()).fold(0.0, f32::max)
+}
+
+/// A mirror below the horizon is grazing: the directions are those of its projection onto
+/// the tangent plane (to 10⁻⁵), and not all in one plane.
+fn below_the_horizon_is_grazing<R: Renderer>() {
+    if !R::USES_MIRROR {
+        return;
+    }
+    let mut rng = Rng::new(2);
+    for _ in 0..200 {
+        let n = v32(rng.uniform_sphere());
+        let mut r = v32(rng.uniform_sphere());
+        if r.dot(n) > 0.0 {
+            r = -r;
+        }
+        let grazing = r - n * r.dot(n);
+        if grazing.length() < 1e-3 {
+            continue;
+        }
+        let below = R::directions(n, r).unwrap();
+        let at = R::directions(n, grazing).unwrap();
+        for (a, b) in below.iter().zip(&at) {
+            assert!((*a - *b).length() <= 1e-5, "{}: {n:?} {r:?}: {a:?} vs {b:?}", R::NAME);
+        }
+        assert!(
+            spread(&below) > 1e-2,
+            "{}: the directions of {n:?} {r:?} lie on a great circle",
+            R::NAME
+        );
+    }
+    // r = −n: grazing along some tangent; unit and spread.
+    for n in [Vec3::Z, Vec3::new(1.0, -1.0, 1.0), Vec3::new(0.3, 0.4, -0.2)] {
+        let dirs = R::directions(n, -n).unwrap();
+        assert!(
+            spread(&dirs) > 1e-2,
+            "{}: the directions of r = −n lie on a great circle",
+            R::NAME
+        );
+    }
+}
+
+#[test]
+fn renderer_directions_are_unit() {
+    directions_are_unit::<Irradiance<16>>();
+    directions_are_unit::<Irradiance<64>>();
+    directions_are_unit::<Glossy<64, 50>>();
+    directions_are_unit::<Glossy<16, 10>>();
+    directions_are_unit::<Footprint<16, Diffuse>>();
+    directions_are_unit::<Footprint<32, Phong<10>>>();
+    directions_are_unit::<Footprint<64, Phong<50>>>();
+    directions_are_unit::<Footprint<32, Phong<200>>>();
+}
+
+#[test]
+fn renderer_mirror_below_the_horizon_is_grazing() {
+    below_the_horizon_is_grazing::<Glossy<64, 50>>();
+    below_the_horizon_is_grazing::<Footprint<32, Phong<10>>>();
+    below_the_horizon_is_grazing::<Footprint<64, Phong<200>>>();
+}
+
+const MAX: f64 = f32::MAX as f64;
+const TINY: f64 = f32::MIN_POSITIVE as f64;
+
+/// `got` against the f64 `want`: within `tol` relative where `want` is a normal f32 number
+/// (with a margin of `tol` at both ends of the range), `±∞` above `f32::MAX`, 0 or subnormal
+/// of the same sign below the normal range; never NaN.
+fn check(got: f32, want: f64, tol: f64, what: &str) {
+    assert!(!got.is_nan(), "{what}: NaN (want {want:e})");
+    let mag = want.abs();
+    if mag > MAX * (1.0 + tol) {
+        assert_eq!(got, f32::INFINITY.copysign(want as f32), "{what}: want {want:e}");
+    } else if mag < TINY * (1.0 - tol) {
+        assert!(
+            got.abs() <= f32::MIN_POSITIVE
+                && (got == 0.0 || (got as f64).signum() == want.signum()),
+            "{what}: {got:e}, want {want:e} (below the normal range)"
+        );
+    } else if mag < MAX * (1.0 - tol) && mag > TINY * (1.0 + tol) {
+        let rel = (got as f64 - want).abs() / mag;
+        assert!(rel <= tol, "{what}: {got:e}, want {want:e} (relative {rel:e})");
+    }
+}
+
+/// [`check`] for a variance, which is also never 0 where `want` is not.
+fn check_variance(got: f32, want: f64, tol: f64, what: &str) {
+    check(got, want, tol, what);
+    assert!(got >= 0.0, "{what}: negative variance {got:e}");
+    if want > 0.0 {
+        assert!(got > 0.0, "{what}: variance 0, want {want:e}");
+    }
+}
+
+/// Scales from 10⁻³⁰ to 10³⁰ and powers of two (exact), and subnormal ones (10⁻⁴⁰, 2⁻¹⁴⁰).
+fn scales() -> Vec<f64> {
+    let mut c = vec![1e-40, 1e-30, 1e-20, 1e-10, 1e-3, 1.0, 1e3, 1e10, 1e20, 1e30, 1e37];
+    c.extend([-140, -100, -60, -1, 1, 60, 100].map(|k| 2f64.powi(k)));
+    c
+}
+
+/// A light with structure at several scales (positive, 0.1 to about 12).
+fn light(d: Vec3) -> f64 {
+    let lobe = |axis: Vec3, sharpness: f32| f64::from((sharpness * (d.dot(axis) - 1.0)).exp());
+    0.1 + 0.5 * f64::from(d.z + 1.0)
+        + 8.0 * lobe(Vec3::new(0.6, 0.0, 0.8), 30.0)
+        + 3.0 * lobe(Vec3::new(-0.3, 0.9, 0.3).try_normalize().unwrap(), 4.0)
+}
+
+/// Queries `(n, r)` of every kind: random pairs, normal incidence, below the horizon.
+fn queries() -> Vec<(Vec3, Vec3)> {
+    let mut rng = Rng::new(3);
+    let mut out = vec![(Vec3::Z, Vec3::Z), (Vec3::Z, Vec3::new(0.6, 0.0, 0.8))];
+    for _ in 0..6 {
+        let n = v32(rng.uniform_sphere());
+        out.push((n, v32(rng.uniform_sphere())));
+    }
+    out
+}
+
+/// Values scale as `c` and variances as `c²` for lookups `c·Y`, with `±∞` only beyond
+/// `f32::MAX`, never NaN, and variances never 0 where the unscaled one is not.
+fn answers_scale<R: Renderer>() {
+    for (n, r) in queries() {
+        let dirs = R::directions(n, r).unwrap();
+        let y: Vec<f64> = dirs.iter().map(|&d| light(d)).collect();
+        let base_y: Vec<f32> = y.iter().map(|&v| v as f32).collect();
+        let value = f64::from(R::estimate(n, r, &base_y).unwrap());
+        let variance = R::estimate_with_variance(n, r, &base_y).map(|e| {
+            let e = e.unwrap();
+            assert_eq!(f64::from(e.value), value, "{}: the two calls' values differ", R::NAME);
+            f64::from(e.variance)
+        });
+        // A decimal scale rounds every lookup anew: the variance moves by as much as it does
+        // under one-ulp changes of the lookups (measured here) on top of the stated 10⁻⁴.
+        let spread = variance.map_or(0.0, |v| ulp_spread::<R>(n, r, &base_y, v));
+        for c in scales() {
+            let scaled: Vec<f32> = y.iter().map(|&v| (v * c) as f32).collect();
+            // The exact answer for the rounded lookups is c·value up to their rounding; below the
+            // normal range the lookups lose relative precision, so the tolerance follows.
+            let tol = if y.iter().any(|&v| v * c < TINY) { 1e-3 } else { 1e-5 };
+            let what = format!("{} n = {n:?} r = {r:?} c = {c:e}", R::NAME);
+            check(R::estimate(n, r, &scaled).unwrap(), value * c, tol, &format!("{what} value"));
+            if let (Some(v), Some(e)) = (variance, R::estimate_with_variance(n, r, &scaled)) {
+                let e = e.unwrap();
+                check(e.value, value * c, tol, &format!("{what} value of estimate_with_variance"));
+                let exact = c.log2().fract() == 0.0;
+                let tol = if exact { 1e-6 } else { 1e-4 + 2.0 * spread };
+                check_variance(e.variance, v * c * c, tol, &format!("{what} variance"));
+            }
+        }
+        // Lookups at f32::MAX: the answer exceeds f32::MAX exactly when the light's does.
+        let top = y.iter().copied().fold(0.0, f64::max);
+        let huge: Vec<f32> = y.iter().map(|&v| (v / top * MAX) as f32).collect();
+        let want = value / top * MAX;
+        check(R::estimate(n, r, &huge).unwrap(), want, 1e-5, &format!("{} huge", R::NAME));
+        let all_max = vec![f32::MAX; dirs.len()];
+        let ones = f64::from(R::estimate(n, r, &vec![1.0; dirs.len()]).unwrap());
+        check(R::estimate(n, r, &all_max).unwrap(), ones * MAX, 1e-5, &format!("{} MAX", R::NAME));
+        if let Some(e) = R::estimate_with_variance(n, r, &all_max) {
+            let e = e.unwrap();
+            assert!(!e.variance.is_nan() && e.variance >= 0.0, "{}: variance {e:?}", R::NAME);
+        }
+    }
+}
+
+/// The largest relative change of the variance over a few random one-ulp changes of every
+/// lookup.
+fn ulp_spread<R: Renderer>(n: Vec3, r: Vec3, y: &[f32], variance: f64) -> f64 {
+    let mut rng = Rng::new(9);
+    let mut spread = 0.0f64;
+    for _ in 0..16 {
+        let moved: Vec<f32> = y
+            .iter()
+            .map(|&v| match rng.next_u64() % 3 {
+                0 => f32::from_bits(v.to_bits() + 1),
+                1 => f32::from_bits(v.to_bits() - 1),
+                _ => v,
+            })
+            .collect();
+        let e = R::estimate_with_variance(n, r, &moved).unwrap().unwrap();
+        spread = spread.max((f64::from(e.variance) - variance).abs() / variance);
+    }
+    spread
+}
+
+/// A NaN or infinite lookup anywhere is [`Error::InvalidRadiance`], from every call.
+fn non_finite_lookups_are_refused<R: Renderer>() {
+    let (n, r) = (Vec3::new(0.2, 0.3, 0.9), Vec3::new(0.5, -0.1, 0.8));
+    let len = R::directions(n, r).unwrap().len();
+    for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        for at in [0, len / 2, len - 1] {
+            let mut y = vec![1.0f32; len];
+            y[at] = bad;
+            assert_eq!(
+                R::estimate(n, r, &y),
+                Err(Error::InvalidRadiance),
+                "{} {bad} at {at}",
+                R::NAME
+            );
+            if let Some(e) = R::estimate_with_variance(n, r, &y) {
+                assert_eq!(e, Err(Error::InvalidRadiance), "{} {bad} at {at}", R::NAME);
+            }
+        }
+    }
+}
+
+#[test]
+fn renderer_answers_scale_with_the_input() {
+    answers_scale::<Glossy<16, 10>>();
+    answers_scale::<Glossy<64, 50>>();
+    answers_scale::<Footprint<16, Diffuse>>();
+    answers_scale::<Footprint<64, Diffuse>>();
+    answers_scale::<Footprint<32, Phong<10>>>();
+    answers_scale::<Footprint<64, Phong<50>>>();
+    answers_scale::<Footprint<32, Phong<200>>>();
+}
+
+#[test]
+fn renderer_non_finite_lookups_are_refused() {
+    non_finite_lookups_are_refused::<Glossy<16, 10>>();
+    non_finite_lookups_are_refused::<Glossy<64, 50>>();
+    non_finite_lookups_are_refused::<Footprint<16, Diffuse>>();
+    non_finite_lookups_are_refused::<Footprint<64, Phong<50>>>();
+}
