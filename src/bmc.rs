@@ -50,10 +50,10 @@
 //! r.fill_directions(Vec3::new(0.0, 0.6, 0.8), 0x1234, &mut dirs)?;
 //! // Trace the directions; here a sky brighter towards +z.
 //! let samples = dirs.map(|d| 1.0 + 0.5 * d.z);
-//! let e = r.estimate(&samples);
+//! let e = r.estimate(&samples)?;
 //! assert!(e > 3.0 && e < 5.0);
 //! // A constant is integrated exactly (Σw = 1): E = π·c.
-//! assert!((r.estimate(&[2.0f32; 64]) - 2.0 * core::f32::consts::PI).abs() < 1e-5);
+//! assert!((r.estimate(&[2.0f32; 64])? - 2.0 * core::f32::consts::PI).abs() < 1e-5);
 //! # Ok::<(), sphere_quadrature::Error>(())
 //! ```
 //!
@@ -209,9 +209,9 @@ pub const TABLE_BYTES: usize = {
 /// assert!(dirs.iter().all(|d| d.dot(n) > 0.0)); // all above the surface
 /// // The radiance along each direction, then E = π·Σ wᵢYᵢ: a constant 1 gives π.
 /// let samples = dirs.map(|_| 1.0f32);
-/// assert!((r.estimate(&samples) - core::f32::consts::PI).abs() < 1e-4);
+/// assert!((r.estimate(&samples)? - core::f32::consts::PI).abs() < 1e-4);
 /// // Callback form, same directions and weights.
-/// assert_eq!(r.irradiance(n, 0, |_| 1.0f32)?, r.estimate(&samples));
+/// assert_eq!(r.irradiance(n, 0, |_| 1.0f32)?, r.estimate(&samples)?);
 /// # Ok::<(), sphere_quadrature::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -283,30 +283,40 @@ where
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
     /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
-    #[must_use]
-    pub fn estimate<T: Radiance>(&self, samples: &[T; N]) -> T {
-        samples
-            .iter()
-            .zip(Self::WEIGHTS)
-            .fold(T::ZERO, |acc, (&y, &w)| acc.mul_add(y, w))
-            .scale(core::f32::consts::PI)
-    }
-
-    /// Irradiance with radiance from a callback, directions as in [`Renderer::fill_directions`].
     ///
     /// # Errors
-    /// [`Error::InvalidDirection`] for a zero or non-finite normal.
+    /// [`Error::InvalidRadiance`] for a NaN or infinite sample.
+    pub fn estimate<T: Radiance>(&self, samples: &[T; N]) -> Result<T, Error> {
+        let sum =
+            samples.iter().zip(Self::WEIGHTS).fold(T::ZERO, |acc, (&y, &w)| acc.mul_add(y, w));
+        let sum = if scaled::in_range(sum) {
+            sum
+        } else {
+            // Not finite, or too small to trust: the samples checked and summed at their own
+            // scale.
+            scaled::rescaled_sum(samples, |j| Self::WEIGHTS.get(j).copied().unwrap_or(0.0))?
+        };
+        Ok(sum.scale(core::f32::consts::PI))
+    }
+
+    /// Irradiance with radiance from a callback, directions as in [`Renderer::fill_directions`]:
+    /// [`Renderer::estimate`] of the callback's values.
+    ///
+    /// # Errors
+    /// [`Error::InvalidDirection`] for a zero or non-finite normal, [`Error::InvalidRadiance`]
+    /// for a NaN or infinite value.
     pub fn irradiance<T: Radiance, F: FnMut(Vec3) -> T>(
         &self,
         normal: Vec3,
         phase_bits: u64,
         mut radiance: F,
     ) -> Result<T, Error> {
+        let mut samples = [T::ZERO; N];
         let s = LobeSampler::new(normal, Self::LOBE, N, phase_bits)?;
-        Ok(s.iter()
-            .zip(Self::WEIGHTS)
-            .fold(T::ZERO, |acc, (d, &w)| acc.mul_add(radiance(d), w))
-            .scale(core::f32::consts::PI))
+        for (slot, d) in samples.iter_mut().zip(s.iter()) {
+            *slot = radiance(d);
+        }
+        self.estimate(&samples)
     }
 
     /// Posterior variance of the irradiance estimate for σ_f = 1 (multiply by σ_f²).

@@ -45,7 +45,7 @@ where
         Ok(out.to_vec())
     }
     fn estimate(_n: Vec3, _r: Vec3, y: &[f32]) -> Result<f32, Error> {
-        Ok(bmc::Renderer::<N>::new().estimate(&array::<N>(y)))
+        bmc::Renderer::<N>::new().estimate(&array::<N>(y))
     }
     fn estimate_with_variance(_: Vec3, _: Vec3, _: &[f32]) -> Option<Result<Estimate<f32>, Error>> {
         None
@@ -352,6 +352,8 @@ fn non_finite_lookups_are_refused<R: Renderer>() {
 
 #[test]
 fn renderer_answers_scale_with_the_input() {
+    answers_scale::<Irradiance<16>>();
+    answers_scale::<Irradiance<256>>();
     answers_scale::<Glossy<16, 10>>();
     answers_scale::<Glossy<64, 50>>();
     answers_scale::<Footprint<16, Diffuse>>();
@@ -363,6 +365,8 @@ fn renderer_answers_scale_with_the_input() {
 
 #[test]
 fn renderer_non_finite_lookups_are_refused() {
+    non_finite_lookups_are_refused::<Irradiance<16>>();
+    non_finite_lookups_are_refused::<Irradiance<64>>();
     non_finite_lookups_are_refused::<Glossy<16, 10>>();
     non_finite_lookups_are_refused::<Glossy<64, 50>>();
     non_finite_lookups_are_refused::<Footprint<16, Diffuse>>();

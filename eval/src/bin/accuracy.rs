@@ -395,7 +395,7 @@ where
             let sf = qmc::irradiance::<N, f32, _>(n32, phases.next_phase(), lum32)
                 .expect("normals are unit vectors") as f64;
             renderer.fill_directions(n32, phases.next_phase(), &mut dirs).expect("unit normal");
-            let bmc = renderer.estimate(&dirs.map(lum32)) as f64;
+            let bmc = renderer.estimate(&dirs.map(lum32)).expect("finite map") as f64;
             for (s, e) in se.iter_mut().zip([mc, sobol, sf, bmc]) {
                 *s += (e - t).powi(2);
             }
