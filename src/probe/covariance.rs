@@ -104,7 +104,7 @@ where
     pub fn signal_variance_of(&self, weights: T) -> Result<f32, Error> {
         check_weights(weights)?;
         let (normalised, shift) = self.combination_parts(weights);
-        Ok(libm::scalbnf(normalised, shift))
+        Ok(crate::math::ldexp_variance(normalised, shift))
     }
 
     /// `(v, k)` with `wᵀSw = v·2^k` and `v` a normal number or 0 (or NaN for NaN weights).
@@ -175,7 +175,7 @@ where
             0.0
         } else {
             let (m, e) = libm::frexpf(unit);
-            libm::scalbnf(m * normalised, shift + e)
+            crate::math::ldexp_variance(m * normalised, shift + e)
         };
         Ok(Estimate { value, variance, unit_variance: unit })
     }

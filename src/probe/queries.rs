@@ -71,9 +71,7 @@ where
         let unit = f.mean_variance * f.calibration[0];
         Ok(Estimate {
             value: self.absolute(PI, acc),
-            // σ̂′²·unit is a normal number (or 0), and s·(s·x) is monotone: no intermediate
-            // overflow or underflow.
-            variance: self.signal_variance.scale(unit).mul(self.scale).mul(self.scale),
+            variance: self.scaled(unit),
             unit_variance: unit,
         })
     }
@@ -97,6 +95,15 @@ where
         })
     }
 
+    /// `s²·σ̂′²·unit` per channel: σ̂′²·unit is a normal number (or 0), and s·(s·x) is
+    /// monotone, so no intermediate overflows or underflows; a positive variance below the
+    /// least positive f32 is rounded up to it ([`scale::at_least_tiny`]).
+    #[inline]
+    fn scaled(&self, unit: f32) -> T {
+        let normalised = self.signal_variance.scale(unit);
+        scale::at_least_tiny(normalised.mul(self.scale).mul(self.scale), normalised)
+    }
+
     /// `a²·s²·σ̂′²·unit` per channel by [`scale::scaled_variance`].
     pub(super) fn rescaled_variance(&self, unit: f32, a: f32) -> T {
         from_channels(|c| {
@@ -104,11 +111,17 @@ where
         })
     }
 
-    /// `σ̂′²·s²·a²·v` per channel for an f64 unit variance `v`, rounded once.
+    /// `σ̂′²·s²·a²·v` per channel for an f64 unit variance `v`, rounded once (a positive
+    /// variance below the least positive f32 rounded up to it).
     pub(super) fn variance_of_unit(&self, v: f64, a: f64) -> T {
         from_channels(|c| {
             let sa = f64::from(self.scale.channel(c)) * a;
-            (f64::from(self.signal_variance.channel(c)) * v * sa * sa) as f32
+            let x = f64::from(self.signal_variance.channel(c)) * v * sa * sa;
+            if x > 0.0 && x < f64::from(f32::from_bits(1)) {
+                f32::from_bits(1)
+            } else {
+                x as f32
+            }
         })
     }
 
@@ -406,7 +419,7 @@ where
         let unit = glossy_grid_lookup(&f.glossy_variance, mu) * calibration(f, mu);
         Ok(Estimate {
             value: self.absolute(1.0, acc),
-            variance: self.signal_variance.scale(unit).mul(self.scale).mul(self.scale),
+            variance: self.scaled(unit),
             unit_variance: unit,
         })
     }

@@ -81,12 +81,33 @@ pub(super) fn rescaled(p: f32, g: f32, s: f32, sum: f32, a: f32) -> f32 {
 }
 
 /// `a²·s²·x` for `x ≥ 0`, the scale `s = 2^k` and an amplitude `a` (finite), without
-/// intermediate overflow or underflow: `+∞` when it exceeds `f32::MAX`, 0 (or subnormal)
-/// below the normal range.
+/// intermediate overflow or underflow: `+∞` when it exceeds `f32::MAX`, subnormal below the
+/// normal range (rounded up to the least positive f32 rather than to 0 when `x > 0`).
 pub(super) fn scaled_variance(x: f32, s: f32, a: f32) -> f32 {
     if x == 0.0 || a == 0.0 {
         return 0.0;
     }
     let (ma, ea) = libm::frexpf(a);
-    libm::scalbnf(ma * (ma * x), 2 * (ea + exponent(s)))
+    let v = libm::scalbnf(ma * (ma * x), 2 * (ea + exponent(s)));
+    if v == 0.0 && x > 0.0 {
+        f32::from_bits(1)
+    } else {
+        v
+    }
+}
+
+/// `v`, with each channel that is 0 where its unscaled `x` is positive raised to the least
+/// positive f32: an error bar is never rounded to 0 unless it is 0.
+#[inline]
+pub(super) fn at_least_tiny<T: Radiance>(v: T, x: T) -> T {
+    if (0..T::CHANNELS).all(|c| v.channel(c) != 0.0 || x.channel(c) <= 0.0) {
+        return v;
+    }
+    from_channels(|c| {
+        if v.channel(c) == 0.0 && x.channel(c) > 0.0 {
+            f32::from_bits(1)
+        } else {
+            v.channel(c)
+        }
+    })
 }

@@ -309,6 +309,20 @@ fn answers_scale<R: Renderer>() {
     }
 }
 
+/// `y` rounded to f32, each value then moved by −1, 0 or +1 ulp at random.
+fn ulp_moved(y: &[f64], rng: &mut Rng) -> Vec<f32> {
+    y.iter()
+        .map(|&v| {
+            let v = v as f32;
+            match rng.next_u64() % 3 {
+                0 => f32::from_bits(v.to_bits() + 1),
+                1 => f32::from_bits(v.to_bits() - 1),
+                _ => v,
+            }
+        })
+        .collect()
+}
+
 /// The largest relative change of the variance over a few random one-ulp changes of every
 /// lookup.
 fn ulp_spread<R: Renderer>(n: Vec3, r: Vec3, y: &[f32], variance: f64) -> f64 {
@@ -371,4 +385,220 @@ fn renderer_non_finite_lookups_are_refused() {
     non_finite_lookups_are_refused::<Glossy<64, 50>>();
     non_finite_lookups_are_refused::<Footprint<16, Diffuse>>();
     non_finite_lookups_are_refused::<Footprint<64, Phong<50>>>();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Probes: N samples (or readings) in, queries out.
+
+use sphere_quadrature::footprint::{CosinePower, Footprint as SampleFootprint, Gaussian, Point};
+use sphere_quadrature::probe::{Probe, ProbeTables};
+
+/// What the suite asks of a probe: where it samples, how it takes one value per direction
+/// (replacing its data), and its queries with their error bars.
+trait Estimator: Sized {
+    const NAME: &'static str;
+    fn fresh() -> Self;
+    /// The directions the samples are taken in, in order.
+    fn sample_directions(&self) -> Vec<Vec3>;
+    /// Replaces the data.
+    fn update(&mut self, y: &[f32]) -> Result<(), Error>;
+    fn irradiance(&self, n: Vec3) -> Result<Estimate<f32>, Error>;
+    /// The exact variance at one normal.
+    fn irradiance_variance(&self, n: Vec3) -> Result<f32, Error>;
+    fn phong(&self, axis: Vec3, e: f32) -> Result<Estimate<f32>, Error>;
+    /// What the data decided (a member, a reset): the same at every scale.
+    fn decision(&self) -> String;
+    /// The whole state, to check that a refused call left it as it was.
+    fn state(&self) -> String;
+}
+
+struct PointProbe<const N: usize, F: SampleFootprint>(Probe<N, f32, F>)
+where
+    Size<N>: ProbeTables<F>;
+
+impl<const N: usize, F: SampleFootprint> Estimator for PointProbe<N, F>
+where
+    Size<N>: ProbeTables<F>,
+{
+    const NAME: &'static str = "Probe";
+    fn fresh() -> Self {
+        Self(Probe::new())
+    }
+    fn sample_directions(&self) -> Vec<Vec3> {
+        self.0.directions().to_vec()
+    }
+    fn update(&mut self, y: &[f32]) -> Result<(), Error> {
+        self.0.update(&array::<N>(y))
+    }
+    fn irradiance(&self, n: Vec3) -> Result<Estimate<f32>, Error> {
+        self.0.irradiance(n)
+    }
+    fn irradiance_variance(&self, n: Vec3) -> Result<f32, Error> {
+        self.0.irradiance_variance(n)
+    }
+    fn phong(&self, axis: Vec3, e: f32) -> Result<Estimate<f32>, Error> {
+        self.0.phong(axis, e)
+    }
+    fn decision(&self) -> String {
+        format!("member {}", self.0.selected())
+    }
+    fn state(&self) -> String {
+        format!("{:?}", self.0)
+    }
+}
+
+/// Normals of every kind, with lengths far from 1.
+fn normals() -> Vec<Vec3> {
+    let mut rng = Rng::new(4);
+    let mut out = vec![Vec3::Z, -Vec3::Z, Vec3::new(1.0, -1.0, 1.0) * 1e-30];
+    for _ in 0..6 {
+        out.push(v32(rng.uniform_sphere()) * 1e20);
+        out.push(v32(rng.uniform_sphere()));
+    }
+    out
+}
+
+/// Every query of a probe: values and variances, in one order.
+fn answers<E: Estimator>(p: &E) -> (Vec<f64>, Vec<f64>) {
+    let (mut values, mut variances) = (Vec::new(), Vec::new());
+    for n in normals() {
+        let e = p.irradiance(n).unwrap();
+        values.push(f64::from(e.value));
+        variances.push(f64::from(e.variance));
+        variances.push(f64::from(p.irradiance_variance(n).unwrap()));
+        for ex in [0.0, 1.0, 20.0, 1000.0] {
+            let e = p.phong(n, ex).unwrap();
+            values.push(f64::from(e.value));
+            variances.push(f64::from(e.variance));
+        }
+    }
+    (values, variances)
+}
+
+/// Samples `c·Y` give `c` times every value and `c²` times every variance (to f32 rounding;
+/// exactly for powers of two), `±∞` only beyond `f32::MAX`, never NaN, no variance 0 where the
+/// unscaled one is not, and the same decisions.
+fn probe_answers_scale<E: Estimator>() {
+    let mut p = E::fresh();
+    let y: Vec<f64> = p.sample_directions().iter().map(|&d| light(d)).collect();
+    p.update(&y.iter().map(|&v| v as f32).collect::<Vec<_>>()).unwrap();
+    let (values, variances) = answers(&p);
+    let decision = p.decision();
+    // A decimal scale rounds every sample anew: each answer moves by as much as it does under
+    // one-ulp changes of the samples (measured here) on top of the stated tolerance.
+    let mut rng = Rng::new(10);
+    let mut spread_values = vec![0.0f64; values.len()];
+    let mut spread_variances = vec![0.0f64; variances.len()];
+    for _ in 0..8 {
+        let mut q = E::fresh();
+        q.update(&ulp_moved(&y, &mut rng)).unwrap();
+        let (v, w) = answers(&q);
+        for (s, (a, b)) in spread_values.iter_mut().zip(v.iter().zip(&values)) {
+            *s = s.max((a - b).abs() / b.abs().max(f64::MIN_POSITIVE));
+        }
+        for (s, (a, b)) in spread_variances.iter_mut().zip(w.iter().zip(&variances)) {
+            *s = s.max((a - b).abs() / b.abs().max(f64::MIN_POSITIVE));
+        }
+    }
+    let top = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for c in scales() {
+        let mut q = E::fresh();
+        q.update(&y.iter().map(|&v| (v * c) as f32).collect::<Vec<_>>()).unwrap();
+        let what = format!("{} c = {c:e}", E::NAME);
+        let exact = c.log2().fract() == 0.0;
+        let subnormal = y.iter().any(|&v| v * c < TINY);
+        let (tol_value, tol_variance) = match (exact, subnormal) {
+            (_, true) => (1e-3, 1e-2),
+            (true, false) => (1e-6, 1e-6),
+            (false, false) => (1e-5, 1e-4),
+        };
+        assert_eq!(q.decision(), decision, "{what}: decision");
+        let (vq, wq) = answers(&q);
+        for (i, (&got, &want)) in vq.iter().zip(&values).enumerate() {
+            // Values near zero are as accurate as the others in absolute terms.
+            let want_c = want * c;
+            if (want.abs() / top) < 1e-3 {
+                assert!(
+                    !(got as f32).is_nan()
+                        && (got - want_c).abs() <= 1e-3 * top * c.max(0.0) + TINY,
+                    "{what} value {i}: {got:e}, want {want_c:e}"
+                );
+            } else {
+                let tol = if exact { tol_value } else { tol_value + 2.0 * spread_values[i] };
+                check(got as f32, want_c, tol, &format!("{what} value {i}"));
+            }
+        }
+        for (i, (&got, &want)) in wq.iter().zip(&variances).enumerate() {
+            let tol = if exact { tol_variance } else { tol_variance + 2.0 * spread_variances[i] };
+            check_variance(got as f32, want * c * c, tol, &format!("{what} variance {i}"));
+        }
+    }
+}
+
+#[test]
+fn probe_answers_scale_with_the_input() {
+    probe_answers_scale::<PointProbe<16, Point>>();
+    probe_answers_scale::<PointProbe<64, Point>>();
+    probe_answers_scale::<PointProbe<64, Gaussian<8>>>();
+    probe_answers_scale::<PointProbe<16, CosinePower<1>>>();
+}
+
+/// The bad-input table: each cause gives its one error, and a refused call (or any query)
+/// leaves the state exactly as it was.
+fn probe_bad_input<E: Estimator>() {
+    let mut p = E::fresh();
+    let y: Vec<f32> = p.sample_directions().iter().map(|&d| light(d) as f32).collect();
+    p.update(&y).unwrap();
+    let before = p.state();
+    for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        for at in [0, y.len() / 2, y.len() - 1] {
+            let mut z = y.clone();
+            z[at] = bad;
+            assert_eq!(
+                p.update(&z),
+                Err(Error::InvalidRadiance),
+                "{} sample {bad} at {at}",
+                E::NAME
+            );
+            assert_eq!(p.state(), before, "{}: a refused update changed the state", E::NAME);
+        }
+    }
+    let bad_directions = [
+        Vec3::ZERO,
+        Vec3::new(f32::NAN, 0.0, 1.0),
+        Vec3::new(0.0, f32::INFINITY, 1.0),
+        Vec3::new(0.0, 0.0, f32::NEG_INFINITY),
+    ];
+    for d in bad_directions {
+        assert_eq!(p.irradiance(d), Err(Error::InvalidDirection), "{} normal {d:?}", E::NAME);
+        assert_eq!(
+            p.irradiance_variance(d),
+            Err(Error::InvalidDirection),
+            "{} normal {d:?}",
+            E::NAME
+        );
+        assert_eq!(p.phong(d, 10.0), Err(Error::InvalidDirection), "{} axis {d:?}", E::NAME);
+    }
+    for e in [-1.0, -f32::MIN_POSITIVE, f32::NAN, f32::INFINITY, 2e8] {
+        assert_eq!(p.phong(Vec3::Z, e), Err(Error::InvalidExponent), "{} exponent {e}", E::NAME);
+    }
+    // The exponents every type takes: 0 to 10⁸.
+    for e in [0.0, 1e-30, 1.0, 20.0, 5000.0, 1e6, 1e8] {
+        let g = p
+            .phong(Vec3::new(0.3, 0.4, 0.8), e)
+            .unwrap_or_else(|err| panic!("{} e = {e}: {err}", E::NAME));
+        assert!(
+            g.value.is_finite() && g.variance.is_finite() && g.variance >= 0.0,
+            "{} e = {e}: {g:?}",
+            E::NAME
+        );
+    }
+    assert_eq!(p.state(), before, "{}: a query changed the state", E::NAME);
+}
+
+#[test]
+fn probe_bad_input_is_refused_and_leaves_the_state() {
+    probe_bad_input::<PointProbe<16, Point>>();
+    probe_bad_input::<PointProbe<64, Gaussian<8>>>();
+    probe_bad_input::<PointProbe<16, CosinePower<1>>>();
 }
