@@ -912,6 +912,36 @@ pub fn render(family: &Family, sets: &[Baked]) -> String {
         "pub(crate) const FOOTPRINT_SETS: &[(usize, u32)] = &[\n{}];",
         pairs.concat()
     );
+    // The compile error of an unbaked pair: every set, those behind a feature saying so.
+    let mut brdfs: Vec<u32> = sets.iter().map(|b| b.spec.e).collect();
+    brdfs.sort_unstable();
+    brdfs.dedup();
+    let per_brdf: Vec<String> = brdfs
+        .iter()
+        .map(|&e| {
+            let name = if e == 0 { "Diffuse".to_string() } else { format!("Phong<{e}>") };
+            let sizes: Vec<String> = sets
+                .iter()
+                .filter(|b| b.spec.e == e)
+                .map(|b| match &b.spec.feature {
+                    Some(f) => format!("{} (feature `{f}`)", b.spec.n),
+                    None => b.spec.n.to_string(),
+                })
+                .collect();
+            format!("{name} at N = {}", sizes.join(", "))
+        })
+        .collect();
+    let list = if per_brdf.is_empty() { "none".to_string() } else { per_brdf.join("; ") };
+    let _ = writeln!(
+        out,
+        "\n/// The compile error of an unbaked (N, BRDF), listing the baked sets.\n\
+         macro_rules! footprint_size_diagnostic {{\n    ($item:item) => {{\n        \
+         #[diagnostic::on_unimplemented(\n            \
+         message = \"no footprint renderer tables are baked for `{{Self}}` and `{{B}}`\",\n            \
+         label = \"this sample count and BRDF have no baked tables\",\n            \
+         note = \"the baked sets are {list} (the `set` lines of {CONFIG_FILE})\"\n        \
+         )]\n        $item\n    }};\n}}"
+    );
     let _ = writeln!(out, "\n/// The error bar family's nuggets σ′².");
     let nuggets: Vec<f64> = family.nuggets.iter().map(|s| s * s).collect();
     let mut nugget_words = String::new();

@@ -535,6 +535,20 @@ pub fn render(sets: &[Baked]) -> String {
             .map(|b| format!("({}, {})", b.spec.n, b.spec.e))
             .collect()
     };
+    let or_none = |v: Vec<String>| if v.is_empty() { "none".to_string() } else { v.join(", ") };
+    let _ = writeln!(
+        s,
+        "\n/// The compile error of an unbaked (N, e, set), listing this build's pairs.\n\
+         macro_rules! glossy_size_diagnostic {{\n    ($item:item) => {{\n        \
+         #[diagnostic::on_unimplemented(\n            \
+         message = \"no glossy Bayesian Monte Carlo weights are baked for `{{Self}}`, e = {{E}} and the set `{{S}}`\",\n            \
+         label = \"this sample count, Phong exponent and sample set have no baked weights\",\n            \
+         note = \"the baked (N, e) pairs are {} for the Fibonacci set and {} for the optimal one \
+         (this build's table: {CONFIG_FILE} or SPHERE_QUADRATURE_GLOSSY_TABLE; bake another with a \
+         `glossy = N e` line, tables/README.md)\"\n        )]\n        $item\n    }};\n}}",
+        or_none(list(false)),
+        or_none(list(true)),
+    );
     for (name, optimal, what) in
         [("GLOSSY_SETS", false, "spherical Fibonacci"), ("GLOSSY_OPTIMAL_SETS", true, "optimal")]
     {

@@ -1105,6 +1105,43 @@ pub fn render_size_trait(specs: &[Spec]) -> String {
          SPHERE_QUADRATURE_PROBE_TABLE; even N only; tables/README.md)\""
     );
     s.push_str(")]\npub trait ProbeSize: ProbeTables<Point> {}\n");
+    s.push_str(&render_tables_diagnostic(specs));
+    s
+}
+
+/// The `probe_tables_diagnostic!` macro: the compile error of an unbaked `(N, footprint)`
+/// pair, listing every pair this build baked and the table line that bakes another.
+pub fn render_tables_diagnostic(specs: &[Spec]) -> String {
+    let pairs: Vec<String> = specs
+        .iter()
+        .map(|s| {
+            let f = match s.footprint {
+                Footprint::Point => "Point".to_string(),
+                Footprint::Gaussian(g) => format!("Gaussian<{g}>"),
+                Footprint::Cosine(p) => format!("CosinePower<{p}>"),
+            };
+            format!("({}, {f})", s.n)
+        })
+        .collect();
+    let list = if pairs.is_empty() { "none".to_string() } else { pairs.join(", ") };
+    let mut s = String::new();
+    s.push_str(
+        "\n/// The compile error of an unbaked (N, footprint) pair, listing this build's pairs.\n",
+    );
+    s.push_str("macro_rules! probe_tables_diagnostic {\n    ($item:item) => {\n");
+    s.push_str("        #[diagnostic::on_unimplemented(\n");
+    s.push_str("            message = \"no Bayesian Monte Carlo probe family is baked for `{Self}` with footprint `{F}`\",\n");
+    s.push_str(
+        "            label = \"this sample count and footprint have no baked probe tables\",\n",
+    );
+    let _ = writeln!(
+        s,
+        "            note = \"the baked (N, footprint) pairs are {list} (this build's probe table: \
+         {CONFIG_FILE} or SPHERE_QUADRATURE_PROBE_TABLE); bake another with a `probe = N …` \
+         line (point samples) or `footprint = N gaussian S …` / `footprint = N cosine P …` \
+         (tables/README.md)\""
+    );
+    s.push_str("        )]\n        $item\n    };\n}\n");
     s
 }
 

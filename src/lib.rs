@@ -92,6 +92,24 @@
 //!   tables to 1.1·10⁻⁵ and 4.8·10⁻⁶ absolute (normalised by the full-sphere integral), 460×
 //!   and 270× better than the best published closed forms (see [`sg`]).
 //!
+//! # What is baked
+//! Weights and factorisations are computed in f64 by the build script from `tables/` and
+//! rounded once to f32; only the types below compile. A type that is not baked is a compile
+//! error whose note lists what this build baked and the table line that bakes it.
+//!
+//! | type | baked in a default build | another size or parameter |
+//! | --- | --- | --- |
+//! | `Probe<N, T, Point>` | N = 16, 32, 64, 128, 256 | any even N: a `probe = N …` line of a user table (`SPHERE_QUADRATURE_PROBE_TABLE`, `tables/README.md`) |
+//! | `Probe<N, T, Gaussian<S>>` | (N, S) = (16, 2), (32, 4), (64, 8), (128, 16), (256, 32) | a `footprint = N gaussian S …` line |
+//! | `Probe<N, T, CosinePower<P>>` | (N, P) = (16, 1), (32, 1) | a `footprint = N cosine P …` line |
+//! | `bmc::Renderer<N>`, `fixed_point::BmcFixed<N>` | N = 16, 32, 64, 80, 128, 256 | a user table (`SPHERE_QUADRATURE_BMC_TABLE`) |
+//! | `bmc::GlossyRenderer<N, E>` | (N, E) = (16, 10), (16, 50), (32, 50), (64, 50), (80, 50), (128, 50), (64, 200) | a `glossy = N e` line (`SPHERE_QUADRATURE_GLOSSY_TABLE`) |
+//! | `bmc::GlossyRenderer<N, E, Optimal>` | (N, E) = (16, 50), (64, 50), (64, 200) | an optimal set (`tables/optimal_sets.txt`) |
+//! | `bmc::FootprintRenderer<N, B>` | `Diffuse`, `Phong<10>`, `Phong<50>`, `Phong<200>` at N = 16, 32, 64; at N = 128 with the feature `footprint-128` | a `set` line of `tables/footprint_renderer.txt` |
+//! | `temporal::TemporalProbe<N, T, F, S>` | no tables: any N ≥ 1 and footprint | — |
+//! | `layout::LayoutProbe<K, T>` | no tables (computed by `new`, at run time or in a `const`): any K ≤ 64 | — |
+//! | `qmc` estimators | no tables: any N ≥ 1 | — |
+//!
 //! # Directions
 //! A *valid direction* is any finite nonzero vector: it need not be unit, and may be as long
 //! as `f32::MAX` or as short as a subnormal number in every component. Every function that
@@ -150,6 +168,9 @@
 // listing the sizes this build baked (generator `gen/bmc.rs`, `render_size_diagnostics`).
 include!(concat!(env!("OUT_DIR"), "/bmc_size_diagnostics.rs"));
 
+// The baked tables, and the macros of their compile errors (textual scope: before `bmc`).
+#[macro_use]
+mod tables;
 pub mod bmc;
 pub mod envmap;
 mod error;
@@ -171,7 +192,6 @@ pub mod rotation;
 pub mod sf;
 pub mod sg;
 pub mod sh;
-mod tables;
 pub mod temporal;
 mod vec3;
 pub mod warp;

@@ -19,7 +19,7 @@
 //! from [`crate::rotation::RotationSequence::next_phase`]) randomly rotates the set about the
 //! axis per estimate, which removes the structured error of a fixed orientation.
 //!
-//! NaN radiance propagates: one NaN sample makes the estimate NaN (per channel).
+//! A NaN or infinite sample is [`Error::InvalidRadiance`], as in every estimator of the crate.
 //!
 //! # Radiance scale
 //! The estimators work at any radiance scale: a sum of samples that overflows f32 is taken
@@ -61,7 +61,7 @@ use crate::warp::{Frame, Lobe};
 /// let s = LobeSampler::new(n, Lobe::Cosine, 32, 0)?;
 /// assert!(s.iter().all(|d| d.dot(n) > 0.0 && (d.length() - 1.0).abs() < 1e-5));
 /// // Callback or slice form: a constant radiance of 1 has irradiance π.
-/// let e = s.integrate(|_| 1.0f32);
+/// let e = s.integrate(|_| 1.0f32)?;
 /// assert!((e - core::f32::consts::PI).abs() < 1e-5);
 /// let mut dirs = [Vec3::ZERO; 32];
 /// s.fill(&mut dirs)?;
@@ -170,7 +170,8 @@ impl LobeSampler {
     /// `∫ L(ω)·cosᵉ θ dω` from the radiance in each direction, in order.
     ///
     /// # Errors
-    /// [`Error::LengthMismatch`] when `samples.len() != len()`.
+    /// [`Error::LengthMismatch`] when `samples.len() != len()`, [`Error::InvalidRadiance`] for
+    /// a NaN or infinite sample.
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
@@ -194,29 +195,43 @@ impl LobeSampler {
         if is_finite(plain) {
             return Ok(plain.scale(self.weight()));
         }
-        // The sum overflowed (or a sample is NaN): again, every sample scaled down first.
+        // The sum overflowed (or a sample is not finite): again, every sample scaled down
+        // first, which cannot overflow for finite samples.
         let p = prescale(samples.len());
         let scaled = samples.iter().fold(T::ZERO, |acc, &y| acc.mul_add(y, p));
+        if !is_finite(scaled) {
+            return Err(Error::InvalidRadiance);
+        }
         Ok(scaled.scale(self.weight() / p))
     }
 
     /// `∫ L(ω)·cosᵉ θ dω` with radiance from a callback.
-    pub fn integrate<T: Radiance, F: FnMut(Vec3) -> T>(&self, mut radiance: F) -> T {
+    ///
+    /// # Errors
+    /// [`Error::InvalidRadiance`] for a NaN or infinite value.
+    pub fn integrate<T: Radiance, F: FnMut(Vec3) -> T>(&self, mut radiance: F) -> Result<T, Error> {
         weighted_sum(self.iter().map(&mut radiance), self.set.len(), self.weight())
     }
 }
 
 /// `w·Σ yⱼ` for `n` values `yⱼ`: the plain sum times `w` when that sum is finite (bit for bit
-/// the unscaled arithmetic), else the sum of `yⱼ·2^−⌈log₂ n⌉` (which cannot overflow) times
-/// `w·2^⌈log₂ n⌉`. Both sums are kept as the values go by, so each is read once.
-fn weighted_sum<T: Radiance>(values: impl Iterator<Item = T>, n: usize, w: f32) -> T {
+/// the unscaled arithmetic), else the sum of `yⱼ·2^−⌈log₂ n⌉` (which cannot overflow for
+/// finite values) times `w·2^⌈log₂ n⌉`. Both sums are kept as the values go by, so each is
+/// read once; [`Error::InvalidRadiance`] when a value is NaN or infinite.
+fn weighted_sum<T: Radiance>(
+    values: impl Iterator<Item = T>,
+    n: usize,
+    w: f32,
+) -> Result<T, Error> {
     let p = prescale(n);
     let (plain, scaled) =
         values.fold((T::ZERO, T::ZERO), |(plain, scaled), y| (plain.add(y), scaled.mul_add(y, p)));
     if is_finite(plain) {
-        plain.scale(w)
+        Ok(plain.scale(w))
+    } else if is_finite(scaled) {
+        Ok(scaled.scale(w / p))
     } else {
-        scaled.scale(w / p)
+        Err(Error::InvalidRadiance)
     }
 }
 
@@ -235,7 +250,8 @@ fn is_finite<T: Radiance>(x: T) -> bool {
 /// directions about `normal`, rotated about it by `phase_bits / 2⁶⁴` turn.
 ///
 /// # Errors
-/// [`Error::InvalidDirection`] for a zero or non-finite normal.
+/// [`Error::InvalidDirection`] for a zero or non-finite normal, [`Error::InvalidRadiance`] for
+/// a NaN or infinite radiance value.
 ///
 /// ```
 /// use sphere_quadrature::{qmc, Vec3};
@@ -268,7 +284,7 @@ pub fn irradiance<const N: usize, T: Radiance, F: FnMut(Vec3) -> T>(
     radiance: F,
 ) -> Result<T, Error> {
     const { assert!(N > 0 && N <= crate::sf::MAX_POINTS, "N must be in 1..=2^24") };
-    Ok(LobeSampler::new(normal, Lobe::Cosine, N, phase_bits)?.integrate(radiance))
+    LobeSampler::new(normal, Lobe::Cosine, N, phase_bits)?.integrate(radiance)
 }
 
 /// Normalised Phong glossy radiance `∫ L(ω)·(e+1)/(2π)·max(0, r·ω)ᵉ dω` from `N` morphed
@@ -276,7 +292,8 @@ pub fn irradiance<const N: usize, T: Radiance, F: FnMut(Vec3) -> T>(
 ///
 /// # Errors
 /// [`Error::InvalidDirection`] for a zero or non-finite `reflection`,
-/// [`Error::InvalidExponent`] for a negative, NaN or infinite exponent.
+/// [`Error::InvalidExponent`] for a negative, NaN or infinite exponent,
+/// [`Error::InvalidRadiance`] for a NaN or infinite radiance value.
 ///
 /// # Examples
 /// ```
@@ -298,5 +315,5 @@ pub fn phong<const N: usize, T: Radiance, F: FnMut(Vec3) -> T>(
     let lobe = Lobe::phong(exponent)?;
     let s = LobeSampler::new(reflection, lobe, N, phase_bits)?;
     // The normalised lobe's weight is 1/N: the 2π/(e+1) of `integrate` cancels.
-    Ok(weighted_sum(s.iter().map(radiance), N, 1.0 / N as f32))
+    weighted_sum(s.iter().map(radiance), N, 1.0 / N as f32)
 }

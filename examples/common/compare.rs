@@ -127,8 +127,9 @@ pub fn evaluate(
             let sobol = kind.scale() * reference::peers::sobol(lum, axis, e, n as u32, scramble);
             let sampler = LobeSampler::new(axis32, kind.lobe(), n, rotations.next_phase())
                 .expect("unit axis and valid lobe");
-            let mean = sampler.integrate(|d| lum([d.x as f64, d.y as f64, d.z as f64]) as f32)
-                as f64
+            let mean = sampler
+                .integrate(|d| lum([d.x as f64, d.y as f64, d.z as f64]) as f32)
+                .expect("finite radiance") as f64
                 / kind.lobe().integral() as f64;
             let sf = kind.scale() * mean;
             se.mc += (mc - t).powi(2);

@@ -144,29 +144,26 @@ pub trait Brdf: sealed::Kind {}
 impl Brdf for Diffuse {}
 impl<const E: u32> Brdf for Phong<E> {}
 
-/// Implemented for exactly the sizes `N` whose footprint renderer tables are baked for `B`;
-/// sealed.
-///
-/// # Examples
-/// ```
-/// use sphere_quadrature::bmc::footprint::{FootprintRenderer, Phong, BAKED_SETS};
-/// use sphere_quadrature::bmc::{FootprintSize, Size};
-///
-/// fn renderer<const N: usize>() -> FootprintRenderer<N, Phong<50>>
-/// where
-///     Size<N>: FootprintSize<Phong<50>>,
-/// {
-///     FootprintRenderer::new()
-/// }
-/// let _ = renderer::<64>();
-/// assert!(BAKED_SETS.contains(&(64, 50)));
-/// ```
-#[diagnostic::on_unimplemented(
-    message = "no footprint renderer tables are baked for `{Self}` and `{B}`",
-    label = "this sample count and BRDF have no baked tables",
-    note = "the baked (N, BRDF) pairs are the `set` lines of tables/footprint_renderer.txt"
-)]
-pub trait FootprintSize<B: Brdf>: sealed::Sealed<B> {}
+footprint_size_diagnostic! {
+    /// Implemented for exactly the sizes `N` whose footprint renderer tables are baked for `B`;
+    /// sealed.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::bmc::footprint::{FootprintRenderer, Phong, BAKED_SETS};
+    /// use sphere_quadrature::bmc::{FootprintSize, Size};
+    ///
+    /// fn renderer<const N: usize>() -> FootprintRenderer<N, Phong<50>>
+    /// where
+    ///     Size<N>: FootprintSize<Phong<50>>,
+    /// {
+    ///     FootprintRenderer::new()
+    /// }
+    /// let _ = renderer::<64>();
+    /// assert!(BAKED_SETS.contains(&(64, 50)));
+    /// ```
+    pub trait FootprintSize<B: Brdf>: sealed::Sealed<B> {}
+}
 
 /// The baked `(N, e)` pairs, `e = 0` for [`Diffuse`].
 ///

@@ -88,29 +88,26 @@ use crate::warp::{Frame, Lobe};
 /// denser in `r·n` there (`gen/glossy.rs` emits tables of `GRID·N` weights).
 pub const GRID: usize = 97;
 
-/// Implemented for exactly the sizes `N` whose glossy weights are baked for exponent `E` and
-/// sample set `S`; sealed.
-///
-/// # Examples
-/// ```
-/// use sphere_quadrature::bmc::{glossy::BAKED_SETS, GlossyRenderer, GlossySize, Size};
-///
-/// // Generic over the sample count for one baked exponent (e = 50).
-/// fn kernel_length<const N: usize>() -> f32
-/// where
-///     Size<N>: GlossySize<50>,
-/// {
-///     GlossyRenderer::<N, 50>::hyperparameters().0
-/// }
-/// assert!(kernel_length::<64>() > 0.0);
-/// assert!(BAKED_SETS.contains(&(64, 50)));
-/// ```
-#[diagnostic::on_unimplemented(
-    message = "no glossy Bayesian Monte Carlo weights are baked for `{Self}`, e = {E} and the set `{S}`",
-    label = "this sample count, Phong exponent and sample set have no baked weights",
-    note = "the baked (N, e) pairs are in tables/glossy.txt (`glossy = N e` for the Fibonacci set, `optimal = N e` for the optimal one)"
-)]
-pub trait GlossySize<const E: u32, S: SampleSet = Fibonacci>: sealed::Sealed<E, S> {}
+glossy_size_diagnostic! {
+    /// Implemented for exactly the sizes `N` whose glossy weights are baked for exponent `E` and
+    /// sample set `S`; sealed.
+    ///
+    /// # Examples
+    /// ```
+    /// use sphere_quadrature::bmc::{glossy::BAKED_SETS, GlossyRenderer, GlossySize, Size};
+    ///
+    /// // Generic over the sample count for one baked exponent (e = 50).
+    /// fn kernel_length<const N: usize>() -> f32
+    /// where
+    ///     Size<N>: GlossySize<50>,
+    /// {
+    ///     GlossyRenderer::<N, 50>::hyperparameters().0
+    /// }
+    /// assert!(kernel_length::<64>() > 0.0);
+    /// assert!(BAKED_SETS.contains(&(64, 50)));
+    /// ```
+    pub trait GlossySize<const E: u32, S: SampleSet = Fibonacci>: sealed::Sealed<E, S> {}
+}
 
 /// The sample set of a [`GlossyRenderer`]; sealed: [`Fibonacci`] or [`Optimal`].
 ///

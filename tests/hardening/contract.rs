@@ -602,3 +602,83 @@ fn probe_bad_input_is_refused_and_leaves_the_state() {
     probe_bad_input::<PointProbe<64, Gaussian<8>>>();
     probe_bad_input::<PointProbe<16, CosinePower<1>>>();
 }
+
+// ---------------------------------------------------------------------------------------------
+// What is baked: the table of the crate docs and the README, against the baked lists.
+
+/// The lines of the "What is baked" table in `src/lib.rs` (without the `//! ` prefix).
+fn baked_table_in_lib() -> Vec<String> {
+    let lib = std::fs::read_to_string("src/lib.rs").unwrap();
+    let lines: Vec<&str> = lib.lines().collect();
+    let start = lines.iter().position(|l| *l == "//! # What is baked").expect("the section");
+    lines[start..]
+        .iter()
+        .map(|l| l.trim_start_matches("//!").trim_start())
+        .skip_while(|l| !l.starts_with('|'))
+        .take_while(|l| l.starts_with('|'))
+        .map(str::to_string)
+        .collect()
+}
+
+fn listed<A: std::fmt::Display, B: std::fmt::Display>(p: impl Iterator<Item = (A, B)>) -> String {
+    p.map(|(a, b)| format!("({a}, {b})")).collect::<Vec<_>>().join(", ")
+}
+
+#[test]
+fn what_is_baked_is_current() {
+    use sphere_quadrature::footprint::Kind;
+    use sphere_quadrature::{bmc::footprint, bmc::glossy, probe};
+    let table = baked_table_in_lib();
+    assert!(table.len() > 5, "{table:?}");
+    // The README carries the same table, between its markers.
+    let readme = std::fs::read_to_string("README.md").unwrap();
+    let quoted: Vec<&str> = readme
+        .lines()
+        .skip_while(|l| !l.starts_with("<!-- baked: src/lib.rs -->"))
+        .skip(1)
+        .take_while(|l| !l.starts_with("<!-- /baked -->"))
+        .collect();
+    assert_eq!(quoted, table, "README.md's \"What is baked\" differs from src/lib.rs's");
+    let row = |start: &str| -> String {
+        table
+            .iter()
+            .find(|l| l.starts_with(start))
+            .unwrap_or_else(|| panic!("no row {start}"))
+            .clone()
+    };
+    let sizes = |kind: fn(&Kind) -> bool| -> Vec<usize> {
+        probe::BAKED_TABLES.iter().filter(|(_, k)| kind(k)).map(|&(n, _)| n).collect()
+    };
+    let points = sizes(|k| matches!(k, Kind::Point));
+    let list = |v: &[usize]| v.iter().map(usize::to_string).collect::<Vec<_>>().join(", ");
+    assert!(row("| `Probe<N, T, Point>`").contains(&format!("| N = {} |", list(&points))));
+    let gaussians = listed(probe::BAKED_TABLES.iter().filter_map(|&(n, k)| match k {
+        Kind::Gaussian { sharpness } => Some((n, sharpness)),
+        _ => None,
+    }));
+    assert!(row("| `Probe<N, T, Gaussian<S>>`").contains(&format!("| (N, S) = {gaussians} |")));
+    let cosines = listed(probe::BAKED_TABLES.iter().filter_map(|&(n, k)| match k {
+        Kind::CosinePower { exponent } => Some((n, exponent)),
+        _ => None,
+    }));
+    assert!(row("| `Probe<N, T, CosinePower<P>>`").contains(&format!("| (N, P) = {cosines} |")));
+    assert!(row("| `bmc::Renderer<N>`").contains(&format!("| N = {} |", list(bmc::BAKED_SIZES))));
+    let fibonacci = listed(glossy::BAKED_SETS.iter().copied());
+    assert!(row("| `bmc::GlossyRenderer<N, E>`").contains(&format!("| (N, E) = {fibonacci} |")));
+    let optimal = listed(glossy::BAKED_OPTIMAL_SETS.iter().copied());
+    assert!(
+        row("| `bmc::GlossyRenderer<N, E, Optimal>`").contains(&format!("| (N, E) = {optimal} |"))
+    );
+    // The footprint renderer: every BRDF at N = 16, 32, 64, and at 128 with its feature.
+    let mut want: Vec<(usize, u32)> =
+        [0, 10, 50, 200].iter().flat_map(|&e| [16, 32, 64].map(|n| (n, e))).collect();
+    if cfg!(feature = "footprint-128") {
+        want.extend([0, 10, 50, 200].map(|e| (128, e)));
+    }
+    let mut got = footprint::BAKED_SETS.to_vec();
+    got.sort_unstable();
+    want.sort_unstable();
+    assert_eq!(got, want, "bmc::footprint::BAKED_SETS");
+    let fp = row("| `bmc::FootprintRenderer<N, B>`");
+    assert!(fp.contains("`Diffuse`, `Phong<10>`, `Phong<50>`, `Phong<200>` at N = 16, 32, 64; at N = 128 with the feature `footprint-128`"), "{fp}");
+}

@@ -63,7 +63,7 @@ fn linear_radiance_matches_closed_form() {
 
 fn dispatch_sf(n: usize, c: &SgQuery) -> f64 {
     let s = LobeSampler::new(v32(c.normal), Lobe::Cosine, n, c.phase).unwrap();
-    s.integrate(|d| c.light.value(v64(d)) as f32) as f64
+    s.integrate(|d| c.light.value(v64(d)) as f32).unwrap() as f64
 }
 
 #[test]
@@ -206,17 +206,22 @@ fn bad_input_gives_documented_results() {
     let a = qmc::irradiance::<32, f32, _>(Vec3::new(0.0, 0.0, 5.0), 7, |d| d.z).unwrap();
     let b = qmc::irradiance::<32, f32, _>(Vec3::Z, 7, |d| d.z).unwrap();
     assert_eq!(a, b);
-    // NaN radiance propagates, per channel.
-    let nan = qmc::irradiance::<16, [f32; 2], _>(Vec3::Z, 0, |d| {
-        if d.z > 0.5 {
-            [f32::NAN, 1.0]
-        } else {
-            [1.0, 1.0]
-        }
-    })
-    .unwrap();
-    assert!(nan[0].is_nan());
-    assert!((nan[1] - PI).abs() < 1e-6);
+    // A NaN or infinite radiance value is refused, in any channel and either form.
+    for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        let radiance = |d: Vec3| if d.z > 0.5 { [1.0, bad] } else { [1.0, 1.0] };
+        assert_eq!(
+            qmc::irradiance::<16, [f32; 2], _>(Vec3::Z, 0, radiance),
+            Err(Error::InvalidRadiance)
+        );
+        assert_eq!(
+            qmc::phong::<16, [f32; 2], _>(Vec3::Z, 10.0, 0, radiance),
+            Err(Error::InvalidRadiance)
+        );
+        let s = LobeSampler::new(Vec3::Z, Lobe::Cosine, 16, 0).unwrap();
+        let mut dirs = [Vec3::ZERO; 16];
+        s.fill(&mut dirs).unwrap();
+        assert_eq!(s.estimate(&dirs.map(radiance)), Err(Error::InvalidRadiance));
+    }
     // Huge but finite exponents are fine: all directions hug the axis.
     let g = qmc::phong::<64, f32, _>(Vec3::X, 1e9, 0, |d| d.x).unwrap();
     assert!((g - 1.0).abs() < 1e-6, "{g}");
