@@ -110,7 +110,7 @@
 //! [`docs/temporal.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/temporal.md
 
 use crate::error::Error;
-use crate::footprint::{Footprint, Point};
+use crate::footprint::{Footprint, Kind, Point, MAX_PARAMETER};
 use crate::math;
 use crate::radiance::Radiance;
 use crate::rotation::RotationSequence;
@@ -129,6 +129,11 @@ const TAIL: f32 = 3.0;
 /// Updates within which a sentinel's return to its reading from before a change the rotated
 /// samples did not see counts as flicker.
 const FLICKER_WINDOW: u16 = 32;
+
+/// How far (in powers of two) a sample's magnitude may stray from the state's scale before
+/// the state is rescaled: within it every square and sum of squares of the state is a normal
+/// f32 number far from overflow.
+const SCALE_WINDOW: i32 = 20;
 
 /// Coefficients of degrees `0..=MAX_DEGREE`.
 const COEFFICIENTS: usize = (MAX_DEGREE + 1) * (MAX_DEGREE + 1);
@@ -218,6 +223,16 @@ fn degree_for_footprint(degree: usize, inverse_gain: &[f32; MAX_DEGREE + 1]) -> 
         }
     }
     degree
+}
+
+/// Whether a footprint's parameter is one [`Kind::gain`] accepts: `1..=MAX_PARAMETER`.
+const fn valid_footprint(kind: Kind) -> bool {
+    match kind {
+        Kind::Point => true,
+        Kind::Gaussian { sharpness: p } | Kind::CosinePower { exponent: p } => {
+            p >= 1 && p <= MAX_PARAMETER
+        }
+    }
 }
 
 /// The degree a probe of `n` directions holds: `round(log₂ n)` in `[2, MAX_DEGREE]`.
@@ -363,11 +378,18 @@ pub struct TemporalProbe<
     sentinel_before: [T; S],
     /// Updates left in which a return to `sentinel_before` counts as flicker.
     sentinel_suspect: [u16; S],
-    /// The queries' coefficients `A_l·s_l·p̄_lm/g_l` (0 for the degrees without `A_l`).
+    /// The state's scale: every statistic above is in units of `2^scale` (second moments in
+    /// units of `4^scale`), so that none depends on the units of the samples.
+    scale: i32,
+    /// The queries' coefficients `A_l·s_l·p̄_lm/g_l` (0 for the degrees without `A_l`), in the
+    /// samples' units.
     irradiance_coefficients: [T; COEFFICIENTS],
-    /// The variance of an irradiance query.
+    /// The aliasing variance of an irradiance query, in units of `4^scale`.
     irradiance_variance: T,
-    /// The shrunk, deconvolved coefficients of degrees `l ≤ 2` and their variances.
+    /// The variance of an irradiance query, in the samples' units squared.
+    query_variance: T,
+    /// The shrunk, deconvolved coefficients of degrees `l ≤ 2` and their variances, in the
+    /// samples' units.
     sh: ShL2<T>,
     sh_variance: [T; 9],
     updates: u32,
@@ -383,8 +405,37 @@ fn sum_squares<T: Radiance>(x: &[T]) -> T {
 
 impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N, T, F, S> {
     /// A temporal probe whose rotations come from `seed`, with no data yet.
+    ///
+    /// A footprint whose parameter is 0 or above [`MAX_PARAMETER`] (`Gaussian<0>`,
+    /// `CosinePower<5000>`) does not compile:
+    /// ```compile_fail,E0080
+    /// use sphere_quadrature::footprint::Gaussian;
+    /// use sphere_quadrature::temporal::TemporalProbe;
+    ///
+    /// let _ = TemporalProbe::<64, f32, Gaussian<0>>::new(1);
+    /// ```
+    /// ```compile_fail,E0080
+    /// use sphere_quadrature::footprint::CosinePower;
+    /// use sphere_quadrature::temporal::TemporalProbe;
+    ///
+    /// let _ = TemporalProbe::<64, f32, CosinePower<5000>>::new(1);
+    /// ```
+    /// ```
+    /// use sphere_quadrature::footprint::{CosinePower, Gaussian};
+    /// use sphere_quadrature::temporal::TemporalProbe;
+    ///
+    /// // The extremes of the range compile.
+    /// let _ = TemporalProbe::<64, f32, Gaussian<4096>>::new(1);
+    /// let _ = TemporalProbe::<64, f32, CosinePower<1>>::new(1);
+    /// ```
     #[must_use]
     pub fn new(seed: u64) -> Self {
+        const {
+            assert!(
+                valid_footprint(F::KIND),
+                "TemporalProbe: a footprint's sharpness or exponent must be in 1..=4096"
+            )
+        };
         let mut inverse_gain = [0.0f32; MAX_DEGREE + 1];
         for (l, g) in inverse_gain.iter_mut().enumerate() {
             // Every footprint type has a valid parameter (sealed), so gain() succeeds.
@@ -413,8 +464,10 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             sentinel_noise: [T::ZERO; S],
             sentinel_before: [T::ZERO; S],
             sentinel_suspect: [0; S],
+            scale: 0,
             irradiance_coefficients: [T::ZERO; COEFFICIENTS],
             irradiance_variance: T::ZERO,
+            query_variance: T::ZERO,
             sh: ShL2::ZERO,
             sh_variance: [T::ZERO; 9],
             updates: 0,
@@ -512,28 +565,35 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
     pub fn update(&mut self, samples: &[T; N], sentinels: &[T; S]) -> Result<Change, Error> {
-        let finite = |y: &T| (0..T::CHANNELS).all(|c| y.channel(c).is_finite());
-        if !samples.iter().all(finite) || !sentinels.iter().all(finite) {
-            return Err(Error::InvalidRadiance);
+        let (original_samples, original_sentinels) = (samples, sentinels);
+        let channels = |&y: &T| (0..T::CHANNELS).map(move |c| y.channel(c));
+        let peak = scale::peak_bits(samples.iter().chain(sentinels).flat_map(channels))
+            .ok_or(Error::InvalidRadiance)?;
+        let first = self.weight <= 0.0;
+        // Work in units of the state's scale, rescaled when the samples leave its window.
+        // Samples far below it are taken at it for the change test; if the old evidence is
+        // then dropped, the state restarts at the samples' own scale (`own`).
+        let mut own = None;
+        if peak > 0 {
+            let e = scale::exponent(peak);
+            if first && (e - self.scale).abs() > SCALE_WINDOW {
+                self.scale = e;
+            } else if e - self.scale > SCALE_WINDOW {
+                self.rescale(e);
+            } else if e - self.scale < -SCALE_WINDOW {
+                own = Some(e);
+            }
+        }
+        let (scaled, scaled_sentinels);
+        let (mut samples, mut sentinels) = (samples, sentinels);
+        if self.scale != 0 {
+            scaled = in_units(samples, self.scale);
+            scaled_sentinels = in_units(sentinels, self.scale);
+            (samples, sentinels) = (&scaled, &scaled_sentinels);
         }
         let degree = self.degree;
         let count = (degree + 1) * (degree + 1);
-        let p = self.project(samples);
-        // v₁: the smallest mean square of the top three degrees.
-        let (mut v1, mut v1_test) = (T::ZERO, T::ZERO);
-        let top = (degree - 2).max(1)..=degree;
-        let bands = top.clone().count() as f32;
-        for ch in 0..T::CHANNELS {
-            let (mut least, mut mean) = (f32::INFINITY, 0.0f32);
-            for l in top.clone() {
-                let band = sum_squares(&p[l * l..(l + 1) * (l + 1)]).channel(ch);
-                least = least.min(band / (2 * l + 1) as f32);
-                mean += band / ((2 * l + 1) as f32 * bands);
-            }
-            v1 = set_channel(v1, ch, least);
-            v1_test = set_channel(v1_test, ch, mean);
-        }
-        let first = self.weight <= 0.0;
+        let (mut p, mut v1, mut v1_test) = self.project_with_noise(samples);
         let w = self.weight;
         let mut innovation = [T::ZERO; COEFFICIENTS];
         let (mut log_bf_rotated, mut log_bf_sentinel) = (0.0f32, 0.0f32);
@@ -658,6 +718,15 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             (1.0 - probability) * w
         };
         let keep = if w > 0.0 { kept / w } else { 0.0 };
+        let (restart_samples, restart_sentinels);
+        if let (Some(e), true) = (own, kept <= 0.0) {
+            // The old evidence is dropped and the new is far smaller: restart at its scale.
+            self.restart_at(e);
+            restart_samples = in_units(original_samples, e);
+            restart_sentinels = in_units(original_sentinels, e);
+            sentinels = &restart_sentinels;
+            (p, v1, v1_test) = self.project_with_noise(&restart_samples);
+        }
         if kept > 0.0 {
             let innovation_squares = sum_squares(&innovation[..count]);
             self.scatter =
@@ -716,6 +785,58 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         bf
     }
 
+    /// The projection of this update's samples and its per-update noise estimates `v₁`, the
+    /// smallest mean square of the top three degrees, and `v̄₁`, their mean.
+    fn project_with_noise(&self, samples: &[T; N]) -> ([T; COEFFICIENTS], T, T) {
+        let degree = self.degree;
+        let p = self.project(samples);
+        let (mut v1, mut v1_test) = (T::ZERO, T::ZERO);
+        let top = (degree - 2).max(1)..=degree;
+        let bands = top.clone().count() as f32;
+        for ch in 0..T::CHANNELS {
+            let (mut least, mut mean) = (f32::INFINITY, 0.0f32);
+            for l in top.clone() {
+                let band = sum_squares(&p[l * l..(l + 1) * (l + 1)]).channel(ch);
+                least = least.min(band / (2 * l + 1) as f32);
+                mean += band / ((2 * l + 1) as f32 * bands);
+            }
+            v1 = set_channel(v1, ch, least);
+            v1_test = set_channel(v1_test, ch, mean);
+        }
+        (p, v1, v1_test)
+    }
+
+    /// Rescales the state to units of `2^e` (exact, except for what falls below the normal
+    /// range: the negligible part of the old evidence).
+    fn rescale(&mut self, e: i32) {
+        let (k1, k2) = (self.scale - e, 2 * (self.scale - e));
+        let one = |t: T| t.map(|x| scale::ldexp_saturating(x, k1));
+        let two = |t: T| t.map(|x| scale::ldexp_saturating(x, k2));
+        for s in &mut self.sum {
+            *s = one(*s);
+        }
+        self.scatter = two(self.scatter);
+        self.noise_prior = two(self.noise_prior);
+        self.noise_prior_test = two(self.noise_prior_test);
+        for j in 0..S {
+            self.sentinel_mean[j] = one(self.sentinel_mean[j]);
+            self.sentinel_before[j] = one(self.sentinel_before[j]);
+            self.sentinel_noise[j] = two(self.sentinel_noise[j]);
+        }
+        self.irradiance_variance = two(self.irradiance_variance);
+        self.scale = e;
+    }
+
+    /// Drops the pooled evidence and moves to units of `2^e`; what outlives a reset (the
+    /// sentinels' learned noise and their readings before a suspect change) is rescaled,
+    /// saturating where the new units would overflow it.
+    fn restart_at(&mut self, e: i32) {
+        self.sum = [T::ZERO; COEFFICIENTS];
+        (self.scatter, self.noise_prior, self.noise_prior_test) = (T::ZERO, T::ZERO, T::ZERO);
+        self.sentinel_mean = [T::ZERO; S];
+        self.rescale(e);
+    }
+
     /// The projection of this update's samples: `p₀₀ = √(4π)·Ȳ`,
     /// `p_lm = (4π/N)·Σ (Yⱼ − Ȳ)·Y_lm(xⱼ)`.
     fn project(&self, samples: &[T; N]) -> [T; COEFFICIENTS] {
@@ -754,6 +875,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Recomputes the queries' coefficients from the state.
     fn refresh(&mut self) {
         let w = self.weight;
+        let count = (self.degree + 1) * (self.degree + 1);
         let v = self.noise();
         let mut variance = T::ZERO;
         self.irradiance_coefficients = [T::ZERO; COEFFICIENTS];
@@ -787,6 +909,21 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             }
         }
         self.irradiance_variance = variance;
+        self.query_variance = variance;
+        if self.scale != 0 {
+            let (e, e2) = (self.scale, 2 * self.scale);
+            let one = |t: T| t.map(|x| scale::ldexp(x, e));
+            for c in &mut self.irradiance_coefficients[..count] {
+                *c = one(*c);
+            }
+            for c in &mut self.sh.coefficients {
+                *c = one(*c);
+            }
+            for v in &mut self.sh_variance {
+                *v = v.map(|x| scale::ldexp(x, e2));
+            }
+            self.query_variance = variance.map(|x| scale::ldexp(x, e2));
+        }
     }
 
     /// The accumulated SH L2 radiance: the shrunk, deconvolved coefficients of degrees
@@ -849,8 +986,13 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         for (&c, &b) in self.irradiance_coefficients.iter().zip(&y).take(count) {
             value = value.mul_add(c, b);
         }
-        Ok(Accumulated { value, variance: self.irradiance_variance })
+        Ok(Accumulated { value, variance: self.query_variance })
     }
+}
+
+/// `values` in units of `2^e`.
+fn in_units<T: Radiance, const K: usize>(values: &[T; K], e: i32) -> [T; K] {
+    values.map(|y| y.map(|x| scale::ldexp(x, -e)))
 }
 
 /// `T` with channel `ch` replaced by `x`.
@@ -873,6 +1015,7 @@ fn max_per_channel<T: Radiance>(a: T, b: T) -> T {
 }
 
 mod evidence;
+mod scale;
 pub(crate) use evidence::{gaussian_log_bf, log_odds, logistic};
 
 #[cfg(test)]

@@ -411,3 +411,198 @@ fn a_blurry_footprint_does_not_amplify_aliasing() {
     }
     assert!(total < 0.02, "relative RMSE {total}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// Scale, outliers, long streams.
+
+/// `sky` with a dim region (10⁻¹² of the rest): at `c = 10⁻³⁰` its samples are subnormal.
+fn dim_sky(d: Vec3) -> f32 {
+    if d.z < -0.6 {
+        1e-12 * sky(d)
+    } else {
+        sky(d)
+    }
+}
+
+fn other(d: Vec3) -> f32 {
+    2.0 - 0.8 * d.x + 3.0 * (10.0 * (d.z - 1.0)).exp()
+}
+
+fn off(_: Vec3) -> f32 {
+    0.0
+}
+
+/// A light and the updates it lasts.
+type Stage = (fn(Vec3) -> f32, usize);
+
+/// What one run of a light schedule answered: per update the decision, the effective
+/// updates, and per normal the irradiance and its variance.
+type Run = Vec<(Change, f32, Vec<(f32, f32)>)>;
+
+/// A schedule of lights (static, a switch, a switch-off, a switch back on) scaled by `c`
+/// (each sample `c·Y` rounded once from f64).
+fn scaled_run<const N: usize, const S: usize>(c: f64, seed: u64) -> Run {
+    let schedule: [Stage; 4] = [(dim_sky, 12), (other, 6), (off, 3), (dim_sky, 5)];
+    let normals = normals(8);
+    let mut p = TemporalProbe::<N, f32, sphere_quadrature::footprint::Point, S>::new(seed);
+    let mut out = Vec::new();
+    for (light, updates) in schedule {
+        for _ in 0..updates {
+            let scale = |d: Vec3| (f64::from(light(d)) * c) as f32;
+            let (s, t) = (p.directions().map(scale), p.sentinels().map(scale));
+            let change = p.update(&s, &t).unwrap();
+            let queries = normals
+                .iter()
+                .map(|&n| {
+                    let e = p.irradiance(n).unwrap();
+                    (e.value, e.variance)
+                })
+                .collect();
+            out.push((change, p.effective_updates(), queries));
+        }
+    }
+    out
+}
+
+const F32_MAX: f64 = f32::MAX as f64;
+const F32_TINY: f64 = f32::MIN_POSITIVE as f64;
+
+/// `got` against `want`, relative to `norm ≥ |want|`: within `tol` where `want` is a normal
+/// f32 number, `±∞` above `f32::MAX`, 0 or subnormal below the normal range; never NaN.
+fn check_scaled(got: f32, want: f64, norm: f64, tol: f64, what: &str) {
+    assert!(!got.is_nan(), "{what}: NaN (want {want:e})");
+    let mag = want.abs();
+    if mag > F32_MAX * (1.0 + tol) {
+        assert_eq!(got, f32::INFINITY.copysign(want as f32), "{what}: want {want:e}");
+    } else if norm < F32_TINY * (1.0 - tol) {
+        assert!(got.abs() <= f32::MIN_POSITIVE, "{what}: {got:e}, want {want:e}");
+    } else if mag < F32_MAX * (1.0 - tol) {
+        let rel = (f64::from(got) - want).abs() / norm.max(mag);
+        assert!(rel <= tol, "{what}: {got:e}, want {want:e} (relative {rel:e})");
+    }
+}
+
+fn scale_sweep<const N: usize, const S: usize>(seed: u64) {
+    let base = scaled_run::<N, S>(1.0, seed);
+    // The light switches off at update 18: that is a reset at every scale.
+    let changes: Vec<Change> = base.iter().map(|r| r.0).collect();
+    assert_eq!(changes[18], Change::Reset, "{changes:?}");
+    let mut scales = vec![1e-30, 1e-21, 1e-10, 1e-3, 3.7, 1e3, 1e10, 1e18, 1e30];
+    scales.extend([-100, -60, 60, 100].map(|k| 2f64.powi(k)));
+    for c in scales {
+        let run = scaled_run::<N, S>(c, seed);
+        for (k, (got, want)) in run.iter().zip(&base).enumerate() {
+            let what = format!("N = {N}, S = {S}, c = {c:e}, update {k}");
+            assert_eq!(got.0, want.0, "{what}: decision");
+            assert!(
+                (got.1 - want.1).abs() <= 1e-4 * want.1,
+                "{what}: weight {} vs {}",
+                got.1,
+                want.1
+            );
+            let norm = want.2.iter().map(|q| f64::from(q.0).abs()).fold(0.0, f64::max);
+            for (i, (g, w)) in got.2.iter().zip(&want.2).enumerate() {
+                let what = format!("{what}, normal {i}");
+                check_scaled(g.0, c * f64::from(w.0), c * norm, 1e-5, &format!("{what}: value"));
+                let v = c * c * f64::from(w.1);
+                check_scaled(g.1, v, v, 1e-4, &format!("{what}: variance"));
+                // An error bar is 0 only for an exact answer (the light switched off).
+                if !(18..21).contains(&k) {
+                    assert!(w.1 > 0.0, "{what}: variance 0 at c = 1");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn any_scale_gives_scaled_answers_and_the_same_decisions() {
+    scale_sweep::<16, 0>(21);
+    scale_sweep::<16, 1>(22);
+    scale_sweep::<64, 2>(23);
+}
+
+/// `k` updates of `sky` scaled by `c`, then the light switches off.
+fn switch_off_after<const S: usize>(c: f32, k: usize) -> (Change, f32) {
+    let mut p = TemporalProbe::<16, f32, sphere_quadrature::footprint::Point, S>::new(5);
+    for _ in 0..k {
+        let (s, t) = (p.directions().map(|d| c * sky(d)), p.sentinels().map(|d| c * sky(d)));
+        p.update(&s, &t).unwrap();
+    }
+    let weight = p.effective_updates();
+    (p.update(&[0.0; 16], &[0.0; S]).unwrap(), weight)
+}
+
+#[test]
+fn a_switch_off_is_seen_at_any_brightness_after_many_updates() {
+    for c in [1e-30f32, 1e-21, 1.0, 1e14, 10f32.powf(17.75), 1e30] {
+        for k in [10, 1000] {
+            assert_eq!(
+                switch_off_after::<0>(c, k).0,
+                Change::Reset,
+                "S = 0, c = {c:e}, {k} updates"
+            );
+            assert_eq!(
+                switch_off_after::<1>(c, k).0,
+                Change::Reset,
+                "S = 1, c = {c:e}, {k} updates"
+            );
+        }
+    }
+    for c in [1e-30f32, 10f32.powf(13.75), 1e30] {
+        let (change, weight) = switch_off_after::<1>(c, 100_000);
+        println!("c = {c:e}: {weight} effective updates before the switch");
+        assert_eq!(change, Change::Reset, "S = 1, c = {c:e}, 100 000 updates");
+    }
+}
+
+#[test]
+#[ignore = "10⁶ updates per brightness: about a minute at opt-level 2 (run with --ignored)"]
+fn a_switch_off_is_seen_after_a_million_updates() {
+    for c in [1e-30f32, 1.0, 1e30] {
+        assert_eq!(switch_off_after::<1>(c, 1_000_000).0, Change::Reset, "c = {c:e}");
+        assert_eq!(switch_off_after::<0>(c, 1_000_000).0, Change::Reset, "c = {c:e}");
+    }
+}
+
+fn outlier_run<const S: usize>(
+    outlier: f32,
+) -> TemporalProbe<16, f32, sphere_quadrature::footprint::Point, S> {
+    let mut p = TemporalProbe::<16, f32, sphere_quadrature::footprint::Point, S>::new(8);
+    for k in 0..121 {
+        let (mut s, t) = (p.directions().map(sky), p.sentinels().map(sky));
+        if k == 20 {
+            s[5] = outlier;
+        }
+        p.update(&s, &t).unwrap();
+        for n in normals(8) {
+            let e = p.irradiance(n).unwrap();
+            assert!(!e.value.is_nan() && !e.variance.is_nan(), "S = {S}, update {k}: {e:?}");
+            assert!(e.variance >= 0.0, "S = {S}, update {k}: {e:?}");
+        }
+        let sh = p.radiance_sh();
+        assert!(sh.coefficients.iter().all(|c| !c.is_nan()), "update {k}");
+        assert!(p.radiance_sh_variance().iter().all(|c| !c.is_nan()), "update {k}");
+    }
+    p
+}
+
+#[test]
+fn one_huge_sample_never_makes_a_later_answer_nan() {
+    for outlier in [1e30f32, f32::MAX, -f32::MAX, 1e20] {
+        // The outlier is data: pooled (with a sentinel) or a reset (without), and every later
+        // answer is a number. (Without sentinels the return to ordinary light is not a change
+        // to the innovation, whose noise the outlier inflated: the estimate stays the pooled
+        // mean of the outlier's update and the later ones.)
+        for (s, e) in [
+            (0, outlier_run::<0>(outlier).irradiance(Vec3::Z).unwrap()),
+            (1, outlier_run::<1>(outlier).irradiance(Vec3::Z).unwrap()),
+        ] {
+            println!(
+                "outlier {outlier:e}, S = {s}: E(z) = {:e} ± {:e}",
+                e.value,
+                e.variance.sqrt()
+            );
+        }
+    }
+}
