@@ -92,7 +92,7 @@ impl Reference {
         let v1 = self.v1.iter().sum::<f64>() / k;
         let v = (nu0 * v1 + scatter) / (nu0 + (k - 1.0) * nu0);
         let u = unit(normal);
-        let (mut e, mut var) = (0.0, 0.0);
+        let (mut e, mut var, mut top) = (0.0, 0.0, 0.0f64);
         for l in 0..=self.degree {
             let band: f64 = (l * l..(l + 1) * (l + 1)).map(|i| mean[i] * mean[i]).sum();
             let s = if l == 0 {
@@ -102,6 +102,9 @@ impl Reference {
             } else {
                 0.0
             };
+            if l + 1 >= self.degree {
+                top = top.max(s * band / (2 * l + 1) as f64);
+            }
             let a = clamped_cosine_gain(l);
             var += a * a * s * v / k * (2 * l + 1) as f64 / (4.0 * PI);
             for m in -(l as i64)..=(l as i64) {
@@ -109,7 +112,14 @@ impl Reference {
                 e += a * s * mean[i] * reference::sh::real_sh(l, m, u);
             }
         }
-        (e, var)
+        // The degrees above L at the top two degrees' power per coefficient: their
+        // irradiance's mean square over normals, by Parseval from ∫ max(0, cos θ)² dω = 2π/3.
+        let tail = 2.0 * PI / 3.0
+            - (0..=self.degree)
+                .map(|l| clamped_cosine_gain(l).powi(2) * (2 * l + 1) as f64 / (4.0 * PI))
+                .sum::<f64>();
+        assert!(tail > 0.0 && tail < 0.02, "{tail}");
+        (e, var + top * tail)
     }
 }
 
@@ -604,5 +614,78 @@ fn one_huge_sample_never_makes_a_later_answer_nan() {
                 e.variance.sqrt()
             );
         }
+    }
+}
+
+/// The fraction of `normals × maps` whose irradiance truth lies within 3σ of the probe's
+/// answer after `updates` static updates on each map, the median and the largest |error|/σ.
+fn coverage_on_maps<const N: usize, const S: usize>(
+    maps: &[&str],
+    updates: usize,
+    hazard: f32,
+) -> (f64, f64, f64) {
+    let normals = normals(48);
+    let mut ratios = Vec::new();
+    for (i, name) in maps.iter().enumerate() {
+        let path = format!("{}/examples/envmaps/{name}.hdr", env!("CARGO_MANIFEST_DIR"));
+        let map = reference::envmap::EnvMap::load(&path).unwrap();
+        let light = |d: Vec3| map.radiance(unit(d))[1] as f32;
+        let mut p = TemporalProbe::<N, f32, sphere_quadrature::footprint::Point, S>::new(i as u64)
+            .with_hazard(hazard)
+            .unwrap();
+        for _ in 0..updates {
+            let (s, t) = (p.directions().map(light), p.sentinels().map(light));
+            p.update(&s, &t).unwrap();
+        }
+        let mut within = 0;
+        for &n in &normals {
+            let truth = reference::truth::irradiance(&map, unit(n))[1];
+            let e = p.irradiance(n).unwrap();
+            let r = (f64::from(e.value) - truth).abs() / f64::from(e.variance).sqrt();
+            within += usize::from(r <= 3.0);
+            ratios.push(r);
+        }
+        println!(
+            "{name}, N = {N}, S = {S}, {updates} updates: {} effective, {within}/{} within 3σ",
+            p.effective_updates(),
+            normals.len()
+        );
+    }
+    let inside = ratios.iter().filter(|&&r| r <= 3.0).count() as f64 / ratios.len() as f64;
+    ratios.sort_by(f64::total_cmp);
+    (inside, ratios[ratios.len() / 2], ratios[ratios.len() - 1])
+}
+
+const COVERAGE_MAPS: [&str; 4] = ["apartment", "city", "night", "dawn"];
+
+/// Pooling without forgetting (a hazard of 10⁻¹²): the error bar must cover the error that
+/// no number of updates removes, the degrees above `L`.
+#[test]
+fn after_many_static_updates_the_error_bars_cover() {
+    for (inside, median, worst) in [
+        coverage_on_maps::<16, 1>(&COVERAGE_MAPS, 10_000, 1e-12),
+        coverage_on_maps::<64, 0>(&COVERAGE_MAPS, 10_000, 1e-12),
+    ] {
+        println!(
+            "{:.1} % within 3σ, |error|/σ median {median:.2}, worst {worst:.2}",
+            100.0 * inside
+        );
+        assert!(inside >= 0.99 && worst <= 5.0, "{inside}, worst {worst}");
+    }
+}
+
+#[test]
+#[ignore = "10⁵ updates on four maps, twice: about 15 s at opt-level 2 (run with --ignored)"]
+fn after_a_hundred_thousand_static_updates_the_error_bars_cover() {
+    for (inside, median, worst) in [
+        coverage_on_maps::<16, 1>(&COVERAGE_MAPS, 100_000, 1e-12),
+        coverage_on_maps::<64, 2>(&COVERAGE_MAPS, 100_000, 1e-12),
+        coverage_on_maps::<16, 1>(&COVERAGE_MAPS, 100_000, 1.0 / 64.0),
+    ] {
+        println!(
+            "{:.1} % within 3σ, |error|/σ median {median:.2}, worst {worst:.2}",
+            100.0 * inside
+        );
+        assert!(inside >= 0.99 && worst <= 5.0, "{inside}, worst {worst}");
     }
 }
