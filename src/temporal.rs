@@ -403,6 +403,8 @@ pub struct TemporalProbe<
     prior_log_odds: f32,
     /// `Σ w·p` over the updates, `w` the weight each keeps after the soft resets.
     sum: [T; COEFFICIENTS],
+    /// The rounding error of `sum` (compensated summation: the exact sum is `sum − sum_error`).
+    sum_error: [T; COEFFICIENTS],
     /// `Σ w`.
     weight: f32,
     /// The weighted scatter of the projections about their mean, per channel.
@@ -499,6 +501,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             inverse_gain,
             prior_log_odds: log_odds(DEFAULT_HAZARD),
             sum: [T::ZERO; COEFFICIENTS],
+            sum_error: [T::ZERO; COEFFICIENTS],
             weight: 0.0,
             scatter: T::ZERO,
             dof: 0.0,
@@ -780,8 +783,15 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             self.scatter = T::ZERO;
             self.dof = 0.0;
         }
-        for (s, &pi) in self.sum.iter_mut().zip(&p).take(count) {
-            *s = s.scale(keep).add(pi);
+        // Compensated (Kahan) summation: `sum` stays within an ulp or two of the exact sum
+        // however many updates it pools, `sum_error` holds what its rounding lost.
+        let terms = self.sum.iter_mut().zip(&mut self.sum_error).zip(&p).take(count);
+        for ((s, e), &pi) in terms {
+            let old = s.scale(keep);
+            let y = pi.add(e.scale(-keep));
+            let t = old.add(y);
+            *e = t.add(old.scale(-1.0)).add(y.scale(-1.0));
+            *s = t;
         }
         self.noise_prior = self.noise_prior.scale(keep).add(v1);
         self.noise_prior_test = self.noise_prior_test.scale(keep).add(v1_test);
@@ -856,7 +866,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         let (k1, k2) = (self.scale - e, 2 * (self.scale - e));
         let one = |t: T| t.map(|x| scale::ldexp_saturating(x, k1));
         let two = |t: T| t.map(|x| scale::ldexp_saturating(x, k2));
-        for s in &mut self.sum {
+        for s in self.sum.iter_mut().chain(&mut self.sum_error) {
             *s = one(*s);
         }
         self.scatter = two(self.scatter);
@@ -876,6 +886,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// saturating where the new units would overflow it.
     fn restart_at(&mut self, e: i32) {
         self.sum = [T::ZERO; COEFFICIENTS];
+        self.sum_error = [T::ZERO; COEFFICIENTS];
         (self.scatter, self.noise_prior, self.noise_prior_test) = (T::ZERO, T::ZERO, T::ZERO);
         self.sentinel_mean = [T::ZERO; S];
         self.rescale(e);
