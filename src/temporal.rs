@@ -370,9 +370,9 @@ pub struct Accumulated<T> {
 /// change signal. `T` is `f32` or RGB `[f32; C]`, `F` the samples' footprint
 /// ([`crate::footprint`]). Any `N ≥ 1` works: the probe needs no baked tables.
 ///
-/// It holds its directions and two sets of 81 coefficients per channel (the sums and the
-/// queries'): 3 200 bytes for `N = 64`, RGB, `S = 4`; 1 584 for `N = 64`, one channel, no
-/// sentinels.
+/// It holds its directions and three sets of 81 coefficients per channel (the sums, their
+/// rounding errors and the queries'): 4 248 bytes for `N = 64`, RGB, `S = 4`; 1 920 for
+/// `N = 64`, one channel, no sentinels, on a 64-bit host (a unit test pins both).
 ///
 /// # Examples
 /// ```
