@@ -123,11 +123,13 @@
 //! largest sample strays more than `2^20` from it, so that no square or sum of squares
 //! overflows or underflows; the queries apply `2^e` last. Powers of two are exact: for `c` a
 //! power of two the answers are `c` (`c²`) times bit for bit where they are normal numbers,
-//! and ordinary units never move the scale. Measured (`tests/sh/temporal.rs`): values within
-//! 10⁻⁵ and variances within 10⁻⁴ relative of `c` (`c²`) times the answers at `c = 1`, and
-//! the same decisions, over a schedule with a switch, a switch-off and a switch-on; a
-//! switch-off is a reset at any brightness after 10⁵ updates (and 10⁶, in an ignored test).
-//! A single finite sample of any size leaves no later answer NaN.
+//! and ordinary units never move the scale. Measured (`tests/sh/temporal.rs`, `c` from 10⁻³⁰
+//! to 10³⁰ and `2^±100`, a light with a part 10⁻¹² as bright): values within 9.8·10⁻⁷ and
+//! variances within 4.1·10⁻⁶ relative of `c` (`c²`) times the answers at `c = 1`, and the
+//! same decisions, over a schedule with a switch, a switch-off and a switch-on; a switch-off
+//! is a reset at any brightness after 10⁵ updates (and 10⁶, in an ignored test). A single
+//! finite sample of any size leaves no later answer NaN: it is data, pooled into the mean
+//! with its error bar (`±∞` where that exceeds `f32::MAX`) until the light changes.
 //!
 //! # Bad input
 //! A non-finite sample or sentinel reading: [`Error::InvalidRadiance`], the state and the

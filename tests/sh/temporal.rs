@@ -461,13 +461,16 @@ fn scaled_run<const N: usize, const S: usize>(c: f64, seed: u64) -> Run {
             let scale = |d: Vec3| (f64::from(light(d)) * c) as f32;
             let (s, t) = (p.directions().map(scale), p.sentinels().map(scale));
             let change = p.update(&s, &t).unwrap();
-            let queries = normals
+            let mut queries: Vec<(f32, f32)> = normals
                 .iter()
                 .map(|&n| {
                     let e = p.irradiance(n).unwrap();
                     (e.value, e.variance)
                 })
                 .collect();
+            // The SH export and its variances scale the same way.
+            let sh = p.radiance_sh().coefficients.iter().zip(p.radiance_sh_variance());
+            queries.extend(sh.map(|(&c, &v)| (c, v)));
             out.push((change, p.effective_updates(), queries));
         }
     }
@@ -479,7 +482,7 @@ const F32_TINY: f64 = f32::MIN_POSITIVE as f64;
 
 /// `got` against `want`, relative to `norm ≥ |want|`: within `tol` where `want` is a normal
 /// f32 number, `±∞` above `f32::MAX`, 0 or subnormal below the normal range; never NaN.
-fn check_scaled(got: f32, want: f64, norm: f64, tol: f64, what: &str) {
+fn check_scaled(got: f32, want: f64, norm: f64, tol: f64, what: &str) -> f64 {
     assert!(!got.is_nan(), "{what}: NaN (want {want:e})");
     let mag = want.abs();
     if mag > F32_MAX * (1.0 + tol) {
@@ -489,9 +492,13 @@ fn check_scaled(got: f32, want: f64, norm: f64, tol: f64, what: &str) {
     } else if mag < F32_MAX * (1.0 - tol) {
         let rel = (f64::from(got) - want).abs() / norm.max(mag);
         assert!(rel <= tol, "{what}: {got:e}, want {want:e} (relative {rel:e})");
+        return rel;
     }
+    0.0
 }
 
+/// The schedule at every scale against `c = 1`: values within 10⁻⁵ and variances within 10⁻⁴
+/// relative (measured: 9.8·10⁻⁷ and 4.1·10⁻⁶), the same decisions and effective updates.
 fn scale_sweep<const N: usize, const S: usize>(seed: u64) {
     let base = scaled_run::<N, S>(1.0, seed);
     // The light switches off at update 18: that is a reset at every scale.
@@ -499,6 +506,7 @@ fn scale_sweep<const N: usize, const S: usize>(seed: u64) {
     assert_eq!(changes[18], Change::Reset, "{changes:?}");
     let mut scales = vec![1e-30, 1e-21, 1e-10, 1e-3, 3.7, 1e3, 1e10, 1e18, 1e30];
     scales.extend([-100, -60, 60, 100].map(|k| 2f64.powi(k)));
+    let mut worst = (0.0f64, 0.0f64);
     for c in scales {
         let run = scaled_run::<N, S>(c, seed);
         for (k, (got, want)) in run.iter().zip(&base).enumerate() {
@@ -513,16 +521,22 @@ fn scale_sweep<const N: usize, const S: usize>(seed: u64) {
             let norm = want.2.iter().map(|q| f64::from(q.0).abs()).fold(0.0, f64::max);
             for (i, (g, w)) in got.2.iter().zip(&want.2).enumerate() {
                 let what = format!("{what}, normal {i}");
-                check_scaled(g.0, c * f64::from(w.0), c * norm, 1e-5, &format!("{what}: value"));
+                let value = f64::from(w.0);
+                worst.0 = worst.0.max(check_scaled(g.0, c * value, c * norm, 1e-5, &what));
                 let v = c * c * f64::from(w.1);
-                check_scaled(g.1, v, v, 1e-4, &format!("{what}: variance"));
-                // An error bar is 0 only for an exact answer (the light switched off).
-                if !(18..21).contains(&k) {
+                worst.1 = worst.1.max(check_scaled(g.1, v, v, 1e-4, &format!("{what}: variance")));
+                // An irradiance error bar is 0 only for an exact answer (the light switched
+                // off).
+                if i < 8 && !(18..21).contains(&k) {
                     assert!(w.1 > 0.0, "{what}: variance 0 at c = 1");
                 }
             }
         }
     }
+    println!(
+        "N = {N}, S = {S}: worst relative difference {:.1e} (values), {:.1e} (variances)",
+        worst.0, worst.1
+    );
 }
 
 #[test]
@@ -675,7 +689,7 @@ fn after_many_static_updates_the_error_bars_cover() {
 }
 
 #[test]
-#[ignore = "10⁵ updates on four maps, twice: about 15 s at opt-level 2 (run with --ignored)"]
+#[ignore = "10⁵ updates on four maps, three times: about 15 s at opt-level 2 (run with --ignored)"]
 fn after_a_hundred_thousand_static_updates_the_error_bars_cover() {
     for (inside, median, worst) in [
         coverage_on_maps::<16, 1>(&COVERAGE_MAPS, 100_000, 1e-12),
