@@ -119,11 +119,13 @@
 //! times the answer for `Y`, and every decision ([`Change`], the effective updates) is the
 //! same, for `c` from 10⁻³⁰ to 10³⁰ (subnormal samples included; `±∞` only where the answer
 //! itself exceeds `f32::MAX`, 0 or subnormal where it is below the normal range). The state
-//! is kept in units of a power of two `2^e` (channels together), moved when an update's
-//! largest sample strays more than `2^20` from it, so that no square or sum of squares
-//! overflows or underflows; the queries apply `2^e` last. Powers of two are exact: for `c` a
-//! power of two the answers are `c` (`c²`) times bit for bit where they are normal numbers,
-//! and ordinary units never move the scale. Measured (`tests/sh/temporal.rs`, `c` from 10⁻³⁰
+//! is kept in units of a power of two `2^e` (channels together), moved to an update's largest
+//! sample when that is more than `2^20` above it, or more than `2^20` below it at a reset
+//! (the old evidence dropped), so that no square or sum of squares overflows or underflows;
+//! the queries apply `2^e` last. Powers of two are exact: for `c` a
+//! power of two the answers are `c` (`c²`) times bit for bit where they are normal numbers.
+//! Samples whose largest magnitude stays within `2^±20` of 1 never move the scale from 1
+//! (and pay for no rescaling). Measured (`tests/sh/temporal.rs`, `c` from 10⁻³⁰
 //! to 10³⁰ and `2^±100`, a light with a part 10⁻¹² as bright): values within 9.8·10⁻⁷ and
 //! variances within 4.1·10⁻⁶ relative of `c` (`c²`) times the answers at `c = 1`, and the
 //! same decisions, over a schedule with a switch, a switch-off and a switch-on; a switch-off

@@ -522,6 +522,11 @@ fn scale_sweep<const N: usize, const S: usize>(seed: u64) {
             for (i, (g, w)) in got.2.iter().zip(&want.2).enumerate() {
                 let what = format!("{what}, normal {i}");
                 let value = f64::from(w.0);
+                let exact = (c * value) as f32;
+                if c.log2().fract() == 0.0 && exact.is_normal() {
+                    // A power of two scales every intermediate exactly.
+                    assert_eq!(g.0, exact, "{what}: not bit for bit");
+                }
                 worst.0 = worst.0.max(check_scaled(g.0, c * value, c * norm, 1e-5, &what));
                 let v = c * c * f64::from(w.1);
                 worst.1 = worst.1.max(check_scaled(g.1, v, v, 1e-4, &format!("{what}: variance")));
