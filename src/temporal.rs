@@ -32,9 +32,12 @@
 //!   estimate becomes the unbiased projection.
 //! - **Queries.** Irradiance `E(n) = Σ_l A_l·s_l·Σ_m p̄_lm·Y_lm(n)/g_l` with the clamped
 //!   cosine's gains `A_l` (only `l = 0, 1` and even `l` contribute), and its variance, the
-//!   same for every normal: the aliasing left after pooling,
-//!   `Σ_l (A_l/g_l)²·s_l·(v/k)·(2l + 1)/(4π)`, plus a floor for the degrees above `L`, which
-//!   are not in the state and which no number of updates removes: `T_L·P̂` with
+//!   same for every normal: `Σ_l (A_l/g_l)²·(2l + 1)/(4π)·e_l` with `e_l` the error of one
+//!   shrunk coefficient, `s_l·(v/k)` from the aliasing left after pooling plus
+//!   `(1 − s_l)²·Σ_m p̄_lm²/(2l + 1)` from the shrinkage (so that a degree damped to zero
+//!   keeps an error bar; [`TemporalProbe::radiance_sh_variance`] is `e_l/g_l²` of the
+//!   degrees `l ≤ 2`), plus a floor for the degrees above `L`, which are not in the state and which
+//!   no number of updates removes: `T_L·P̂` with
 //!   `T_L = Σ_{l > L} A_l²·(2l + 1)/(4π)` (`4.1·10⁻³` at `L = 4`, `7.8·10⁻⁴` at `L = 8`) and
 //!   `P̂` the largest power per coefficient `s_l·Σ_m p̄_lm²/(g_l²·(2l + 1))` of the degrees
 //!   `L − 1` and `L` (the mean square over normals of the truncated irradiance of a light
@@ -942,7 +945,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         let w = self.weight;
         let count = (self.degree + 1) * (self.degree + 1);
         let v = self.noise();
-        let mut variance = T::ZERO;
+        let (mut variance, mut reported) = (T::ZERO, T::ZERO);
         // The largest power per coefficient of the top two degrees, shrunk and deconvolved.
         let mut top_power = T::ZERO;
         self.irradiance_coefficients = [T::ZERO; COEFFICIENTS];
@@ -970,19 +973,29 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             }
             let term = shrink.mul(v).scale(a * a / w * (2 * l + 1) as f32 / (4.0 * PI));
             variance = variance.add(term);
+            // The error of a shrunk coefficient: s·v/k from the aliasing and (1 − s)²·c² from
+            // the shrinkage, c² bounded by the degree's mean square (so that a degree damped
+            // to zero keeps an error bar).
+            let damped = T::ONE.add(shrink.scale(-1.0));
+            let error = shrink
+                .mul(v)
+                .scale(1.0 / w)
+                .add(damped.mul(damped).mul(band).scale(1.0 / (2 * l + 1) as f32));
+            reported = reported.add(error.scale(a * a * (2 * l + 1) as f32 / (4.0 * PI)));
             for i in range.clone() {
                 let c = self.sum[i].scale(1.0 / w).mul(shrink);
                 self.irradiance_coefficients[i] = c.scale(a);
                 if l <= 2 {
                     self.sh.coefficients[i] = c.scale(g);
-                    self.sh_variance[i] = shrink.mul(v).scale(g * g / w);
+                    self.sh_variance[i] = error.scale(g * g);
                 }
             }
         }
+        // (The change test's tolerance takes the aliasing term alone.)
         self.irradiance_variance = variance;
         // The degrees above L are not in the state: their irradiance, at the power per
         // coefficient of the top degrees, is an error that no number of updates removes.
-        self.query_variance = variance.add(top_power.scale(TRUNCATION[self.degree]));
+        self.query_variance = reported.add(top_power.scale(TRUNCATION[self.degree]));
         if self.scale != 0 {
             let (e, e2) = (self.scale, 2 * self.scale);
             let one = |t: T| t.map(|x| scale::ldexp(x, e));
@@ -1006,7 +1019,9 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         &self.sh
     }
 
-    /// The variance of each coefficient of [`TemporalProbe::radiance_sh`].
+    /// The variance of each coefficient of [`TemporalProbe::radiance_sh`]: the aliasing left
+    /// after pooling and the shrinkage's error (module docs); 0 only before the first update
+    /// or where the degree's projections are exactly zero.
     #[must_use]
     pub const fn radiance_sh_variance(&self) -> &[T; 9] {
         &self.sh_variance

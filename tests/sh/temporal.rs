@@ -106,7 +106,10 @@ impl Reference {
                 top = top.max(s * band / (2 * l + 1) as f64);
             }
             let a = clamped_cosine_gain(l);
+            // Aliasing, s·v/k per coefficient, and shrinkage, (1 − s)² times the degree's
+            // mean square.
             var += a * a * s * v / k * (2 * l + 1) as f64 / (4.0 * PI);
+            var += a * a * (1.0 - s).powi(2) * band / (4.0 * PI);
             for m in -(l as i64)..=(l as i64) {
                 let i = ((l * (l + 1)) as i64 + m) as usize;
                 e += a * s * mean[i] * reference::sh::real_sh(l, m, u);
@@ -769,4 +772,33 @@ fn a_static_bright_map_pools_without_sentinels() {
         println!("{name}: {pooled:?}");
         assert!(pooled.iter().all(|&w| w >= least), "{name}: {pooled:?}");
     }
+}
+
+/// A light whose degree 1 is far below the aliasing noise: the James–Stein factor damps it
+/// to zero, and its error bar must still not be 0 (the true coefficient of `z` is not).
+#[test]
+fn a_damped_degree_keeps_an_error_bar() {
+    // Two antipodal lobes: even degrees only, and aliasing; degree 1 is the weak 0.002·z.
+    let lobe = |t: f32| 2.0 * (40.0 * (t - 1.0)).exp();
+    let axis = Vec3::new(0.0, 0.6, 0.8);
+    let light = move |d: Vec3| 1.0 + 0.002 * d.z + lobe(d.dot(axis)) + lobe(-d.dot(axis));
+    let mut damped = 0;
+    for seed in 0..8 {
+        let mut p = TemporalProbe::<16>::new(seed);
+        for k in 0..4 {
+            p.update(&p.directions().map(light), &[]).unwrap();
+            let (sh, var) = (p.radiance_sh().coefficients, p.radiance_sh_variance());
+            for i in 1..9 {
+                damped += usize::from(sh[i] == 0.0);
+                assert!(
+                    var[i] > 0.0,
+                    "seed {seed}, update {k}, coefficient {i}: {} ± {}",
+                    sh[i],
+                    var[i]
+                );
+            }
+        }
+    }
+    println!("{damped} coefficients damped to 0");
+    assert!(damped > 0);
 }
