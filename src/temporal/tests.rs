@@ -3,6 +3,53 @@
 use super::*;
 
 #[test]
+fn the_truncation_table_is_its_f64_value_rounded_once() {
+    // A_l in f64: π, 2π/3, then 2π·(−1)^(l/2+1)/((l + 2)(l − 1))·l!/(2^l·((l/2)!)²) for even l.
+    let gain = |l: usize| -> f64 {
+        let pi = core::f64::consts::PI;
+        match l {
+            0 => pi,
+            1 => 2.0 * pi / 3.0,
+            _ if l % 2 == 1 => 0.0,
+            _ => {
+                let mut f = 1.0;
+                for j in 1..=l / 2 {
+                    f *= (l / 2 + j) as f64 / (4 * j) as f64;
+                }
+                let sign = if (l / 2) % 2 == 0 { -1.0 } else { 1.0 };
+                2.0 * pi * sign / ((l + 2) as f64 * (l as f64 - 1.0)) * f
+            }
+        }
+    };
+    for (l, &a) in IRRADIANCE_GAIN.iter().enumerate() {
+        assert!((f64::from(a) - gain(l)).abs() < 1e-7, "A_{l}");
+    }
+    // ∫ max(0, cos θ)² dω = 2π/3 = Σ_l A_l²·(2l + 1)/(4π) (Parseval).
+    let mut tail = 2.0 * core::f64::consts::PI / 3.0;
+    for (l, &t) in TRUNCATION.iter().enumerate() {
+        tail -= gain(l) * gain(l) * (2 * l + 1) as f64 / (4.0 * core::f64::consts::PI);
+        assert_eq!(t, tail as f32, "L = {l}");
+    }
+    // And the tail summed directly (to degree 2000, where it is below 10⁻¹⁰ of T₈).
+    let direct: f64 = (9..=2000)
+        .map(|l| {
+            // (Stirling-free: the ratio A_{l+2}/A_l from the closed form, in logs.)
+            let mut log = 0.0f64;
+            for j in 1..=l / 2 {
+                log += ((l / 2 + j) as f64 / (4 * j) as f64).ln();
+            }
+            let a = if l % 2 == 1 {
+                0.0
+            } else {
+                2.0 * core::f64::consts::PI / ((l + 2) as f64 * (l as f64 - 1.0)) * log.exp()
+            };
+            a * a * (2 * l + 1) as f64 / (4.0 * core::f64::consts::PI)
+        })
+        .sum();
+    assert!((direct / f64::from(TRUNCATION[8]) - 1.0).abs() < 1e-6, "{direct}");
+}
+
+#[test]
 fn the_recurrence_tables_are_their_f64_values_rounded_once() {
     let mut acc = 1.0 / (4.0 * core::f64::consts::PI);
     for (m, &q) in SECTORAL.iter().enumerate() {
@@ -82,4 +129,13 @@ fn the_basis_is_the_textbook_real_harmonics() {
             }
         }
     }
+}
+
+#[test]
+fn the_state_size_is_pinned() {
+    // The sums, their compensation and the queries' coefficients: three sets of 81 per
+    // channel, beside the directions.
+    use crate::footprint::Point;
+    assert_eq!(core::mem::size_of::<TemporalProbe<64, [f32; 3], Point, 4>>(), 4248);
+    assert_eq!(core::mem::size_of::<TemporalProbe<64>>(), 1920);
 }
