@@ -633,7 +633,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         // then dropped, the state restarts at the samples' own scale (`own`).
         let mut own = None;
         if peak > 0 {
-            let e = scale::exponent(peak);
+            let e = math::binade(f32::from_bits(peak));
             if first && (e - self.scale).abs() > SCALE_WINDOW {
                 self.scale = e;
             } else if e - self.scale > SCALE_WINDOW {
@@ -998,17 +998,19 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         self.query_variance = reported.add(top_power.scale(TRUNCATION[self.degree]));
         if self.scale != 0 {
             let (e, e2) = (self.scale, 2 * self.scale);
-            let one = |t: T| t.map(|x| scale::ldexp(x, e));
+            let one = |t: T| t.map(|x| math::ldexp(x, e));
             for c in &mut self.irradiance_coefficients[..count] {
                 *c = one(*c);
             }
             for c in &mut self.sh.coefficients {
                 *c = one(*c);
             }
+            // A positive variance below the least positive f32 is rounded up to it, never
+            // to 0.
             for v in &mut self.sh_variance {
-                *v = v.map(|x| scale::ldexp(x, e2));
+                *v = v.map(|x| math::ldexp_variance(x, e2));
             }
-            self.query_variance = self.query_variance.map(|x| scale::ldexp(x, e2));
+            self.query_variance = self.query_variance.map(|x| math::ldexp_variance(x, e2));
         }
     }
 
@@ -1080,7 +1082,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
 
 /// `values` in units of `2^e`.
 fn in_units<T: Radiance, const K: usize>(values: &[T; K], e: i32) -> [T; K] {
-    values.map(|y| y.map(|x| scale::ldexp(x, -e)))
+    values.map(|y| y.map(|x| math::ldexp(x, -e)))
 }
 
 /// `T` with channel `ch` replaced by `x`.

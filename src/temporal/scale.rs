@@ -1,5 +1,7 @@
-//! Powers of two for the state's running scale: exact rescaling of f32 values by `2^k` for
-//! any `k`, in at most two steps where `2^k` itself is not an f32.
+//! The state's running scale: the largest sample's bits, and saturating rescaling by `2^k`
+//! (the powers of two themselves are [`crate::math`]'s).
+
+use crate::math;
 
 /// The largest `|x|` of `values`, as the bits of `|x|` (f32 magnitudes order as their bits);
 /// `None` if one is not finite.
@@ -15,38 +17,9 @@ pub(super) fn peak_bits(values: impl Iterator<Item = f32>) -> Option<u32> {
     Some(peak)
 }
 
-/// `⌊log₂ |x|⌋` for the nonzero finite f32 whose magnitude has the bits `bits`.
-pub(super) fn exponent(bits: u32) -> i32 {
-    let biased = (bits >> 23) as i32;
-    if biased == 0 {
-        // Subnormal: m·2^−149 with m < 2^23.
-        (31 - bits.leading_zeros() as i32) - 149
-    } else {
-        biased - 127
-    }
-}
-
-/// `2^k` for `k` in `[−126, 127]`.
-fn pow2(k: i32) -> f32 {
-    f32::from_bits(((k + 127) as u32) << 23)
-}
-
-/// `x·2^k`, rounded once where the result is a normal number (`±∞` above `f32::MAX`).
-pub(super) fn ldexp(x: f32, k: i32) -> f32 {
-    if (-126..=127).contains(&k) {
-        return x * pow2(k);
-    }
-    // Three factors of the same direction: the intermediates lie between x and the result,
-    // so they stay normal when both ends are (and then every step is exact).
-    let k = k.clamp(-280, 280);
-    let a = k / 3;
-    let b = (k - a) / 2;
-    x * pow2(a) * pow2(b) * pow2(k - a - b)
-}
-
-/// [`ldexp`], finite: `±f32::MAX` where `x·2^k` would overflow.
+/// [`math::ldexp`], finite: `±f32::MAX` where `x·2^k` would overflow.
 pub(super) fn ldexp_saturating(x: f32, k: i32) -> f32 {
-    let y = ldexp(x, k);
+    let y = math::ldexp(x, k);
     if y.is_infinite() {
         f32::MAX.copysign(y)
     } else {
@@ -57,6 +30,11 @@ pub(super) fn ldexp_saturating(x: f32, k: i32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::{binade, ldexp};
+
+    fn exponent(bits: u32) -> i32 {
+        binade(f32::from_bits(bits))
+    }
 
     #[test]
     fn exponents_and_powers_of_two_are_exact() {

@@ -388,26 +388,31 @@ fn renderer_non_finite_lookups_are_refused() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Probes: N samples (or readings) in, queries out.
+// Probes: N samples (or readings) in, queries out; streams of them.
 
 use sphere_quadrature::footprint::{CosinePower, Footprint as SampleFootprint, Gaussian, Point};
 use sphere_quadrature::probe::{Probe, ProbeTables};
+use sphere_quadrature::temporal::TemporalProbe;
 
-/// What the suite asks of a probe: where it samples, how it takes one value per direction
-/// (replacing its data), and its queries with their error bars.
+/// What the suite asks of a probe: where it samples, how it takes one value per direction,
+/// and its queries with their error bars. A query the type does not have is `None`.
 trait Estimator: Sized {
     const NAME: &'static str;
+    /// Updates of one stream in the scale sweep (1 for a probe that replaces its data).
+    const UPDATES: usize;
     fn fresh() -> Self;
-    /// The directions the samples are taken in, in order.
+    /// The directions the next update's samples are taken in, in order.
     fn sample_directions(&self) -> Vec<Vec3>;
-    /// Replaces the data.
-    fn update(&mut self, y: &[f32]) -> Result<(), Error>;
+    /// Takes one value per direction; what it decided (a member, a reset).
+    fn update(&mut self, y: &[f32]) -> Result<String, Error>;
     fn irradiance(&self, n: Vec3) -> Result<Estimate<f32>, Error>;
     /// The exact variance at one normal.
-    fn irradiance_variance(&self, n: Vec3) -> Result<f32, Error>;
-    fn phong(&self, axis: Vec3, e: f32) -> Result<Estimate<f32>, Error>;
-    /// What the data decided (a member, a reset): the same at every scale.
-    fn decision(&self) -> String;
+    fn irradiance_variance(&self, _n: Vec3) -> Option<Result<f32, Error>> {
+        None
+    }
+    fn phong(&self, _axis: Vec3, _e: f32) -> Option<Result<Estimate<f32>, Error>> {
+        None
+    }
     /// The whole state, to check that a refused call left it as it was.
     fn state(&self) -> String;
 }
@@ -421,26 +426,50 @@ where
     Size<N>: ProbeTables<F>,
 {
     const NAME: &'static str = "Probe";
+    const UPDATES: usize = 1;
     fn fresh() -> Self {
         Self(Probe::new())
     }
     fn sample_directions(&self) -> Vec<Vec3> {
         self.0.directions().to_vec()
     }
-    fn update(&mut self, y: &[f32]) -> Result<(), Error> {
-        self.0.update(&array::<N>(y))
+    fn update(&mut self, y: &[f32]) -> Result<String, Error> {
+        self.0.update(&array::<N>(y))?;
+        Ok(format!("member {}", self.0.selected()))
     }
     fn irradiance(&self, n: Vec3) -> Result<Estimate<f32>, Error> {
         self.0.irradiance(n)
     }
-    fn irradiance_variance(&self, n: Vec3) -> Result<f32, Error> {
-        self.0.irradiance_variance(n)
+    fn irradiance_variance(&self, n: Vec3) -> Option<Result<f32, Error>> {
+        Some(self.0.irradiance_variance(n))
     }
-    fn phong(&self, axis: Vec3, e: f32) -> Result<Estimate<f32>, Error> {
-        self.0.phong(axis, e)
+    fn phong(&self, axis: Vec3, e: f32) -> Option<Result<Estimate<f32>, Error>> {
+        Some(self.0.phong(axis, e))
     }
-    fn decision(&self) -> String {
-        format!("member {}", self.0.selected())
+    fn state(&self) -> String {
+        format!("{:?}", self.0)
+    }
+}
+
+/// A temporal probe's stream: `N` rotated directions then `S` sentinels per update.
+struct Stream<const N: usize, F: SampleFootprint, const S: usize>(TemporalProbe<N, f32, F, S>);
+
+impl<const N: usize, F: SampleFootprint, const S: usize> Estimator for Stream<N, F, S> {
+    const NAME: &'static str = "TemporalProbe";
+    const UPDATES: usize = 6;
+    fn fresh() -> Self {
+        Self(TemporalProbe::new(5))
+    }
+    fn sample_directions(&self) -> Vec<Vec3> {
+        self.0.directions().iter().chain(self.0.sentinels()).copied().collect()
+    }
+    fn update(&mut self, y: &[f32]) -> Result<String, Error> {
+        let change = self.0.update(&array::<N>(y), &array::<S>(&y[N..]))?;
+        Ok(format!("{change:?}"))
+    }
+    fn irradiance(&self, n: Vec3) -> Result<Estimate<f32>, Error> {
+        let a = self.0.irradiance(n)?;
+        Ok(Estimate { value: a.value, variance: a.variance, unit_variance: f32::NAN })
     }
     fn state(&self) -> String {
         format!("{:?}", self.0)
@@ -465,33 +494,60 @@ fn answers<E: Estimator>(p: &E) -> (Vec<f64>, Vec<f64>) {
         let e = p.irradiance(n).unwrap();
         values.push(f64::from(e.value));
         variances.push(f64::from(e.variance));
-        variances.push(f64::from(p.irradiance_variance(n).unwrap()));
+        if let Some(v) = p.irradiance_variance(n) {
+            variances.push(f64::from(v.unwrap()));
+        }
         for ex in [0.0, 1.0, 20.0, 1000.0] {
-            let e = p.phong(n, ex).unwrap();
-            values.push(f64::from(e.value));
-            variances.push(f64::from(e.variance));
+            if let Some(e) = p.phong(n, ex) {
+                let e = e.unwrap();
+                values.push(f64::from(e.value));
+                variances.push(f64::from(e.variance));
+            }
         }
     }
     (values, variances)
+}
+
+/// The light of update `k` of a stream at scale `c`: the same light for the first updates,
+/// then a fifth of it (a change every type must see the same way at every scale).
+fn stream_light(k: usize, updates: usize, d: Vec3) -> f64 {
+    if updates > 1 && k + 2 >= updates {
+        0.2 * light(d)
+    } else {
+        light(d)
+    }
+}
+
+/// A stream of [`Estimator::UPDATES`] updates at scale `c`, each value moved by `ulp` ulps
+/// at random when `rng` is given: the probe and its decisions.
+fn run_stream<E: Estimator>(c: f64, mut rng: Option<&mut Rng>) -> (E, Vec<String>) {
+    let mut p = E::fresh();
+    let mut decisions = Vec::new();
+    for k in 0..E::UPDATES {
+        let y: Vec<f64> =
+            p.sample_directions().iter().map(|&d| stream_light(k, E::UPDATES, d) * c).collect();
+        let y32 = match rng.as_deref_mut() {
+            Some(rng) => ulp_moved(&y, rng),
+            None => y.iter().map(|&v| v as f32).collect(),
+        };
+        decisions.push(p.update(&y32).unwrap());
+    }
+    (p, decisions)
 }
 
 /// Samples `c·Y` give `c` times every value and `c²` times every variance (to f32 rounding;
 /// exactly for powers of two), `±∞` only beyond `f32::MAX`, never NaN, no variance 0 where the
 /// unscaled one is not, and the same decisions.
 fn probe_answers_scale<E: Estimator>() {
-    let mut p = E::fresh();
-    let y: Vec<f64> = p.sample_directions().iter().map(|&d| light(d)).collect();
-    p.update(&y.iter().map(|&v| v as f32).collect::<Vec<_>>()).unwrap();
+    let (p, decisions) = run_stream::<E>(1.0, None);
     let (values, variances) = answers(&p);
-    let decision = p.decision();
     // A decimal scale rounds every sample anew: each answer moves by as much as it does under
     // one-ulp changes of the samples (measured here) on top of the stated tolerance.
     let mut rng = Rng::new(10);
     let mut spread_values = vec![0.0f64; values.len()];
     let mut spread_variances = vec![0.0f64; variances.len()];
     for _ in 0..8 {
-        let mut q = E::fresh();
-        q.update(&ulp_moved(&y, &mut rng)).unwrap();
+        let (q, _) = run_stream::<E>(1.0, Some(&mut rng));
         let (v, w) = answers(&q);
         for (s, (a, b)) in spread_values.iter_mut().zip(v.iter().zip(&values)) {
             *s = s.max((a - b).abs() / b.abs().max(f64::MIN_POSITIVE));
@@ -501,26 +557,28 @@ fn probe_answers_scale<E: Estimator>() {
         }
     }
     let top = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let smallest = {
+        let p = E::fresh();
+        p.sample_directions().iter().map(|&d| 0.2 * light(d)).fold(f64::MAX, f64::min)
+    };
     for c in scales() {
-        let mut q = E::fresh();
-        q.update(&y.iter().map(|&v| (v * c) as f32).collect::<Vec<_>>()).unwrap();
+        let (q, got_decisions) = run_stream::<E>(c, None);
         let what = format!("{} c = {c:e}", E::NAME);
         let exact = c.log2().fract() == 0.0;
-        let subnormal = y.iter().any(|&v| v * c < TINY);
+        let subnormal = smallest * c < TINY;
         let (tol_value, tol_variance) = match (exact, subnormal) {
             (_, true) => (1e-3, 1e-2),
             (true, false) => (1e-6, 1e-6),
             (false, false) => (1e-5, 1e-4),
         };
-        assert_eq!(q.decision(), decision, "{what}: decision");
+        assert_eq!(got_decisions, decisions, "{what}: decisions");
         let (vq, wq) = answers(&q);
         for (i, (&got, &want)) in vq.iter().zip(&values).enumerate() {
             // Values near zero are as accurate as the others in absolute terms.
             let want_c = want * c;
             if (want.abs() / top) < 1e-3 {
                 assert!(
-                    !(got as f32).is_nan()
-                        && (got - want_c).abs() <= 1e-3 * top * c.max(0.0) + TINY,
+                    !(got as f32).is_nan() && (got - want_c).abs() <= 1e-3 * top * c + TINY,
                     "{what} value {i}: {got:e}, want {want_c:e}"
                 );
             } else {
@@ -541,14 +599,16 @@ fn probe_answers_scale_with_the_input() {
     probe_answers_scale::<PointProbe<64, Point>>();
     probe_answers_scale::<PointProbe<64, Gaussian<8>>>();
     probe_answers_scale::<PointProbe<16, CosinePower<1>>>();
+    probe_answers_scale::<Stream<16, Point, 1>>();
+    probe_answers_scale::<Stream<64, Point, 0>>();
+    probe_answers_scale::<Stream<32, Gaussian<4>, 2>>();
 }
 
 /// The bad-input table: each cause gives its one error, and a refused call (or any query)
 /// leaves the state exactly as it was.
 fn probe_bad_input<E: Estimator>() {
-    let mut p = E::fresh();
+    let (mut p, _) = run_stream::<E>(1.0, None);
     let y: Vec<f32> = p.sample_directions().iter().map(|&d| light(d) as f32).collect();
-    p.update(&y).unwrap();
     let before = p.state();
     for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
         for at in [0, y.len() / 2, y.len() - 1] {
@@ -571,27 +631,28 @@ fn probe_bad_input<E: Estimator>() {
     ];
     for d in bad_directions {
         assert_eq!(p.irradiance(d), Err(Error::InvalidDirection), "{} normal {d:?}", E::NAME);
-        assert_eq!(
-            p.irradiance_variance(d),
-            Err(Error::InvalidDirection),
-            "{} normal {d:?}",
-            E::NAME
-        );
-        assert_eq!(p.phong(d, 10.0), Err(Error::InvalidDirection), "{} axis {d:?}", E::NAME);
+        if let Some(v) = p.irradiance_variance(d) {
+            assert_eq!(v, Err(Error::InvalidDirection), "{} normal {d:?}", E::NAME);
+        }
+        if let Some(g) = p.phong(d, 10.0) {
+            assert_eq!(g, Err(Error::InvalidDirection), "{} axis {d:?}", E::NAME);
+        }
     }
     for e in [-1.0, -f32::MIN_POSITIVE, f32::NAN, f32::INFINITY, 2e8] {
-        assert_eq!(p.phong(Vec3::Z, e), Err(Error::InvalidExponent), "{} exponent {e}", E::NAME);
+        if let Some(g) = p.phong(Vec3::Z, e) {
+            assert_eq!(g, Err(Error::InvalidExponent), "{} exponent {e}", E::NAME);
+        }
     }
     // The exponents every type takes: 0 to 10⁸.
     for e in [0.0, 1e-30, 1.0, 20.0, 5000.0, 1e6, 1e8] {
-        let g = p
-            .phong(Vec3::new(0.3, 0.4, 0.8), e)
-            .unwrap_or_else(|err| panic!("{} e = {e}: {err}", E::NAME));
-        assert!(
-            g.value.is_finite() && g.variance.is_finite() && g.variance >= 0.0,
-            "{} e = {e}: {g:?}",
-            E::NAME
-        );
+        if let Some(g) = p.phong(Vec3::new(0.3, 0.4, 0.8), e) {
+            let g = g.unwrap_or_else(|err| panic!("{} e = {e}: {err}", E::NAME));
+            assert!(
+                g.value.is_finite() && g.variance.is_finite() && g.variance >= 0.0,
+                "{} e = {e}: {g:?}",
+                E::NAME
+            );
+        }
     }
     assert_eq!(p.state(), before, "{}: a query changed the state", E::NAME);
 }
@@ -601,6 +662,8 @@ fn probe_bad_input_is_refused_and_leaves_the_state() {
     probe_bad_input::<PointProbe<16, Point>>();
     probe_bad_input::<PointProbe<64, Gaussian<8>>>();
     probe_bad_input::<PointProbe<16, CosinePower<1>>>();
+    probe_bad_input::<Stream<16, Point, 1>>();
+    probe_bad_input::<Stream<64, CosinePower<1>, 0>>();
 }
 
 // ---------------------------------------------------------------------------------------------
