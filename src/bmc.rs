@@ -287,6 +287,7 @@ where
     /// # Errors
     /// [`Error::InvalidRadiance`] for a NaN or infinite sample.
     pub fn estimate<T: Radiance>(&self, samples: &[T; N]) -> Result<T, Error> {
+        let () = crate::radiance::Channels::<T>::VALID;
         let sum =
             samples.iter().zip(Self::WEIGHTS).fold(T::ZERO, |acc, (&y, &w)| acc.mul_add(y, w));
         let sum = if scaled::in_range(sum) {

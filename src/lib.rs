@@ -128,15 +128,36 @@
 //! [`probe::Probe::set_rotation`]) anything else is refused with [`Error::InvalidRotation`].
 //! The crate's own rotations ([`RotationSequence`], [`Mat3::from_quaternion`], …) are valid.
 //!
-//! # Bad input
-//! No function panics on data the caller passes. Zero, NaN or infinite directions give
-//! [`Error::InvalidDirection`] (see [Directions](#directions)); negative, NaN or infinite Phong exponents give
-//! [`Error::InvalidExponent`]; negative, NaN or infinite SG sharpness gives
-//! [`Error::InvalidSharpness`]; `N = 0` is a compile-time error for the const-generic sets and
-//! [`Error::InvalidSize`] for run-time sizes; NaN radiance propagates to a NaN estimate.
-//! Finite radiance of any size is good input: the probe and the QMC estimators scale with it
-//! and return `±∞` only for a result beyond `f32::MAX` ([`probe`], "Radiance scale";
-//! [`qmc`]).
+//! # The contract of every estimator
+//! Every estimator — [`probe::Probe`], [`temporal::TemporalProbe`], [`layout::LayoutProbe`],
+//! [`bmc::Renderer`], [`bmc::GlossyRenderer`], [`bmc::FootprintRenderer`] and the [`qmc`]
+//! estimators — makes the same promises, and one test suite asks every type the same
+//! questions (`tests/hardening/contract.rs`):
+//! - **Bad input** is an [`Error`] naming its cause, never a panic: a NaN or infinite sample,
+//!   lookup or reading is [`Error::InvalidRadiance`]; a zero, NaN or infinite direction
+//!   [`Error::InvalidDirection`] (see [Directions](#directions)); a negative, NaN, infinite or
+//!   too large Phong exponent [`Error::InvalidExponent`]; an SG sharpness likewise
+//!   [`Error::InvalidSharpness`]; `N = 0` is a compile-time error for the const-generic types and
+//!   [`Error::InvalidSize`] for run-time sizes. A refused update leaves the state exactly as it
+//!   was, and a query never changes it.
+//! - **Any units.** Finite input of any size is good input, subnormal numbers included. For
+//!   input `c·Y` every value is `c` times that of `Y` and every variance `c²` times, to f32
+//!   rounding (bit for bit when `c` is a power of two), and every decision (a kernel member, a
+//!   reset) is the same. A result is `±∞` only where it exceeds `f32::MAX` itself, and never
+//!   NaN.
+//! - **Error bars** are never 0 unless the answer is exact (a constant light, exact data): a
+//!   variance below the least positive f32 is rounded up to it, not to 0.
+//!
+//! # Limits
+//! The same in every type that takes the parameter:
+//!
+//! | parameter | accepted | otherwise |
+//! | --- | --- | --- |
+//! | Phong exponent `e` (queries) | `0 ≤ e ≤ 10⁸` ([`probe::MAX_GLOSSY_SHARPNESS`]) | [`Error::InvalidExponent`] |
+//! | SG lobe sharpness (queries) | `0 ≤ μ ≤ 10⁸` | [`Error::InvalidSharpness`] |
+//! | footprint `Gaussian<S>`, `CosinePower<P>` | `1 ≤ S, P ≤ 4096` ([`footprint::MAX_PARAMETER`]) | a compile error |
+//! | channels of a radiance type | 1 to 4 ([`radiance::MAX_CHANNELS`]) | a compile error |
+//! | sensors of a layout | `K ≤ 64` ([`layout::MAX_SENSORS`]) | [`Error::InvalidSize`] |
 //!
 //! # MSRV
 //! Rust 1.84, with every feature. CI checks every target of the workspace and runs the

@@ -554,6 +554,7 @@ where
     /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     #[must_use]
     pub const fn new() -> Self {
+        let () = crate::radiance::Channels::<T>::VALID;
         Self {
             directions: SphericalFibonacci::<N>::new().dynamic().unrotated_points(),
             alpha: [T::ZERO; N],

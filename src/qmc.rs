@@ -188,6 +188,7 @@ impl LobeSampler {
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
     /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn estimate<T: Radiance>(&self, samples: &[T]) -> Result<T, Error> {
+        let () = crate::radiance::Channels::<T>::VALID;
         if samples.len() != self.set.len() {
             return Err(Error::LengthMismatch);
         }
@@ -223,6 +224,7 @@ fn weighted_sum<T: Radiance>(
     n: usize,
     w: f32,
 ) -> Result<T, Error> {
+    let () = crate::radiance::Channels::<T>::VALID;
     let p = prescale(n);
     let (plain, scaled) =
         values.fold((T::ZERO, T::ZERO), |(plain, scaled), y| (plain.add(y), scaled.mul_add(y, p)));

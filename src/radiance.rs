@@ -13,11 +13,32 @@
 //! # Ok::<(), sphere_quadrature::Error>(())
 //! ```
 
+/// The most channels a radiance type may have, in every estimator of the crate: 1 (`f32`) to
+/// 4 (`[f32; 4]`). A type with more (or none) is a compile error where an estimator takes it.
+///
+/// ```compile_fail,E0080
+/// use sphere_quadrature::probe::Probe;
+///
+/// let _ = Probe::<16, [f32; 5]>::new();
+/// ```
+pub const MAX_CHANNELS: usize = 4;
+
+/// The compile-time check of [`MAX_CHANNELS`]: evaluating `Channels::<T>::VALID` fails the
+/// build for a type of no channels or more than [`MAX_CHANNELS`].
+pub(crate) struct Channels<T>(core::marker::PhantomData<T>);
+
+impl<T: Radiance> Channels<T> {
+    pub(crate) const VALID: () = assert!(
+        T::CHANNELS >= 1 && T::CHANNELS <= MAX_CHANNELS,
+        "a radiance type has 1 to 4 channels (radiance::MAX_CHANNELS)"
+    );
+}
+
 /// A radiance value: anything that can be summed and scaled.
 ///
-/// Implemented for `f32` (one channel) and `[f32; N]` (`N` channels, e.g. RGB). NaN and
-/// infinities propagate by IEEE rules: one NaN sample makes the estimate NaN (per channel),
-/// which is how bad data shows up instead of being silently dropped.
+/// Implemented for `f32` (one channel) and `[f32; N]` (`N` channels, e.g. RGB); the estimators
+/// take 1 to [`MAX_CHANNELS`] channels. The trait's own arithmetic follows IEEE rules; the
+/// estimators refuse a NaN or infinite sample ([`crate::Error::InvalidRadiance`]).
 ///
 /// # Examples
 /// ```

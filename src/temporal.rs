@@ -487,6 +487,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// ```
     #[must_use]
     pub fn new(seed: u64) -> Self {
+        let () = crate::radiance::Channels::<T>::VALID;
         const {
             assert!(
                 valid_footprint(F::KIND),

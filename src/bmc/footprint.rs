@@ -78,7 +78,7 @@ use crate::error::Error;
 use crate::footprint::Kind;
 use crate::math;
 use crate::probe::Estimate;
-use crate::radiance::{from_channels, Radiance};
+use crate::radiance::{from_channels, Radiance, MAX_CHANNELS};
 use crate::sf::FibonacciPoints;
 use crate::vec3::Vec3;
 use crate::warp::{Frame, Lobe};
@@ -177,9 +177,6 @@ pub const BAKED_SETS: &[(usize, u32)] = crate::tables::FOOTPRINT_SETS;
 
 /// The most models an error bar family may have.
 const MAX_MODELS: usize = 64;
-
-/// The most channels [`FootprintRenderer::estimate_with_variance`] takes.
-const MAX_CHANNELS: usize = 4;
 
 pub(crate) mod sealed {
     /// What `build.rs` baked for one `(N, BRDF)` (f32 bits, `gen/fp.rs`).
@@ -368,6 +365,7 @@ where
         mirror: Vec3,
         lookups: &[T; N],
     ) -> Result<T, Error> {
+        let () = crate::radiance::Channels::<T>::VALID;
         let (k, [alpha, beta]) = Self::rows(normal, mirror)?;
         let a = Self::row(Self::SET.weights, k, N)?;
         // Σ wⱼYⱼ = α·Σ aⱼYⱼ + β·Σ bⱼYⱼ (the interpolation fused into the sums, as
@@ -408,8 +406,7 @@ where
     /// channel whose lookups are equal has.
     ///
     /// # Errors
-    /// As [`estimate`](Self::estimate), and [`Error::InvalidChannel`] for radiance of more
-    /// than 4 channels.
+    /// As [`estimate`](Self::estimate).
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (as [`estimate`](Self::estimate)):
@@ -430,9 +427,10 @@ where
         if models == 0 || models > MAX_MODELS || k == 0 || k > N {
             return Err(Error::Internal);
         }
+        // (More channels than MAX_CHANNELS do not compile: `estimate` checks the type.)
         let channels = T::CHANNELS;
         if channels > MAX_CHANNELS {
-            return Err(Error::InvalidChannel);
+            return Err(Error::Internal);
         }
         // A per-node table entry, interpolated as the weights are.
         let at = |table: &'static [u32], width: usize, i: usize| -> Result<f32, Error> {

@@ -359,6 +359,7 @@ where
         mirror: Vec3,
         samples: &[T; N],
     ) -> Result<T, Error> {
+        let () = crate::radiance::Channels::<T>::VALID;
         let ((rows_a, rows_b), [alpha, beta]) = Self::rows(normal, mirror)?;
         // Σ wⱼYⱼ = α·Σ aⱼYⱼ + β·Σ bⱼYⱼ. The sums start from the first products, and run in
         // blocks of 32 (unrolled: the loop's own instructions are negligible per sample).

@@ -239,10 +239,15 @@ fn bad_input_is_an_error() {
     assert_eq!(r.estimate_with_variance(Vec3::Z, Vec3::Z, &bad), Err(Error::InvalidRadiance));
     bad[5] = f32::NAN;
     assert_eq!(r.estimate(Vec3::Z, Vec3::Z, &bad), Err(Error::InvalidRadiance));
-    // Five channels: no error bar.
-    let five = [[1.0f32; 5]; 32];
-    assert!(r.estimate(Vec3::Z, Vec3::Z, &five).is_ok());
-    assert_eq!(r.estimate_with_variance(Vec3::Z, Vec3::Z, &five), Err(Error::InvalidChannel));
+    // Four channels, the most any estimator takes (five do not compile:
+    // `radiance::MAX_CHANNELS`), each with its error bar.
+    let four = [[1.0f32, 2.0, 0.5, 3.0]; 32];
+    let e = r.estimate_with_variance(Vec3::Z, Vec3::Z, &four).unwrap();
+    assert!(e
+        .value
+        .iter()
+        .zip([1.0, 2.0, 0.5, 3.0])
+        .all(|(v, c)| (v / c - e.value[0]).abs() < 1e-5));
     // A mirror direction below the horizon is grazing, not an error.
     let below = r.estimate_with_variance(Vec3::Z, Vec3::new(1.0, 0.0, -0.2), &ones).unwrap();
     assert!(below.value.is_finite() && below.variance < 1e-10);
