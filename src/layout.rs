@@ -224,52 +224,18 @@ impl Response {
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
     pub const fn gains(&self) -> Result<[f32; DEGREES], Error> {
-        let mut g = [0.0f64; DEGREES];
         match *self {
             Response::CosinePower(p) => {
                 if !(p.is_finite() && p >= 0.0 && p <= 4096.0) {
                     return Err(Error::InvalidResponse);
                 }
-                // I_l = ∫₀¹ tᴾ P_l(t) dt: (P + l + 1)·I_l = (P − l + 2)·I_{l−2}.
-                let p = p as f64;
-                let mut integral = [0.0f64; DEGREES];
-                integral[0] = 1.0 / (p + 1.0);
-                integral[1] = 1.0 / (p + 2.0);
-                let mut l = 2;
-                while l < DEGREES {
-                    let lf = l as f64;
-                    integral[l] = (p - lf + 2.0) / (p + lf + 1.0) * integral[l - 2];
-                    l += 1;
-                }
-                let mut l = 0;
-                while l < DEGREES {
-                    g[l] = (p + 1.0) * integral[l];
-                    l += 1;
-                }
+                Ok(cosine_power_gains(p as f64))
             }
             Response::Gaussian(s) => {
                 if !(s.is_finite() && s > 0.0 && s <= 4096.0) {
                     return Err(Error::InvalidResponse);
                 }
-                // g_l = i_l(S)/i₀(S): ratios r_l = i_l/i_{l−1} by the backward recurrence
-                // r_l = 1/((2l + 1)/S + r_{l+1}), started far enough above DEGREES.
-                let s = s as f64;
-                let mut l = DEGREES + 40 + (2.0 * s) as usize;
-                let mut r = 0.0f64;
-                let mut ratios = [0.0f64; DEGREES];
-                while l >= 1 {
-                    r = 1.0 / ((2 * l + 1) as f64 / s + r);
-                    if l < DEGREES {
-                        ratios[l] = r;
-                    }
-                    l -= 1;
-                }
-                g[0] = 1.0;
-                let mut l = 1;
-                while l < DEGREES {
-                    g[l] = g[l - 1] * ratios[l];
-                    l += 1;
-                }
+                Ok(gaussian_gains(s as f64))
             }
             Response::Gains(values) => {
                 if absolute(values[0] - 1.0) > 1e-6 {
@@ -282,16 +248,9 @@ impl Response {
                     }
                     l += 1;
                 }
-                return Ok(values);
+                Ok(values)
             }
         }
-        let mut out = [0.0f32; DEGREES];
-        let mut l = 0;
-        while l < DEGREES {
-            out[l] = g[l] as f32;
-            l += 1;
-        }
-        Ok(out)
     }
 
     /// Gains from a measured response: `values[k]` at angle `angles_deg[k]` from the axis
@@ -559,6 +518,78 @@ impl Prior {
     }
 }
 
+/// The Legendre gains of the normalised `(P + 1)/(2π)·max(0, t)ᴾ`, `P ≥ 0` (any size),
+/// in f64 and rounded once: `I_l = ∫₀¹ tᴾ P_l(t) dt`, `(P + l + 1)·I_l = (P − l + 2)·I_{l−2}`.
+const fn cosine_power_gains(p: f64) -> [f32; DEGREES] {
+    let mut integral = [0.0f64; DEGREES];
+    integral[0] = 1.0 / (p + 1.0);
+    integral[1] = 1.0 / (p + 2.0);
+    let mut l = 2;
+    while l < DEGREES {
+        let lf = l as f64;
+        integral[l] = (p - lf + 2.0) / (p + lf + 1.0) * integral[l - 2];
+        l += 1;
+    }
+    let mut g = [0.0f32; DEGREES];
+    let mut l = 0;
+    while l < DEGREES {
+        g[l] = ((p + 1.0) * integral[l]) as f32;
+        l += 1;
+    }
+    g
+}
+
+/// The Legendre gains `g_l = i_l(S)/i₀(S)` of the normalised spherical Gaussian of sharpness
+/// `S > 0` (any size), in f64 and rounded once.
+const fn gaussian_gains(s: f64) -> [f32; DEGREES] {
+    let mut g = [0.0f64; DEGREES];
+    if s <= 4096.0 {
+        // Ratios r_l = i_l/i_{l−1} by the backward recurrence r_l = 1/((2l + 1)/S + r_{l+1}),
+        // started far enough above DEGREES.
+        let mut l = DEGREES + 40 + (2.0 * s) as usize;
+        let mut r = 0.0f64;
+        let mut ratios = [0.0f64; DEGREES];
+        while l >= 1 {
+            r = 1.0 / ((2 * l + 1) as f64 / s + r);
+            if l < DEGREES {
+                ratios[l] = r;
+            }
+            l -= 1;
+        }
+        g[0] = 1.0;
+        let mut l = 1;
+        while l < DEGREES {
+            g[l] = g[l - 1] * ratios[l];
+            l += 1;
+        }
+    } else {
+        // For S > 4096 the finite expansion i_l(S) = e^S/(2S)·Σ_k (−1)ᵏ(l + k)!/(k!(l − k)!)
+        // /(2S)ᵏ, up to a term e^{−S}: its sum has no cancellation there, and i₀ is the k = 0
+        // term up to e^{−2S}.
+        let mut l = 0;
+        while l < DEGREES {
+            let mut term = 1.0f64;
+            let mut sum = 1.0f64;
+            let mut k = 1;
+            while k <= l {
+                // (l + k)!/(k!(l − k)!) from k − 1: ×(l + k)(l − k + 1)/k.
+                term *= -(((l + k) * (l - k + 1)) as f64) / (k as f64 * 2.0 * s);
+                sum += term;
+                k += 1;
+            }
+            g[l] = sum;
+            l += 1;
+        }
+    }
+    let mut out = [0.0f32; DEGREES];
+    let mut l = 0;
+    while l < DEGREES {
+        out[l] = g[l] as f32;
+        l += 1;
+    }
+    out
+}
+
 /// Gains of the clamped cosine `max(0, t)`: `c_l = π·g_l(CosinePower(1))`.
 const fn cosine_factors() -> [f32; DEGREES] {
     let mut c = [0.0f32; DEGREES];
@@ -663,6 +694,69 @@ const fn times_r(r: &[[f32; 3]; 3], u: &[f32; 3]) -> [f32; 3] {
 const fn non_negative(v: f32) -> bool {
     v.is_finite() && v >= 0.0
 }
+
+/// The real orthonormal spherical harmonics of degrees ≤ 2 at a unit `d`, index `l² + l + m`
+/// (the zonal ones as [`zonal_harmonics`]).
+const fn harmonics(d: Vec3) -> [f32; 9] {
+    let (x, y, z) = (d.x, d.y, d.z);
+    [
+        0.282_094_8,
+        0.488_602_5 * y,
+        0.488_602_5 * z,
+        0.488_602_5 * x,
+        1.092_548_4 * x * y,
+        1.092_548_4 * y * z,
+        0.315_391_57 * (3.0 * z * z - 1.0),
+        1.092_548_4 * x * z,
+        0.546_274_2 * (x * x - y * y),
+    ]
+}
+
+/// The degree of harmonic `k = l² + l + m`, `k < 9`.
+const fn degree_of(k: usize) -> usize {
+    if k == 0 {
+        0
+    } else if k < 4 {
+        1
+    } else {
+        2
+    }
+}
+
+/// `e` with `2ᵉ ≤ x < 2ᵉ⁺¹` for a positive, finite `x` (subnormals too) (const); 0 otherwise.
+const fn exponent_of(x: f32) -> i32 {
+    if !(x > 0.0 && x.is_finite()) {
+        return 0;
+    }
+    let bits = x.to_bits();
+    let biased = ((bits >> 23) & 0xff) as i32;
+    if biased > 0 {
+        return biased - 127;
+    }
+    // Subnormal: the position of the leading bit of the mantissa.
+    -118 - (bits.leading_zeros() as i32)
+}
+
+/// `x·2ᵉ`, rounded once (const): in steps that stay in the normal range.
+const fn times_power_of_two(x: f32, e: i32) -> f32 {
+    let mut x = x;
+    let mut e = e;
+    while e > 127 {
+        x *= f32::from_bits(254 << 23);
+        e -= 127;
+    }
+    while e < -126 {
+        // 2⁻¹²⁶ at a time, with the last step exact where the result is normal.
+        x *= f32::from_bits(1 << 23);
+        e += 126;
+    }
+    x * f32::from_bits(((e + 127) as u32) << 23)
+}
+
+/// The largest relative noise `η` a layout accepts.
+pub const MAX_RELATIVE_NOISE: f32 = 1e6;
+/// The largest ratio of two sensors' noise scales in one layout (2²⁰).
+pub const MAX_NOISE_SCALE_RATIO: f32 = 1_048_576.0;
 
 /// `(2l + 1)/(4π)`.
 const fn degree_weight(l: usize) -> f32 {
@@ -832,17 +926,25 @@ pub struct LayoutProbe<const K: usize, T: Radiance = f32> {
     /// `avg[h_a h_b]`.
     average_hh: [[f32; 2]; 2],
     noise: Noise,
+    /// The whitened absolute noise `σ·2ᵏ` (the whitening is `2ᵏ/wᵢ`).
+    absolute: f32,
+    /// The spectrum is the prior's times `2^−spectrum_exponent`.
+    spectrum_exponent: i32,
     // Per update.
-    /// Weights of the query covariances, per channel.
+    /// Weights of the query covariances, per channel, in working units.
     alpha: [T; K],
-    /// GLS coefficients of the mean.
+    /// GLS coefficients of the mean, in working units.
     beta: [T; 2],
-    /// `s` per channel.
+    /// The working unit per channel (a power of two near the largest whitened reading).
+    unit: T,
+    /// `s` per channel, in working units.
     scale: T,
-    /// `ν` per channel.
+    /// `ν` per channel, in working units.
     nugget: T,
-    /// Direction-averaged posterior variance per channel.
+    /// Direction-averaged posterior variance per channel (reading units).
     average_variance: T,
+    /// Direction-averaged posterior variance per channel for `s = 1`.
+    average_unit_variance: T,
     updated: bool,
     /// The stream's pooled mean readings.
     stream_mean: [T; K],

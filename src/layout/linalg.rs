@@ -273,7 +273,20 @@ pub(super) const fn symmetric_eigen<const K: usize>(
         i += 1;
     }
     // Implicit QL: deflate from the top. For each l, chase the bulge of a shifted QL step
-    // through rows m − 1 … l by Givens rotations until e[l] is negligible.
+    // through rows m − 1 … l by Givens rotations until e[l] is negligible: against its
+    // neighbours on the diagonal, or against the matrix (a cluster of eigenvalues at zero,
+    // from duplicate sensors, has neighbours of the order of rounding and would never
+    // deflate on the relative test alone).
+    let mut norm = 0.0f32;
+    let mut i = 0;
+    while i < K {
+        let row = absolute(d[i]) + absolute(e[i]);
+        if row > norm {
+            norm = row;
+        }
+        i += 1;
+    }
+    let negligible = f32::EPSILON * 1e-6 * norm;
     let mut l = 0;
     while l < K {
         let mut iterations = 0;
@@ -282,7 +295,7 @@ pub(super) const fn symmetric_eigen<const K: usize>(
             let mut m = l;
             while m + 1 < K {
                 let dd = absolute(d[m]) + absolute(d[m + 1]);
-                if absolute(e[m]) <= f32::EPSILON * dd {
+                if absolute(e[m]) <= f32::EPSILON * dd || absolute(e[m]) <= negligible {
                     break;
                 }
                 m += 1;
