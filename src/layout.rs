@@ -159,6 +159,8 @@ mod queries;
 mod update;
 
 #[cfg(test)]
+mod contracts;
+#[cfg(test)]
 mod tests;
 
 use linalg::LogProduct;
@@ -930,6 +932,9 @@ pub struct LayoutProbe<const K: usize, T: Radiance = f32> {
     absolute: f32,
     /// The spectrum is the prior's times `2^−spectrum_exponent`.
     spectrum_exponent: i32,
+    /// The number of eigenvalues above the floor: the readings' degrees of freedom without
+    /// noise (duplicate sensors add none).
+    rank: usize,
     // Per update.
     /// Weights of the query covariances, per channel, in working units.
     alpha: [T; K],

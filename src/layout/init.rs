@@ -135,10 +135,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             }
             i += 1;
         }
-        if most > MAX_NOISE_SCALE_RATIO * least {
+        let whiten = noise.absolute > 0.0;
+        if whiten && most > MAX_NOISE_SCALE_RATIO * least {
             return Err(Error::InvalidNoise);
         }
-        let whiten = noise.absolute > 0.0;
         let noise_exponent = if whiten { exponent_of(least) } else { 0 };
         let absolute = times_power_of_two(noise.absolute, noise_exponent);
         let mut directions = [Vec3::ZERO; K];
@@ -298,11 +298,14 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         // The model's least noise: eigenvalues floored at 10⁻⁶ of the largest, so that
         // dependent readings (duplicate sensors; antipodal cosine pairs, whose differences
         // see degree 1 only) keep the system solvable.
+        let mut rank = 0;
         let mut j = 0;
         while j < K {
             // (A NaN eigenvalue, impossible from finite input, is floored too.)
             if values[j].is_nan() || values[j] <= FLOOR * top {
                 values[j] = FLOOR * top;
+            } else {
+                rank += 1;
             }
             j += 1;
         }
@@ -431,6 +434,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             noise,
             absolute,
             spectrum_exponent,
+            rank,
             variance_scale,
             alpha: [T::ZERO; K],
             beta: [T::ZERO; 2],

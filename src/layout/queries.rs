@@ -132,7 +132,9 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                     }
                 }
             }
-            let explained = explained.max(0.0);
+            // What f32 resolves: the explained part is known to rounding, of the order of
+            // ε·prior; a posterior variance below that is reported at that level, not 0.
+            let explained = explained.max(f32::EPSILON / 16.0 * prior);
             let (mut v, mut unit) = (s * explained, explained);
             if self.mean_terms == 1 {
                 let r = h - hz;
@@ -146,7 +148,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             if ch == 0 {
                 unit_variance = libm::scalbnf(
                     unit * self.variance_scale * mantissa * mantissa,
-                    2 * exponent.clamp(-200, 200),
+                    2 * exponent.clamp(-200, 200) + self.spectrum_exponent,
                 );
             }
             // v·(u·a)² by exponents: u·a may leave the range while the result does not.

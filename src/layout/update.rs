@@ -208,6 +208,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             noise,
             absolute,
             spectrum_exponent: self.spectrum_exponent,
+            rank: self.rank,
             alpha: [0.0; K],
             beta: [0.0; 2],
             unit: 0.0,
@@ -357,7 +358,8 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 }
             }
             let q = if p == 1 && hh > 0.0 { zz - hz * hz / hh } else { zz };
-            (q / (K - p) as f32).max(0.0)
+            // Degrees of freedom: the rank, not K (a duplicate sensor's copy says nothing new).
+            (q / self.rank.saturating_sub(p).max(1) as f32).max(0.0)
         };
         let s = if nu == 0.0 {
             noiseless
@@ -429,7 +431,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                         }
                         side = -1;
                     }
-                    if hi - lo < 1e-3 || f == 0.0 {
+                    if hi - lo < 1e-5 || f == 0.0 {
                         break;
                     }
                 }
@@ -514,7 +516,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             scale: s,
             nugget: nu,
             average_variance: libm::scalbnf(average.max(0.0) * self.variance_scale, 2 * e),
-            average_unit_variance: average_unit.max(0.0) * self.variance_scale,
+            average_unit_variance: libm::scalbnf(
+                average_unit.max(0.0) * self.variance_scale,
+                self.spectrum_exponent,
+            ),
             log_likelihood,
         }
     }
@@ -529,27 +534,29 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         for j in 0..K {
             average -= self.average_zz[j][j] * q[j];
         }
+        // Resolved to rounding, of the order of ε·V̄ (as the exact variances).
+        average = average.max(f32::EPSILON / 16.0 * self.prior_variance);
         if self.mean_terms == 1 {
             let (r2, hh) = self.average_residual(&q);
             if hh > 0.0 {
-                average += r2 / hh;
+                average += r2.max(0.0) / hh;
             }
         }
         average
     }
 
-    /// `q_j = s/(s·λ_j + ν)` (`1/λ_j` when both are 0; 0 where `s = 0 < ν`).
+    /// `q_j = s/(s·λ_j + ν) = 1/(λ_j + ν/s)` (`1/λ_j` without noise, whatever `s`; 0 where
+    /// `s = 0 < ν`): a function of the noise ratio alone, so that it does not move with the
+    /// rounding of `s`.
     pub(super) fn noise_ratio_weights(&self, s: f32, nu: f32) -> [f32; K] {
-        core::array::from_fn(|j| {
-            let lam = self.values[j];
-            if s > 0.0 {
-                s / (s * lam + nu)
-            } else if nu > 0.0 {
-                0.0
-            } else {
-                1.0 / lam
-            }
-        })
+        let ratio = if nu == 0.0 {
+            0.0
+        } else if s > 0.0 {
+            nu / s
+        } else {
+            f32::INFINITY
+        };
+        core::array::from_fn(|j| 1.0 / (self.values[j] + ratio))
     }
 
     /// `(avg[r(n)²], Σ h̃_j²·q_j)` for the mean's residual `r(n) = h(n) − Σ_j h̃_j q_j z̃_j(n)`.
