@@ -573,3 +573,42 @@ fn values_agree_with_f64_on_every_layout() {
     std::eprintln!("against f64 (ENVIRONMENT, squared_exponential(1)): {all:?}");
     assert!(all.iter().all(|w| w[0] < 2e-5 && w[1] < 2e-5), "{all:?}");
 }
+
+/// A level of prior variance far above the rest (`K₀` = 10¹⁰ … 10³⁰ with the rest of
+/// `ENVIRONMENT`) is an unknown constant: the answers are those of the f64 reference at
+/// `K₀ = 10¹⁰` within 10⁻⁴ of the largest (they were π·(mean reading), 3.156 against 4.189 at
+/// +z on a cube, with variance 0: the least noise swamped everything but the level).
+#[test]
+fn a_dominant_level_is_an_unknown_constant() {
+    let sensors = cube();
+    let gains: Vec<f64> =
+        Response::CosinePower(1.0).gains().unwrap().iter().map(|&g| f64::from(g)).collect();
+    let dirs: Vec<[f64; 3]> = sensors.iter().map(|s| to64(s.direction)).collect();
+    let y = readings(&sensors);
+    let y64: Vec<f64> = y.iter().map(|&v| f64::from(v)).collect();
+    let mut reference_prior = Prior::ENVIRONMENT;
+    reference_prior.spectrum[0] = 1e10;
+    let truth: Vec<f64> = normals()
+        .iter()
+        .map(|&n| reference(&dirs, &gains, &reference_prior, None, &y64, to64(n), None, None).0)
+        .collect();
+    let top = truth.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for k0 in [1e7f32, 1e10, 1e20, 1e30] {
+        let mut prior = Prior::ENVIRONMENT;
+        prior.spectrum[0] = k0;
+        let mut probe = LayoutProbe::<6>::new(&sensors, prior, Noise::NONE).unwrap();
+        probe.update(&y).unwrap();
+        for (k, &n) in normals().iter().enumerate() {
+            let e = probe.irradiance(n).unwrap();
+            assert!(
+                (f64::from(e.value) - truth[k]).abs() < 1e-4 * top,
+                "{k0:e} {n:?}: {e:?} {}",
+                truth[k]
+            );
+            assert!(e.variance > 0.0 && probe.irradiance_variance(n).unwrap() >= 0.0);
+        }
+        let e = probe.irradiance(Vec3::Z).unwrap().value;
+        assert!((e - 4.188_79).abs() < 0.05, "{k0:e}: {e}");
+        assert!(probe.irradiance_variance(-Vec3::Z).unwrap() > 0.0);
+    }
+}

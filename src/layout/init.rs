@@ -23,7 +23,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// see degree 1 only). The model's least noise, `10⁻⁶` of the largest eigenvalue of the
     /// whitened covariance, keeps the system solvable, and duplicates are averaged.
     pub const fn new(sensors: &[Sensor; K], prior: Prior, noise: Noise) -> Result<Self, Error> {
-        let mean_terms = match prior.mean {
+        let mut mean_terms = match prior.mean {
             Mean::Zero => 0,
             _ => 1,
         };
@@ -51,6 +51,31 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         }
         if !any {
             return Err(Error::InvalidPrior);
+        }
+        // A level whose prior variance dwarfs the rest's (K₀ above 2²⁰ times every other K_l,
+        // uncorrelated with them) is the limit of an unknown constant: f32 could not hold the
+        // rest beside it (the model's least noise, 10⁻⁶ of the largest eigenvalue, would
+        // swamp it), so it becomes a constant mean by generalised least squares, exact to
+        // about 2⁻²⁰ of the level's share.
+        let mut mean = prior.mean;
+        let mut rest = 0.0f32;
+        let mut l = 1;
+        while l < DEGREES {
+            if spectrum[l] > rest {
+                rest = spectrum[l];
+            }
+            l += 1;
+        }
+        if matches!(mean, Mean::Zero)
+            && K >= 2
+            && prior.zonal[0] == 0.0
+            && prior.zonal[2] == 0.0
+            && rest > 0.0
+            && spectrum[0] > 1_048_576.0 * rest
+        {
+            spectrum[0] = 0.0;
+            mean = Mean::Constant;
+            mean_terms = 1;
         }
         // A spectrum far from 1 is brought near it by a power of two (exact), which the
         // scale s takes back: the model is the same, and no product of spectra overflows.
@@ -97,7 +122,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             return Err(Error::InvalidPrior);
         }
         let mut profile = [0.0f32; 9];
-        match prior.mean {
+        match mean {
             Mean::Zero => {}
             Mean::Constant => profile[0] = 1.0,
             Mean::Zonal(p) => {

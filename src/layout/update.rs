@@ -1,7 +1,7 @@
 //! Updates: the fit of each channel (REML scale, GLS mean, weights), streams and channel
 //! combinations.
 
-use super::linalg::{cholesky, cholesky_solve, project, LogProduct};
+use super::linalg::{ldl, ldl_solve, project, LogProduct};
 use super::*;
 
 impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
@@ -476,11 +476,12 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 }
                 row[i] += nus[i] + s * FLOOR * top;
             }
-            if cholesky(&mut a) {
+            let mut inverse = [0.0f32; K];
+            if ldl(&mut a, &mut inverse) {
                 // Q = (s·C̃ + diag ν)⁻¹: β = hᵀQy/hᵀQh, and the weights Q(y − βh) = Qy − β·Qh.
-                let mut weights = cholesky_solve(&a, &yw);
+                let mut weights = ldl_solve(&a, &inverse, &yw);
                 if p == 1 {
-                    let qh = cholesky_solve(&a, h_sensor);
+                    let qh = ldl_solve(&a, &inverse, h_sensor);
                     let hqh: f32 = h_sensor.iter().zip(&qh).map(|(x, q)| x * q).sum();
                     if hqh > 0.0 {
                         beta = h_sensor.iter().zip(&weights).map(|(x, q)| x * q).sum::<f32>() / hqh;
