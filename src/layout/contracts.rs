@@ -168,13 +168,15 @@ fn the_spectrums_scale_does_not_matter() {
 }
 
 /// The O(1) variance is the direction average of the exact one within 1 % on layouts all
-/// round and at every noise level (it once was 0 for 16 Fibonacci sensors without noise, and
-/// off by up to 1 789 times on others: the product of matrices that held the average lost
-/// the small eigenvalues' share to rounding).
+/// round and at every noise level where the posterior variance is at least 10⁻⁵ of the prior
+/// (measured 0.8 %); below (a smooth prior without noise: down to 10⁻⁸ for 64 sensors and
+/// `squared_exponential(1)`), positive and within 50 % (measured 24 %). It once was 0 for 16
+/// Fibonacci sensors without noise, and off by up to 1 789 times on others: the product of
+/// matrices that held the average lost the small eigenvalues' share to rounding.
 #[test]
 fn the_average_variance_holds_on_every_layout() {
-    fn check<const K: usize>(name: &str, sensors: &[Sensor; K]) -> f64 {
-        let mut worst = 0.0f64;
+    fn check<const K: usize>(name: &str, sensors: &[Sensor; K]) -> (f64, f64) {
+        let (mut resolved, mut coarse) = (0.0f64, 0.0f64);
         for prior in [Prior::ENVIRONMENT, Prior::squared_exponential(1.0).unwrap()] {
             for noise in [
                 Noise::NONE,
@@ -187,14 +189,19 @@ fn the_average_variance_holds_on_every_layout() {
                 let exact = mean_exact(&probe);
                 let average = f64::from(probe.irradiance(Vec3::Z).unwrap().variance);
                 let error = (average - exact).abs() / exact;
-                std::eprintln!(
-                    "{name} {:?} {noise:?}: {average:e} against {exact:e} ({error:e})",
-                    prior.spectrum[1]
-                );
-                worst = worst.max(error);
+                // The posterior's share of the prior variance.
+                let share = exact / f64::from(probe.signal_variance() * probe.prior_variance);
+                let what = (name, noise, average, exact, share);
+                if share > 1e-5 {
+                    assert!(error < 1e-2, "{what:?}");
+                    resolved = resolved.max(error);
+                } else {
+                    assert!(average > 0.0 && error < 0.5, "{what:?}");
+                    coarse = coarse.max(error);
+                }
             }
         }
-        worst
+        (resolved, coarse)
     }
     let worst = [
         check("ico12", &icosahedron()),
@@ -204,7 +211,7 @@ fn the_average_variance_holds_on_every_layout() {
         check("cube", &cube()),
         check("random10", &random::<10>(7)),
     ];
-    std::eprintln!("worst relative error of the average: {worst:?}");
+    std::eprintln!("relative error of the average (resolved, coarse): {worst:?}");
 }
 
 /// Readings times `c` from 10⁻³⁰ to 10³⁰ (subnormal readings too): values `c` times within
@@ -611,4 +618,30 @@ fn a_dominant_level_is_an_unknown_constant() {
         assert!((e - 4.188_79).abs() < 0.05, "{k0:e}: {e}");
         assert!(probe.irradiance_variance(-Vec3::Z).unwrap() > 0.0);
     }
+}
+
+/// Readings that fit a constant mean exactly (identical readings): the scale is that of the
+/// rounding of the fit, not 0, so no error bar is 0 where no sensor looks (they were 0
+/// everywhere, −z included, where a dome's error can be anything).
+#[test]
+fn identical_readings_leave_error_bars() {
+    let h = core::f32::consts::FRAC_1_SQRT_2;
+    let dome = cosine([
+        Vec3::Z,
+        Vec3::new(h, 0.0, h),
+        Vec3::new(0.0, h, h),
+        Vec3::new(-h, 0.0, h),
+        Vec3::new(0.0, -h, h),
+    ]);
+    let prior = Prior::squared_exponential(2.0).unwrap();
+    let mut probe = LayoutProbe::<5>::new(&dome, prior, Noise::NONE).unwrap();
+    probe.update(&[1.0; 5]).unwrap();
+    let e = probe.irradiance(-Vec3::Z).unwrap();
+    assert!((e.value - PI).abs() < 1e-5, "{e:?}");
+    assert!(e.variance > 0.0 && probe.irradiance_variance(-Vec3::Z).unwrap() > 0.0, "{e:?}");
+    assert!(probe.signal_variance() > 0.0);
+    std::eprintln!(
+        "identical readings: {e:?}, exact at −z {:e}",
+        probe.irradiance_variance(-Vec3::Z).unwrap()
+    );
 }

@@ -12,8 +12,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// - [`Error::InvalidDirection`]: a zero or non-finite direction;
     /// - [`Error::InvalidResponse`]: a response out of range, or more than [`MAX_RESPONSES`]
     ///   distinct responses;
-    /// - [`Error::InvalidNoise`]: a noise scale that is not finite and positive, or noise that
-    ///   is not finite and non-negative;
+    /// - [`Error::InvalidNoise`]: a noise scale that is not finite and positive, noise that
+    ///   is not finite and non-negative, a relative noise above [`MAX_RELATIVE_NOISE`], or,
+    ///   with an absolute noise, noise scales that differ by more than
+    ///   [`MAX_NOISE_SCALE_RATIO`];
     /// - [`Error::InvalidPrior`]: a spectrum (finite, non-negative, not all zero), variance
     ///   scale, zonal covariance or mean profile out of range;
     /// - [`Error::InvalidChannel`]: a radiance type of more than four channels.
@@ -21,7 +23,9 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// Readings that the prior makes linearly dependent are fine: two sensors with the same
     /// direction and response, or the antipodal pairs of cosine sensors (their differences
     /// see degree 1 only). The model's least noise, `10⁻⁶` of the largest eigenvalue of the
-    /// whitened covariance, keeps the system solvable, and duplicates are averaged.
+    /// whitened covariance, keeps the system solvable, and duplicates are averaged: without
+    /// noise, sixteen sensors that are eight copies each of two give the answers and the
+    /// error bars of the two (their copies add no degrees of freedom to the scale's fit).
     pub const fn new(sensors: &[Sensor; K], prior: Prior, noise: Noise) -> Result<Self, Error> {
         let mut mean_terms = match prior.mean {
             Mean::Zero => 0,

@@ -55,8 +55,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     }
 
     /// Irradiance `E(n) = ∫ L(x)·max(0, n·x) dx` with the direction-averaged posterior
-    /// variance (O(K)). [`Error::InvalidDirection`] for a zero or non-finite normal; before
-    /// the first update, zero with zero variance.
+    /// variance (O(K)), and as [`Estimate::unit_variance`] that variance for a signal variance
+    /// `s` of 1 (`variance` is `unit_variance ·`[`LayoutProbe::signal_variance`]; of the first
+    /// channel: with noise each channel has its own noise ratio). [`Error::InvalidDirection`]
+    /// for a zero or non-finite normal; before the first update, zero with zero variance.
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = unit(normal)?;
         let h = self.mean_query(n);
@@ -208,7 +210,9 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// The normalised Phong average `∫ L(x)·(e + 1)/(2π)·max(0, axis·x)ᵉ dx` (the glossy term
     /// about a mirror direction), with its exact posterior variance, O(K·DEGREES + K²).
     /// [`Error::InvalidDirection`] for a zero or non-finite axis, [`Error::InvalidExponent`]
-    /// for an exponent that is negative, not finite or above 4096.
+    /// for an exponent that is negative, not finite or above [`MAX_GLOSSY_SHARPNESS`] (the
+    /// limit of [`crate::probe::Probe::phong`]). [`Estimate::unit_variance`] is the variance
+    /// for `s = 1`, as in [`LayoutProbe::irradiance`].
     ///
     /// ```
     /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
@@ -231,10 +235,14 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         Ok(self.lobe(r, &cosine_power_gains(f64::from(exponent)), 1.0, 0))
     }
 
-    /// `∫ L(x)·G(x) dx` for a spherical-Gaussian lobe `G` (sharpness at most 4096), with its
-    /// exact posterior variance, O(K·DEGREES + K²). [`Error::InvalidSharpness`] for a
-    /// sharpness above 4096 (or not finite, or negative), [`Error::InvalidWeights`] for a
-    /// non-finite amplitude, [`Error::InvalidDirection`] for a bad axis.
+    /// `∫ L(x)·G(x) dx` for a spherical-Gaussian lobe `G`, with its exact posterior variance,
+    /// O(K·DEGREES + K²). [`Error::InvalidSharpness`] for a sharpness above
+    /// [`MAX_GLOSSY_SHARPNESS`] (the limit of [`crate::probe::Probe::glossy`]; or not finite,
+    /// or negative), [`Error::InvalidWeights`] for a non-finite amplitude,
+    /// [`Error::InvalidDirection`] for a bad axis. The amplitude is kept apart from the
+    /// lobe's shape: the value is `±∞` only where `∫ L·G` itself exceeds `f32::MAX`, the
+    /// variance where its square does. [`Estimate::unit_variance`] is the variance for
+    /// `s = 1` (with the amplitude's square).
     ///
     /// ```
     /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};

@@ -5,8 +5,9 @@ use super::linalg::{ldl, ldl_solve, project, LogProduct};
 use super::*;
 
 impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
-    /// Takes one reading per sensor. [`Error::InvalidRadiance`] for a non-finite reading
-    /// (the probe keeps its previous state).
+    /// Takes one reading per sensor: any finite value, negative ones included (an
+    /// offset-corrected sensor in the dark; module docs), in any units. [`Error::InvalidRadiance`]
+    /// for a non-finite reading (the probe keeps its previous state).
     pub fn update(&mut self, readings: &[T; K]) -> Result<(), Error> {
         check_readings(readings)?;
         self.stream_mean = *readings;
@@ -139,7 +140,8 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     ///
     /// Later updates of the returned probe treat its readings as one channel, with noise
     /// `(σ·|w|, η)`. Before any update, the returned probe is not updated either.
-    /// [`Error::InvalidWeights`] for non-finite weights or weights all zero.
+    /// [`Error::InvalidWeights`] for non-finite weights, weights all zero, or weights whose
+    /// combined readings or noise exceed `f32::MAX`.
     ///
     /// ```
     /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
@@ -357,7 +359,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                     hh += h[j] * h[j] * inv;
                 }
             }
+            // The residual after the mean is a difference known to rounding, ε·r̃ᵀΛ⁻¹r̃ before
+            // the mean: readings that fit the mean exactly leave s at that level, not 0.
             let q = if p == 1 && hh > 0.0 { zz - hz * hz / hh } else { zz };
+            let q = q.max(f32::EPSILON * zz);
             // Degrees of freedom: the rank, not K (a duplicate sensor's copy says nothing new).
             (q / self.rank.saturating_sub(p).max(1) as f32).max(0.0)
         };
