@@ -93,7 +93,7 @@
 //!   same readings, mean over maps: 0.57–1.00 for sensors all round (16 on a spherical
 //!   Fibonacci set: 0.70 on sharp light, 0.57 on smooth light, without noise; a cube ties the
 //!   degree-2 fit), 0.92–1.03 for upward layouts (a dome of 5, a ring of 6 and a zenith
-//!   sensor). 2σ intervals hold for 93–99 % of the queries all round; for upward layouts
+//!   sensor). 2σ intervals hold for 94–99 % of the queries all round; for upward layouts
 //!   they are wide without noise (100 %) and hold for 91–98 % at 5 % noise.
 //!
 //! # Tables at compile time
