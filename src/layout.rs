@@ -67,13 +67,22 @@
 //! # Accuracy
 //! - **Against an f64 reference** (the unit tests: textbook Gaussian-process formulas in
 //!   f64, the same model: eigenvalues floored at 10⁻⁶ of the largest): values within
-//!   4.7·10⁻⁶ of the largest value (icosahedron, 16 Fibonacci sensors, cube corners, cube and
-//!   10 random sensors, [`Prior::ENVIRONMENT`] and `squared_exponential(1)`, without noise),
+//!   4.7·10⁻⁶ of the largest value for the readings of a light (icosahedron, 16 Fibonacci
+//!   sensors, cube corners, cube and 10 random sensors, [`Prior::ENVIRONMENT`] and
+//!   `squared_exponential(1)`, without noise; 2.4·10⁻² for readings no light can produce,
+//!   "Rounding"),
 //!   exact variances within 2·10⁻⁴ (cube, dome), the log likelihood within 10⁻⁶; with a
 //!   relative noise the weights solve an f32 system of condition about 10⁴, and values agree
 //!   within 2·10⁻⁴.
-//! - **Rounding**: one ulp on one reading moves no value by more than 1.6·10⁻⁶ of the largest
-//!   and `s` by 4.8·10⁻⁶ (the layouts above, with and without noise). A variance is the
+//! - **Rounding**: one ulp on one reading of a light moves no value by more than 1.8·10⁻⁶ of
+//!   the largest and `s` by 4.9·10⁻⁵ (the layouts above and 64 Fibonacci sensors, with and
+//!   without noise). Readings that no light can produce (cosine sensors at antipodes that
+//!   disagree about degree 1, all their difference sees: at random, or with offset or gain
+//!   errors) are explained by a large scale and weights of 10⁴ and more; without noise one
+//!   ulp then moves values by up to 1.9·10⁻² of the largest (0.4–0.9·10⁻² on an icosahedron
+//!   and the corners of a cube, 1.9·10⁻² on 64 sensors). Declare a noise that covers the
+//!   disagreement: at an absolute noise as large as the readings' random part, 4.4·10⁻⁵. A
+//!   variance is the
 //!   prior's less the part the readings explain, down to 1/30 000 of the prior at a normal
 //!   for 16 sensors without noise: an ε change of the prior (its spectrum times a number
 //!   that is not a power of two) moves the exact variances there by up to 2.8·10⁻² and the

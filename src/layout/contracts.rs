@@ -473,12 +473,25 @@ fn unit_variance_is_the_variance_at_unit_scale() {
     }
 }
 
+/// Readings `0.2 … 2.2` at random (a rough light) for a seed, the smooth sky's for 0.
+fn rough<const K: usize>(sensors: &[Sensor; K], seed: u32) -> [f32; K] {
+    if seed == 0 {
+        return readings(sensors);
+    }
+    let mut state = seed;
+    core::array::from_fn(|_| {
+        state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        0.2 + 2.0 * (state >> 8) as f32 / (1u32 << 24) as f32
+    })
+}
+
 fn ulp_sensitivity<const K: usize>(
     sensors: &[Sensor; K],
     prior: Prior,
     noise: Noise,
+    seed: u32,
 ) -> (f32, f32) {
-    let y = readings(sensors);
+    let y = rough(sensors, seed);
     let mut probe = LayoutProbe::<K>::new(sensors, prior, noise).unwrap();
     probe.update(&y).unwrap();
     let base: Vec<f32> = normals().iter().map(|&n| probe.irradiance(n).unwrap().value).collect();
@@ -503,48 +516,69 @@ fn ulp_sensitivity<const K: usize>(
     (worst, worst_s)
 }
 
-/// One ulp on one reading moves no value by more than 10⁻⁵ of the largest (measured
-/// 1.6·10⁻⁶, sf64), nor `s` by more than 10⁻⁵ (measured 4.8·10⁻⁶), without noise too. (The
-/// eigensolver once stalled on ill-separated eigenvalues: 3.3·10⁻³ on ico12 and cube corners,
-/// and values on a 1/128 grid.)
+/// One ulp on one reading of a light (the smooth sky) moves no value by more than 10⁻⁵ of the
+/// largest (measured 1.8·10⁻⁶, sf64), nor `s` by more than 10⁻⁴ (measured 4.9·10⁻⁵ with
+/// noise: the scale's search stops within about that; 6.3·10⁻⁶ without), with and without
+/// noise. Readings that no light can produce (at random: cosine sensors at
+/// antipodes disagree about degree 1, which is all their difference sees) are explained by a
+/// large scale and weights of 10⁴ and more: one ulp moves values by up to 1.9·10⁻² of the
+/// largest without noise (measured; 0.4–0.9·10⁻² on ico12 and cube corners) and still
+/// 1.6·10⁻² at an absolute noise of 0.3, and by 4.4·10⁻⁵ at a noise as large as the readings
+/// (absolute 1.0): the noise to declare covers the readings' disagreement (the rustdoc's
+/// "Rounding").
 #[test]
 fn one_ulp_moves_little() {
-    let mut worst = (0.0f32, 0.0f32);
-    let mut take = |w: (f32, f32)| {
-        worst = (worst.0.max(w.0), worst.1.max(w.1));
-    };
-    for prior in [
+    let priors = [
         Prior::ENVIRONMENT,
+        Prior::SMOOTH_ENVIRONMENT,
         Prior::squared_exponential(4.0).unwrap(),
         Prior::squared_exponential(1.0).unwrap(),
-    ] {
-        for noise in [
-            Noise::NONE,
-            Noise { absolute: 0.0, relative: 1e-4 },
-            Noise { absolute: 0.0, relative: 1e-3 },
-        ] {
-            take(ulp_sensitivity(&icosahedron(), prior, noise));
-            take(ulp_sensitivity(&cube_corners(), prior, noise));
-            take(ulp_sensitivity(&fibonacci::<16>(), prior, noise));
-            take(ulp_sensitivity(&cube(), prior, noise));
-            take(ulp_sensitivity(&fibonacci::<64>(), prior, noise));
+    ];
+    let worst = |noises: &[Noise], seeds: &[u32]| {
+        let mut worst = (0.0f32, 0.0f32);
+        let mut take = |w: (f32, f32)| worst = (worst.0.max(w.0), worst.1.max(w.1));
+        for prior in priors {
+            for &noise in noises {
+                for &seed in seeds {
+                    take(ulp_sensitivity(&icosahedron(), prior, noise, seed));
+                    take(ulp_sensitivity(&cube_corners(), prior, noise, seed));
+                    take(ulp_sensitivity(&fibonacci::<16>(), prior, noise, seed));
+                    take(ulp_sensitivity(&cube(), prior, noise, seed));
+                    take(ulp_sensitivity(&fibonacci::<64>(), prior, noise, seed));
+                }
+            }
         }
-    }
-    std::eprintln!("one ulp: values {:e} of the largest, s {:e}", worst.0, worst.1);
-    assert!(worst.0 < 1e-5 && worst.1 < 1e-5, "{worst:?}");
+        worst
+    };
+    let light = worst(
+        &[
+            Noise::NONE,
+            Noise { absolute: 0.0, relative: 1e-3 },
+            Noise { absolute: 0.0, relative: 0.1 },
+        ],
+        &[0],
+    );
+    let impossible = worst(&[Noise::NONE], &[3, 11, 17]);
+    let covered = worst(&[Noise { absolute: 1.0, relative: 0.0 }], &[3, 11, 17]);
+    std::eprintln!(
+        "one ulp: a light {light:?}, impossible readings {impossible:?}, covered {covered:?}"
+    );
+    assert!(light.0 < 1e-5 && light.1 < 1e-4, "{light:?}");
+    assert!(impossible.0 < 2.5e-2 && covered.0 < 1e-4, "{impossible:?} {covered:?}");
 }
 
 /// Values against the f64 reference (textbook formulas, the same model: eigenvalues floored
-/// at 10⁻⁶ of the largest) within 2·10⁻⁵ of the largest value (measured 4.7·10⁻⁶), with
-/// `ENVIRONMENT` and the smooth `squared_exponential(1)`, on layouts all round, without noise
-/// (once 2.6·10⁻⁵ and 3.8·10⁻⁴: the stalled eigensolver).
+/// at 10⁻⁶ of the largest) within 2·10⁻⁵ of the largest value for the readings of a light
+/// (measured 4.7·10⁻⁶), with `ENVIRONMENT` and the smooth `squared_exponential(1)`, on
+/// layouts all round, without noise; readings at random, which no light produces, within
+/// 2.4·10⁻² (their conditioning: `one_ulp_moves_little`).
 #[test]
 fn values_agree_with_f64_on_every_layout() {
     fn check<const K: usize>(sensors: &[Sensor; K]) -> [f64; 2] {
         let gains: Vec<f64> =
             Response::CosinePower(1.0).gains().unwrap().iter().map(|&g| f64::from(g)).collect();
         let dirs: Vec<[f64; 3]> = sensors.iter().map(|s| to64(s.direction)).collect();
-        let y = readings(sensors);
+        let y = rough(sensors, SEED.with(core::cell::Cell::get));
         let y64: Vec<f64> = y.iter().map(|&v| f64::from(v)).collect();
         let mut worst = [0.0f64; 2];
         for (k, prior) in
@@ -570,15 +604,24 @@ fn values_agree_with_f64_on_every_layout() {
         }
         worst
     }
-    let all = [
-        check(&icosahedron()),
-        check(&fibonacci::<16>()),
-        check(&cube_corners()),
-        check(&cube()),
-        check(&random::<10>(7)),
-    ];
-    std::eprintln!("against f64 (ENVIRONMENT, squared_exponential(1)): {all:?}");
-    assert!(all.iter().all(|w| w[0] < 2e-5 && w[1] < 2e-5), "{all:?}");
+    std::thread_local! {
+        static SEED: core::cell::Cell<u32> = const { core::cell::Cell::new(0) };
+    }
+    for seed in [0u32, 3, 11] {
+        SEED.with(|c| c.set(seed));
+        let all = [
+            check(&icosahedron()),
+            check(&fibonacci::<16>()),
+            check(&cube_corners()),
+            check(&cube()),
+            check(&random::<10>(7)),
+        ];
+        std::eprintln!("against f64 (ENVIRONMENT, squared_exponential(1)): {all:?}");
+        // A light: within 2·10⁻⁵ (measured 4.7·10⁻⁶). Readings no light produces: as one
+        // ulp moves them (`one_ulp_moves_little`), within 5·10⁻² (measured 2.4·10⁻²).
+        let bound = if seed == 0 { 2e-5 } else { 5e-2 };
+        assert!(all.iter().all(|w| w[0] < bound && w[1] < bound), "{all:?}");
+    }
 }
 
 /// A level of prior variance far above the rest (`K₀` = 10¹⁰ … 10³⁰ with the rest of
