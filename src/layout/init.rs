@@ -1,6 +1,6 @@
 //! `LayoutProbe::new`: the tables of a layout, at run time or by the compiler.
 
-use super::linalg::{congruence, project, symmetric_eigen, LogProduct};
+use super::linalg::{congruence, congruence_diagonal, project, symmetric_eigen, LogProduct};
 use super::*;
 
 impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
@@ -342,7 +342,12 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         // matrices would lose the small eigenvalues' share of it to rounding: their part is
         // (1/4π)·Σ_lm c_l²·b̃_lm b̃_lmᵀ with b̃_lm = Vᵀ·(the whitened covariances of the
         // readings with the radiance's coefficient lm), projected one vector at a time.
-        let mut average_zz = congruence(&vectors, &zz);
+        // (Without a mean term only its diagonal is read.)
+        let mut average_zz = if mean_terms == 1 {
+            congruence(&vectors, &zz)
+        } else {
+            congruence_diagonal(&vectors, &zz)
+        };
         let mut coefficient = [[0.0f32; K]; 9];
         let mut i = 0;
         while i < K {
@@ -369,10 +374,14 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             let mut j = 0;
             while j < K {
                 let fb = f * b[j];
-                let mut m = 0;
-                while m < K {
-                    average_zz[j][m] += fb * b[m];
-                    m += 1;
+                if mean_terms == 1 {
+                    let mut m = 0;
+                    while m < K {
+                        average_zz[j][m] += fb * b[m];
+                        m += 1;
+                    }
+                } else {
+                    average_zz[j][j] += fb * b[j];
                 }
                 j += 1;
             }

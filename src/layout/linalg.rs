@@ -115,6 +115,39 @@ pub(super) const fn congruence<const K: usize>(
     out
 }
 
+/// The diagonal of `VᵀAV` (the rest zero): the same bits as [`congruence`]'s, at half its cost.
+pub(super) const fn congruence_diagonal<const K: usize>(
+    v: &[[f32; K]; K],
+    a: &[[f32; K]; K],
+) -> [[f32; K]; K] {
+    let mut av = [[0.0f32; K]; K];
+    let mut i = 0;
+    while i < K {
+        let mut k = 0;
+        while k < K {
+            let aik = a[i][k];
+            let mut j = 0;
+            while j < K {
+                av[i][j] += aik * v[k][j];
+                j += 1;
+            }
+            k += 1;
+        }
+        i += 1;
+    }
+    let mut out = [[0.0f32; K]; K];
+    let mut i = 0;
+    while i < K {
+        let mut b = 0;
+        while b < K {
+            out[b][b] += v[i][b] * av[i][b];
+            b += 1;
+        }
+        i += 1;
+    }
+    out
+}
+
 /// A product of positive numbers as a mantissa in `[1, 2)` and a power of two, so that the
 /// logarithm of a long product takes one `ln` and never overflows or underflows.
 #[derive(Clone, Copy, Debug)]
