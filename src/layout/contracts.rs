@@ -714,3 +714,41 @@ fn the_scale_search_stays_cheap() {
         assert!(mean <= most, "{noise:?}: {mean} score evaluations per update");
     }
 }
+
+/// A stream of readings times `c` (10⁻³⁰ … 10³⁰) makes the same decisions: blended, reset,
+/// with the same change probabilities within 10⁻⁵.
+#[test]
+fn a_stream_decides_the_same_in_any_units() {
+    let sensors = cube();
+    let y = readings(&sensors);
+    let noise = Noise { absolute: 0.0, relative: 0.02 };
+    let steps: Vec<[f32; 6]> = (0..12)
+        .map(|t| {
+            let light = if t < 6 { 1.0 } else { 0.4 };
+            core::array::from_fn(|i| y[i] * light * (1.0 + 0.01 * libm::sinf((3 * t + i) as f32)))
+        })
+        .collect();
+    let run = |c: f32| {
+        let mut probe = LayoutProbe::<6>::new(&sensors, Prior::ENVIRONMENT, noise).unwrap();
+        steps
+            .iter()
+            .map(|r| {
+                let change = probe.accumulate(&r.map(|v| v * c)).unwrap();
+                (change, probe.last_change_probability(), probe.pooled_updates())
+            })
+            .collect::<Vec<_>>()
+    };
+    let base = run(1.0);
+    assert!(
+        base.iter().any(|s| s.0 == Change::Reset) && base.iter().any(|s| s.0 == Change::Blended)
+    );
+    for c in [1e-30f32, 1e-12, 3.0, 1e12, 1e30] {
+        for (a, b) in run(c).iter().zip(&base) {
+            assert_eq!(a.0, b.0, "c {c:e}");
+            assert!(
+                (a.1 - b.1).abs() < 1e-5 && (a.2 - b.2).abs() < 1e-5 * b.2,
+                "c {c:e}: {a:?} {b:?}"
+            );
+        }
+    }
+}
