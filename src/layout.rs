@@ -24,10 +24,11 @@
 //! relative noise is `η²·Yᵢ²` all the same. Without noise the values are linear in the
 //! readings; negating every reading negates every value and keeps every variance.
 //!
-//! A prior whose level dwarfs the rest (`K₀` above 2²⁰ times every other `K_l`, with a zero
+//! A prior whose level dwarfs the rest (`K₀` above 2⁸ times every other `K_l`, with a zero
 //! mean and no zonal covariance of the level) is taken in its limit, an unknown constant
 //! fitted by generalised least squares: f32 could not hold the rest of the covariance beside
-//! it.
+//! a level of 10⁶ times its variance, and the limit is within 8.3·10⁻⁶ of the largest value
+//! from 2⁸ on (measured on a cube against the f64 reference, `K₀` from 10² to 10³⁰).
 //!
 //! # Units
 //! Every statistic is computed relative to a power of two near the largest reading (or the

@@ -637,10 +637,11 @@ fn values_agree_with_f64_on_every_layout() {
     }
 }
 
-/// A level of prior variance far above the rest (`K₀` = 10¹⁰ … 10³⁰ with the rest of
-/// `ENVIRONMENT`) is an unknown constant: the answers are those of the f64 reference at
-/// `K₀ = 10¹⁰` within 10⁻⁴ of the largest (they were π·(mean reading), 3.156 against 4.189 at
-/// +z on a cube, with variance 0: the least noise swamped everything but the level).
+/// A level of prior variance far above the rest (`K₀` = 10² … 10³⁰ with the rest of
+/// `ENVIRONMENT`): the answers of the f64 reference at that `K₀` (at 10¹⁰ beyond) within
+/// 2·10⁻⁵ of the largest (measured 8.3·10⁻⁶ at 760, where the limit of an unknown constant
+/// takes over; it was 14 % at 3·10⁶, and π·(mean reading), 3.156 against 4.189 at +z with
+/// variance 0, at 10¹⁰: the least noise swamped everything but the level).
 #[test]
 fn a_dominant_level_is_an_unknown_constant() {
     let sensors = cube();
@@ -649,31 +650,27 @@ fn a_dominant_level_is_an_unknown_constant() {
     let dirs: Vec<[f64; 3]> = sensors.iter().map(|s| to64(s.direction)).collect();
     let y = readings(&sensors);
     let y64: Vec<f64> = y.iter().map(|&v| f64::from(v)).collect();
-    let mut reference_prior = Prior::ENVIRONMENT;
-    reference_prior.spectrum[0] = 1e10;
-    let truth: Vec<f64> = normals()
-        .iter()
-        .map(|&n| reference(&dirs, &gains, &reference_prior, None, &y64, to64(n), None, None).0)
-        .collect();
-    let top = truth.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    for k0 in [1e7f32, 1e10, 1e20, 1e30] {
+    let mut worst = 0.0f64;
+    for k0 in [1e2f32, 5e2, 7.5e2, 7.6e2, 1e4, 1e6, 3e6, 1e10, 1e20, 1e30] {
         let mut prior = Prior::ENVIRONMENT;
         prior.spectrum[0] = k0;
+        let mut reference_prior = prior;
+        reference_prior.spectrum[0] = k0.min(1e10);
         let mut probe = LayoutProbe::<6>::new(&sensors, prior, Noise::NONE).unwrap();
         probe.update(&y).unwrap();
-        for (k, &n) in normals().iter().enumerate() {
+        for n in normals() {
+            let truth =
+                reference(&dirs, &gains, &reference_prior, None, &y64, to64(n), None, None).0;
             let e = probe.irradiance(n).unwrap();
-            assert!(
-                (f64::from(e.value) - truth[k]).abs() < 1e-4 * top,
-                "{k0:e} {n:?}: {e:?} {}",
-                truth[k]
-            );
-            assert!(e.variance > 0.0 && probe.irradiance_variance(n).unwrap() >= 0.0);
+            worst = worst.max((f64::from(e.value) - truth).abs() / 4.19);
+            assert!(e.variance > 0.0 && probe.irradiance_variance(n).unwrap() >= 0.0, "{k0:e}");
         }
         let e = probe.irradiance(Vec3::Z).unwrap().value;
         assert!((e - 4.188_79).abs() < 0.05, "{k0:e}: {e}");
         assert!(probe.irradiance_variance(-Vec3::Z).unwrap() > 0.0);
     }
+    std::eprintln!("a dominant level: worst {worst:e} of the largest value");
+    assert!(worst < 2e-5, "{worst:e}");
 }
 
 /// Readings that fit a constant mean exactly (identical readings): the scale is that of the
