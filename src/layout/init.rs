@@ -1,6 +1,6 @@
 //! `LayoutProbe::new`: the tables of a layout, at run time or by the compiler.
 
-use super::linalg::{congruence, project, symmetric_eigen, LogProduct};
+use super::linalg::{congruence, congruence_diagonal, project, symmetric_eigen, LogProduct};
 use super::*;
 
 impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
@@ -12,8 +12,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// - [`Error::InvalidDirection`]: a zero or non-finite direction;
     /// - [`Error::InvalidResponse`]: a response out of range, or more than [`MAX_RESPONSES`]
     ///   distinct responses;
-    /// - [`Error::InvalidNoise`]: a noise scale that is not finite and positive, or noise that
-    ///   is not finite and non-negative;
+    /// - [`Error::InvalidNoise`]: a noise scale that is not finite and positive, noise that
+    ///   is not finite and non-negative, a relative noise above [`MAX_RELATIVE_NOISE`], or,
+    ///   with an absolute noise, noise scales that differ by more than
+    ///   [`MAX_NOISE_SCALE_RATIO`];
     /// - [`Error::InvalidPrior`]: a spectrum (finite, non-negative, not all zero), variance
     ///   scale, zonal covariance or mean profile out of range;
     /// - [`Error::InvalidChannel`]: a radiance type of more than four channels.
@@ -21,9 +23,11 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// Readings that the prior makes linearly dependent are fine: two sensors with the same
     /// direction and response, or the antipodal pairs of cosine sensors (their differences
     /// see degree 1 only). The model's least noise, `10⁻⁶` of the largest eigenvalue of the
-    /// whitened covariance, keeps the system solvable, and duplicates are averaged.
+    /// whitened covariance, keeps the system solvable, and duplicates are averaged: without
+    /// noise, sixteen sensors that are eight copies each of two give the answers and the
+    /// error bars of the two (their copies add no degrees of freedom to the scale's fit).
     pub const fn new(sensors: &[Sensor; K], prior: Prior, noise: Noise) -> Result<Self, Error> {
-        let mean_terms = match prior.mean {
+        let mut mean_terms = match prior.mean {
             Mean::Zero => 0,
             _ => 1,
         };
@@ -33,10 +37,13 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         if K == 0 || K > MAX_SENSORS || K <= mean_terms {
             return Err(Error::InvalidSize);
         }
-        if !non_negative(noise.absolute) || !non_negative(noise.relative) {
+        if !non_negative(noise.absolute)
+            || !non_negative(noise.relative)
+            || noise.relative > MAX_RELATIVE_NOISE
+        {
             return Err(Error::InvalidNoise);
         }
-        let spectrum = prior.spectrum;
+        let mut spectrum = prior.spectrum;
         let mut any = false;
         let mut l = 0;
         while l < DEGREES {
@@ -49,6 +56,51 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         if !any {
             return Err(Error::InvalidPrior);
         }
+        // A level whose prior variance dwarfs the rest's (K₀ above 2⁸ times every other K_l,
+        // uncorrelated with them) is taken in its limit, an unknown constant fitted by
+        // generalised least squares: f32 would hold the rest beside it less well than the limit
+        // approximates it (measured on a cube: within 8.3·10⁻⁶ of the largest value either
+        // side of the switch; the proper prior in f32 erred by 14 % at K₀ = 10⁶·K₁).
+        let mut mean = prior.mean;
+        let mut rest = 0.0f32;
+        let mut l = 1;
+        while l < DEGREES {
+            if spectrum[l] > rest {
+                rest = spectrum[l];
+            }
+            l += 1;
+        }
+        if matches!(mean, Mean::Zero)
+            && K >= 2
+            && prior.zonal[0] == 0.0
+            && prior.zonal[2] == 0.0
+            && rest > 0.0
+            && spectrum[0] > 256.0 * rest
+        {
+            spectrum[0] = 0.0;
+            mean = Mean::Constant;
+            mean_terms = 1;
+        }
+        // A spectrum far from 1 is brought near it by a power of two (exact), which the
+        // scale s takes back: the model is the same, and no product of spectra overflows.
+        let mut largest = 0.0f32;
+        let mut l = 0;
+        while l < DEGREES {
+            if spectrum[l] > largest {
+                largest = spectrum[l];
+            }
+            l += 1;
+        }
+        let spectrum_exponent = if largest > 1_048_576.0 || largest < 1.0 / 1_048_576.0 {
+            exponent_of(largest)
+        } else {
+            0
+        };
+        let mut l = 0;
+        while l < DEGREES {
+            spectrum[l] = times_power_of_two(spectrum[l], -spectrum_exponent);
+            l += 1;
+        }
         let variance_scale = prior.variance_scale;
         if !(variance_scale.is_finite() && variance_scale > 0.0) {
             return Err(Error::InvalidPrior);
@@ -58,6 +110,11 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         if !(z01.is_finite() && z12.is_finite() && z02.is_finite()) {
             return Err(Error::InvalidPrior);
         }
+        let (z01, z12, z02) = (
+            times_power_of_two(z01, -spectrum_exponent),
+            times_power_of_two(z12, -spectrum_exponent),
+            times_power_of_two(z02, -spectrum_exponent),
+        );
         let zonal_r = [[0.0, z01, z02], [z01, 0.0, z12], [z02, z12, 0.0]];
         let (k0, k1, k2) = (spectrum[0] as f64, spectrum[1] as f64, spectrum[2] as f64);
         let (z01, z12, z02) = (z01 as f64, z12 as f64, z02 as f64);
@@ -69,7 +126,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             return Err(Error::InvalidPrior);
         }
         let mut profile = [0.0f32; 9];
-        match prior.mean {
+        match mean {
             Mean::Zero => {}
             Mean::Constant => profile[0] = 1.0,
             Mean::Zonal(p) => {
@@ -88,6 +145,31 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 profile = p;
             }
         }
+        // Noise scales: only their ratios and the absolute noise matter. Without an absolute
+        // noise they have no effect (whitening by 1); with one, the whitening is
+        // 2ᵏ/wᵢ ≤ 1 for the power of two 2ᵏ ≤ the least wᵢ, and the whitened absolute noise
+        // is σ·2ᵏ. Scales that differ by more than MAX_NOISE_SCALE_RATIO are refused.
+        let (mut least, mut most) = (f32::MAX, 0.0f32);
+        let mut i = 0;
+        while i < K {
+            let w = sensors[i].noise_scale;
+            if !(w.is_finite() && w > 0.0) {
+                return Err(Error::InvalidNoise);
+            }
+            if w < least {
+                least = w;
+            }
+            if w > most {
+                most = w;
+            }
+            i += 1;
+        }
+        let whiten = noise.absolute > 0.0;
+        if whiten && most > MAX_NOISE_SCALE_RATIO * least {
+            return Err(Error::InvalidNoise);
+        }
+        let noise_exponent = if whiten { exponent_of(least) } else { 0 };
+        let absolute = times_power_of_two(noise.absolute, noise_exponent);
         let mut directions = [Vec3::ZERO; K];
         let mut whitening = [0.0f32; K];
         let mut class = [0u8; K];
@@ -101,11 +183,11 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 Some(d) => d,
                 None => return Err(Error::InvalidDirection),
             };
-            let w = sensor.noise_scale;
-            if !(w.is_finite() && w > 0.0) {
-                return Err(Error::InvalidNoise);
-            }
-            whitening[i] = 1.0 / w;
+            whitening[i] = if whiten {
+                times_power_of_two(1.0, noise_exponent) / sensor.noise_scale
+            } else {
+                1.0
+            };
             // A response seen before shares its class (and its gains, computed once).
             let mut found = classes;
             let mut c = 0;
@@ -190,14 +272,17 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 while l < DEGREES {
                     let k = spectrum[l] * gi[l] * gj[l] * degree_weight(l);
                     pair_cov[ci][cj][l] = k;
-                    pair_zz[ci][cj][l] = k * spectrum[l] * c[l] * c[l] / FOUR_PI;
+                    // Degrees ≤ 2 are added below from their coefficients.
+                    if l > 2 {
+                        pair_zz[ci][cj][l] = k * spectrum[l] * c[l] * c[l] / FOUR_PI;
+                    }
                     l += 1;
                 }
                 cj += 1;
             }
             ci += 1;
         }
-        // The whitened covariance and the direction average of z zᵀ.
+        // The whitened covariance and the direction average of z zᵀ above degree 2.
         let mut cov = [[0.0f32; K]; K];
         let mut zz = [[0.0f32; K]; K];
         let mut i = 0;
@@ -206,32 +291,21 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             while j <= i {
                 let (ci, cj) =
                     (class[i] as usize % MAX_RESPONSES, class[j] as usize % MAX_RESPONSES);
-                let (gi, gj) = (&distinct[ci], &distinct[cj]);
                 let (a, b) = (&pair_cov[ci][cj], &pair_zz[ci][cj]);
                 let (di, dj) = (directions[i], directions[j]);
                 let t = di.x * dj.x + di.y * dj.y + di.z * dj.z;
                 let w = whitening[i] * whitening[j];
-                // The zonal part: uᵢᵀRuⱼ; and in the average of z zᵀ the cross terms with
-                // the isotropic part, (1/4π)·Σ_l (Ruⱼ)_l c_l K_l gᵢ_l c_l Y_l0(dᵢ) (and i ↔ j),
-                // and (1/4π)·Σ_l (Ruᵢ)_l (Ruⱼ)_l c_l².
-                let (yi, yj) = (zonal_harmonics(di.z), zonal_harmonics(dj.z));
+                // The zonal part: uᵢᵀRuⱼ.
                 let mut zonal = 0.0f32;
-                let mut zonal_zz = 0.0f32;
                 let mut l = 0;
                 while l < 3 {
                     zonal += zonal_u[i][l] * ru[j][l];
-                    let ai = spectrum[l] * gi[l] * c[l];
-                    let aj = spectrum[l] * gj[l] * c[l];
-                    zonal_zz += (ru[j][l] * c[l] * ai * yi[l]
-                        + ru[i][l] * c[l] * aj * yj[l]
-                        + ru[i][l] * ru[j][l] * c[l] * c[l])
-                        / FOUR_PI;
                     l += 1;
                 }
                 let (sa, sb) = legendre_sums(a, b, t);
                 cov[i][j] = w * (sa + zonal);
                 cov[j][i] = cov[i][j];
-                zz[i][j] = w * (sb + zonal_zz);
+                zz[i][j] = w * sb;
                 zz[j][i] = zz[i][j];
                 j += 1;
             }
@@ -253,16 +327,66 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         // The model's least noise: eigenvalues floored at 10⁻⁶ of the largest, so that
         // dependent readings (duplicate sensors; antipodal cosine pairs, whose differences
         // see degree 1 only) keep the system solvable.
+        let mut rank = 0;
         let mut j = 0;
         while j < K {
             // (A NaN eigenvalue, impossible from finite input, is floored too.)
             if values[j].is_nan() || values[j] <= FLOOR * top {
                 values[j] = FLOOR * top;
+            } else {
+                rank += 1;
             }
             j += 1;
         }
-        // M̃ = Vᵀ·zz·V.
-        let average_zz = congruence(&vectors, &zz);
+        // M̃ = Vᵀ·avg[z zᵀ]·V. Degrees ≤ 2 carry nearly all of avg[z zᵀ], and a product of
+        // matrices would lose the small eigenvalues' share of it to rounding: their part is
+        // (1/4π)·Σ_lm c_l²·b̃_lm b̃_lmᵀ with b̃_lm = Vᵀ·(the whitened covariances of the
+        // readings with the radiance's coefficient lm), projected one vector at a time.
+        // (Without a mean term only its diagonal is read.)
+        let mut average_zz = if mean_terms == 1 {
+            congruence(&vectors, &zz)
+        } else {
+            congruence_diagonal(&vectors, &zz)
+        };
+        let mut coefficient = [[0.0f32; K]; 9];
+        let mut i = 0;
+        while i < K {
+            let g = &distinct[class[i] as usize % MAX_RESPONSES];
+            let y = harmonics(directions[i]);
+            let mut k = 0;
+            while k < 9 {
+                let l = degree_of(k);
+                coefficient[k][i] = whitening[i] * spectrum[l] * g[l] * y[k];
+                k += 1;
+            }
+            // The zonal covariances: coefficient l0 gains Σ_l' R_ll'·g_l'·Y_l'0(dᵢ).
+            let mut l = 0;
+            while l < 3 {
+                coefficient[l * l + l][i] += whitening[i] * ru[i][l];
+                l += 1;
+            }
+            i += 1;
+        }
+        let mut k = 0;
+        while k < 9 {
+            let b = project(&vectors, &coefficient[k]);
+            let f = c[degree_of(k)] * c[degree_of(k)] / FOUR_PI;
+            let mut j = 0;
+            while j < K {
+                let fb = f * b[j];
+                if mean_terms == 1 {
+                    let mut m = 0;
+                    while m < K {
+                        average_zz[j][m] += fb * b[m];
+                        m += 1;
+                    }
+                } else {
+                    average_zz[j][j] += fb * b[j];
+                }
+                j += 1;
+            }
+            k += 1;
+        }
         // Mean basis: sensor values h_i = Σ a_l g_l P_l(d_i·z), whitened and projected.
         let mut basis = [[0.0f32; K]; 2];
         let mut basis_sensor = [0.0f32; K];
@@ -346,12 +470,17 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             average_hz,
             average_hh,
             noise,
+            absolute,
+            spectrum_exponent,
+            rank,
             variance_scale,
             alpha: [T::ZERO; K],
             beta: [T::ZERO; 2],
+            unit: T::ZERO,
             scale: T::ZERO,
             nugget: T::ZERO,
             average_variance: T::ZERO,
+            average_unit_variance: T::ZERO,
             updated: false,
             stream_mean: [T::ZERO; K],
             stream_weight: 0.0,

@@ -1,55 +1,61 @@
 //! The layout probe's linear algebra in f32: the symmetric eigendecomposition (`const`, for
-//! compile-time tables), Cholesky solves and products of many factors.
+//! compile-time tables), LDLᵀ solves and products of many factors.
 
 use super::absolute;
 use super::square_root;
 use crate::math;
 
-/// In-place lower Cholesky factor of a symmetric positive-definite matrix; `false` if it is
-/// not positive definite in f32.
-pub(super) fn cholesky<const K: usize>(a: &mut [[f32; K]; K]) -> bool {
+/// In-place `LDLᵀ` factor of a symmetric positive-definite matrix (its lower triangle, by
+/// rows): `L` unit lower triangular below the diagonal, `D` on it; the reciprocals of `D` in
+/// `inverse`. No square roots, one division per row. `false` if it is not positive definite
+/// in f32.
+pub(super) fn ldl<const K: usize>(a: &mut [[f32; K]; K], inverse: &mut [f32; K]) -> bool {
+    let mut w = [0.0f32; K];
     for j in 0..K {
-        let (row_j, below) = match a[j..].split_first_mut() {
-            Some(split) => split,
-            None => return false,
-        };
-        let (left, right) = row_j.split_at_mut(j);
-        let d = right[0] - dot(left, left);
+        // w_k = L_jk·d_k.
+        let mut d = a[j][j];
+        for k in 0..j {
+            w[k] = a[j][k] * a[k][k];
+            d -= a[j][k] * w[k];
+        }
         if d.is_nan() || d <= 0.0 {
             return false;
         }
-        let root = math::sqrt(d);
-        right[0] = root;
-        let inverse = 1.0 / root;
-        for row_i in below {
-            let (left_i, right_i) = row_i.split_at_mut(j);
-            right_i[0] = (right_i[0] - dot(left_i, left)) * inverse;
+        a[j][j] = d;
+        let r = 1.0 / d;
+        inverse[j] = r;
+        for i in j + 1..K {
+            let mut x = a[i][j];
+            for k in 0..j {
+                x -= a[i][k] * w[k];
+            }
+            a[i][j] = x * r;
         }
     }
     true
 }
 
-/// `Σ aᵢbᵢ` over the shorter slice.
-#[inline(always)]
-fn dot(a: &[f32], b: &[f32]) -> f32 {
-    a.iter().zip(b).fold(0.0f32, |s, (x, y)| s + x * y)
-}
-
-/// `(LLᵀ)⁻¹b` for the factor of [`cholesky`] (its lower triangle, by rows).
-pub(super) fn cholesky_solve<const K: usize>(l: &[[f32; K]; K], b: &[f32; K]) -> [f32; K] {
+/// `(LDLᵀ)⁻¹b` for the factor of [`ldl`].
+pub(super) fn ldl_solve<const K: usize>(
+    a: &[[f32; K]; K],
+    inverse: &[f32; K],
+    b: &[f32; K],
+) -> [f32; K] {
     let mut x = *b;
-    // Lz = b, row by row.
-    for (i, row) in l.iter().enumerate() {
-        let (done, rest) = x.split_at_mut(i);
-        rest[0] = (rest[0] - dot(&row[..i], done)) / row[i];
+    for i in 0..K {
+        let mut v = x[i];
+        for k in 0..i {
+            v -= a[i][k] * x[k];
+        }
+        x[i] = v;
     }
-    // Lᵀx = z, by columns of Lᵀ (rows of L): x_i is final once the rows below took their part.
-    for (i, row) in l.iter().enumerate().rev() {
-        let (before, rest) = x.split_at_mut(i);
-        rest[0] /= row[i];
-        let xi = rest[0];
-        for (xk, lik) in before.iter_mut().zip(&row[..i]) {
-            *xk -= lik * xi;
+    for i in 0..K {
+        x[i] *= inverse[i];
+    }
+    for i in (0..K).rev() {
+        let xi = x[i];
+        for k in 0..i {
+            x[k] -= a[i][k] * xi;
         }
     }
     x
@@ -103,6 +109,39 @@ pub(super) const fn congruence<const K: usize>(
                 b += 1;
             }
             a_ += 1;
+        }
+        i += 1;
+    }
+    out
+}
+
+/// The diagonal of `VᵀAV` (the rest zero): the same bits as [`congruence`]'s, at half its cost.
+pub(super) const fn congruence_diagonal<const K: usize>(
+    v: &[[f32; K]; K],
+    a: &[[f32; K]; K],
+) -> [[f32; K]; K] {
+    let mut av = [[0.0f32; K]; K];
+    let mut i = 0;
+    while i < K {
+        let mut k = 0;
+        while k < K {
+            let aik = a[i][k];
+            let mut j = 0;
+            while j < K {
+                av[i][j] += aik * v[k][j];
+                j += 1;
+            }
+            k += 1;
+        }
+        i += 1;
+    }
+    let mut out = [[0.0f32; K]; K];
+    let mut i = 0;
+    while i < K {
+        let mut b = 0;
+        while b < K {
+            out[b][b] += v[i][b] * av[i][b];
+            b += 1;
         }
         i += 1;
     }
@@ -273,7 +312,20 @@ pub(super) const fn symmetric_eigen<const K: usize>(
         i += 1;
     }
     // Implicit QL: deflate from the top. For each l, chase the bulge of a shifted QL step
-    // through rows m − 1 … l by Givens rotations until e[l] is negligible.
+    // through rows m − 1 … l by Givens rotations until e[l] is negligible: against its
+    // neighbours on the diagonal, or against the matrix (a cluster of eigenvalues at zero,
+    // from duplicate sensors, has neighbours of the order of rounding and would never
+    // deflate on the relative test alone).
+    let mut norm = 0.0f32;
+    let mut i = 0;
+    while i < K {
+        let row = absolute(d[i]) + absolute(e[i]);
+        if row > norm {
+            norm = row;
+        }
+        i += 1;
+    }
+    let negligible = f32::EPSILON * 1e-6 * norm;
     let mut l = 0;
     while l < K {
         let mut iterations = 0;
@@ -282,7 +334,7 @@ pub(super) const fn symmetric_eigen<const K: usize>(
             let mut m = l;
             while m + 1 < K {
                 let dd = absolute(d[m]) + absolute(d[m + 1]);
-                if absolute(e[m]) <= f32::EPSILON * dd {
+                if absolute(e[m]) <= f32::EPSILON * dd || absolute(e[m]) <= negligible {
                     break;
                 }
                 m += 1;

@@ -2,6 +2,7 @@
 
 use super::linalg::project;
 use super::*;
+use crate::probe::MAX_GLOSSY_SHARPNESS;
 
 impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// The sensors' unit directions.
@@ -54,8 +55,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     }
 
     /// Irradiance `E(n) = ∫ L(x)·max(0, n·x) dx` with the direction-averaged posterior
-    /// variance (O(K)). [`Error::InvalidDirection`] for a zero or non-finite normal; before
-    /// the first update, zero with zero variance.
+    /// variance (O(K)), and as [`Estimate::unit_variance`] that variance for a signal variance
+    /// `s` of 1 (`variance` is `unit_variance ·`[`LayoutProbe::signal_variance`]; of the first
+    /// channel: with noise each channel has its own noise ratio). [`Error::InvalidDirection`]
+    /// for a zero or non-finite normal; before the first update, zero with zero variance.
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = unit(normal)?;
         let h = self.mean_query(n);
@@ -75,7 +78,16 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 value = value.mul_add(self.alpha[i], z[i]);
             }
         }
-        Ok(Estimate { value, variance: self.average_variance, unit_variance: 1.0 })
+        Ok(Estimate {
+            value: self.to_readings(value),
+            variance: self.average_variance,
+            unit_variance: self.average_unit_variance.channel(0),
+        })
+    }
+
+    /// Values in working units to reading units, per channel.
+    fn to_readings(&self, value: T) -> T {
+        from_channels(|ch| value.channel(ch) * self.unit.channel(ch))
     }
 
     /// The exact posterior variance of [`LayoutProbe::irradiance`] at `normal`, O(K²).
@@ -84,40 +96,81 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let z = self.query_covariances(n);
         let c = cosine_factors_lookup();
         let prior = self.prior_variance + self.zonal_prior(n, &[c[0], c[1], c[2]]);
-        Ok(self.exact_variance(&z, self.mean_query(n), prior))
+        Ok(self.exact_variance(&z, self.mean_query(n), prior, 1.0, 0).0)
     }
 
-    /// `s·V̄ − s²·z̃ᵀD⁻¹z̃ + RᵀA⁻¹R` per channel for unit-scale query covariances `z`, the
-    /// query's mean basis value `h` and unit prior variance `prior`.
-    fn exact_variance(&self, z: &[f32; K], h: f32, prior: f32) -> T {
+    /// The posterior variance per channel, in reading units times `amplitude²`, and the
+    /// unit variance (`s = 1`) of channel 0, for unit-scale query covariances `z`, the
+    /// query's mean basis value `h` and unit prior variance `prior`: with
+    /// `q_j = s/(s·λ_j + ν)`, `s·(prior − Σ_j z̃_j²·q_j) + r²/Σ_j (h̃_j²/d_j)`,
+    /// `r = h − Σ_j h̃_j·z̃_j·q_j` (factored: no power of `s` beyond the first).
+    fn exact_variance(
+        &self,
+        z: &[f32; K],
+        h: f32,
+        prior: f32,
+        mantissa: f32,
+        exponent: i32,
+    ) -> (T, f32) {
         let zw: [f32; K] = core::array::from_fn(|i| z[i] * self.whitening[i]);
         let zt = project(&self.vectors, &zw);
-        from_channels(|ch| {
+        let mut unit_variance = 0.0f32;
+        let mut variances = [0.0f32; MAX_CHANNELS];
+        for (ch, out) in variances.iter_mut().enumerate().take(T::CHANNELS) {
             let s = self.scale.channel(ch);
             let nu = self.nugget.channel(ch);
-            let mut v = s * prior;
-            let (mut hz, mut hh) = (0.0f32, 0.0f32);
+            let q = self.noise_ratio_weights(s, nu);
+            let mut explained = prior;
+            let (mut hz, mut hq, mut hd) = (0.0f32, 0.0f32, 0.0f32);
             for j in 0..K {
-                let d = s * self.values[j] + nu;
-                if d > 0.0 {
-                    v -= s * s * zt[j] * zt[j] / d;
-                    if self.mean_terms == 1 {
-                        hz += self.basis[0][j] * zt[j] / d;
-                        hh += self.basis[0][j] * self.basis[0][j] / d;
+                explained -= zt[j] * zt[j] * q[j];
+                if self.mean_terms == 1 {
+                    let b = self.basis[0][j];
+                    hz += b * zt[j] * q[j];
+                    hq += b * b * q[j];
+                    let d = s * self.values[j] + nu;
+                    if d > 0.0 {
+                        hd += b * b / d;
                     }
                 }
             }
-            if self.mean_terms == 1 && hh > 0.0 {
-                let r = h - s * hz;
-                v += r * r / hh;
+            // What f32 resolves: the explained part is known to rounding, of the order of
+            // ε·prior; a posterior variance below that is reported at that level, not 0.
+            let explained = explained.max(f32::EPSILON / 16.0 * prior);
+            let (mut v, mut unit) = (s * explained, explained);
+            if self.mean_terms == 1 {
+                let r = h - hz;
+                if hd > 0.0 {
+                    v += r * r / hd;
+                }
+                if hq > 0.0 {
+                    unit += r * r / hq;
+                }
             }
-            v.max(0.0) * self.variance_scale
-        })
+            if ch == 0 {
+                unit_variance = libm::scalbnf(
+                    unit * self.variance_scale * mantissa * mantissa,
+                    2 * exponent.clamp(-200, 200) + self.spectrum_exponent,
+                );
+            }
+            // v·(u·a)² by exponents: u·a may leave the range while the result does not.
+            let u = self.unit.channel(ch);
+            if u == 0.0 || v == 0.0 {
+                continue;
+            }
+            *out = libm::scalbnf(
+                v * self.variance_scale * mantissa * mantissa,
+                2 * (libm::ilogbf(u) + exponent),
+            );
+        }
+        (from_channels(|ch| variances[ch.min(MAX_CHANNELS - 1)]), unit_variance)
     }
 
     /// The estimate of `∫ L(x)·f(axis·x) dx` for a zonal lobe `f` of Legendre coefficients
     /// `q_l = 2π∫ f(t)·P_l(t) dt`, with its exact posterior variance: O(K·DEGREES + K²).
-    fn lobe(&self, axis: Vec3, q: &[f32; DEGREES]) -> Estimate<T> {
+    /// The lobe is `q` times `mantissa·2^exponent` (an amplitude kept apart from `q`, so that
+    /// neither it nor the answers overflow before they must).
+    fn lobe(&self, axis: Vec3, q: &[f32; DEGREES], mantissa: f32, exponent: i32) -> Estimate<T> {
         let weight = |l: usize| (2 * l + 1) as f32 / FOUR_PI;
         let mut series = [[0.0f32; DEGREES]; MAX_RESPONSES];
         for (c, g) in series.iter_mut().zip(&self.gains) {
@@ -143,14 +196,23 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         for i in 0..K {
             value = value.mul_add(self.alpha[i], z[i]);
         }
-        let variance = self.exact_variance(&z, h, prior);
-        Estimate { value, variance, unit_variance: 1.0 }
+        let value = from_channels(|ch| {
+            let u = self.unit.channel(ch);
+            if u == 0.0 {
+                return 0.0;
+            }
+            libm::scalbnf(value.channel(ch) * mantissa, libm::ilogbf(u) + exponent)
+        });
+        let (variance, unit) = self.exact_variance(&z, h, prior, mantissa, exponent);
+        Estimate { value, variance, unit_variance: unit }
     }
 
     /// The normalised Phong average `∫ L(x)·(e + 1)/(2π)·max(0, axis·x)ᵉ dx` (the glossy term
     /// about a mirror direction), with its exact posterior variance, O(K·DEGREES + K²).
     /// [`Error::InvalidDirection`] for a zero or non-finite axis, [`Error::InvalidExponent`]
-    /// for an exponent that is negative, not finite or above 4096.
+    /// for an exponent that is negative, not finite or above [`MAX_GLOSSY_SHARPNESS`] (the
+    /// limit of [`crate::probe::Probe::phong`]). [`Estimate::unit_variance`] is the variance
+    /// for `s = 1`, as in [`LayoutProbe::irradiance`].
     ///
     /// ```
     /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
@@ -167,14 +229,20 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// ```
     pub fn phong(&self, axis: Vec3, exponent: f32) -> Result<Estimate<T>, Error> {
         let r = unit(axis)?;
-        let q = Response::CosinePower(exponent).gains().map_err(|_| Error::InvalidExponent)?;
-        Ok(self.lobe(r, &q))
+        if !(0.0..=MAX_GLOSSY_SHARPNESS).contains(&exponent) {
+            return Err(Error::InvalidExponent);
+        }
+        Ok(self.lobe(r, &cosine_power_gains(f64::from(exponent)), 1.0, 0))
     }
 
-    /// `∫ L(x)·G(x) dx` for a spherical-Gaussian lobe `G` (sharpness at most 4096), with its
-    /// exact posterior variance, O(K·DEGREES + K²). [`Error::InvalidSharpness`] for a
-    /// sharpness above 4096 (or not finite, or negative), [`Error::InvalidWeights`] for a
-    /// non-finite amplitude, [`Error::InvalidDirection`] for a bad axis.
+    /// `∫ L(x)·G(x) dx` for a spherical-Gaussian lobe `G`, with its exact posterior variance,
+    /// O(K·DEGREES + K²). [`Error::InvalidSharpness`] for a sharpness above
+    /// [`MAX_GLOSSY_SHARPNESS`] (the limit of [`crate::probe::Probe::glossy`]; or not finite,
+    /// or negative), [`Error::InvalidWeights`] for a non-finite amplitude,
+    /// [`Error::InvalidDirection`] for a bad axis. The amplitude is kept apart from the
+    /// lobe's shape: the value is `±∞` only where `∫ L·G` itself exceeds `f32::MAX`, the
+    /// variance where its square does. [`Estimate::unit_variance`] is the variance for
+    /// `s = 1` (with the amplitude's square).
     ///
     /// ```
     /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
@@ -193,19 +261,27 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     pub fn glossy(&self, lobe: &SphericalGaussian) -> Result<Estimate<T>, Error> {
         let r = unit(lobe.axis)?;
         let mu = lobe.sharpness;
-        if !(mu.is_finite() && (0.0..=4096.0).contains(&mu)) {
+        if !(0.0..=MAX_GLOSSY_SHARPNESS).contains(&mu) {
             return Err(Error::InvalidSharpness);
         }
-        if !lobe.amplitude.is_finite() {
+        let a = lobe.amplitude;
+        if !a.is_finite() {
             return Err(Error::InvalidWeights);
+        }
+        if a == 0.0 {
+            return Ok(self.lobe(r, &[0.0; DEGREES], 0.0, 0));
         }
         let mut q = [0.0f32; DEGREES];
         q[0] = 1.0;
         if mu > 0.0 {
-            q = Response::Gaussian(mu).gains().map_err(|_| Error::InvalidSharpness)?;
+            q = gaussian_gains(f64::from(mu));
         }
-        let total = lobe.integral();
-        Ok(self.lobe(r, &q.map(|v| v * total)))
+        // ∫G = a·2π(1 − e^{−2μ})/μ, as a mantissa and an exponent.
+        let unit_lobe = SphericalGaussian { amplitude: 1.0, ..*lobe };
+        let integral = unit_lobe.integral();
+        let (ea, ei) = (libm::ilogbf(a), libm::ilogbf(integral));
+        let mantissa = libm::scalbnf(a, -ea) * libm::scalbnf(integral, -ei);
+        Ok(self.lobe(r, &q, mantissa, ea + ei))
     }
 
     /// The posterior mean of the radiance's spherical-harmonic coefficients of degree ≤ 2
@@ -249,7 +325,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 *c = c.mul_add(self.alpha[i], self.spectrum[l] * g[l] * basis[k]);
             }
         }
-        ShL2::new(coefficients)
+        ShL2::new(coefficients.map(|c| self.to_readings(c)))
     }
 
     /// The scale `s = σ_f²` of the covariance chosen at the last update, per channel (0 before
@@ -269,7 +345,13 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// ```
     #[must_use]
     pub fn signal_variance(&self) -> T {
-        self.scale
+        from_channels(|ch| {
+            let (s, u) = (self.scale.channel(ch), self.unit.channel(ch));
+            if s == 0.0 || u == 0.0 {
+                return 0.0;
+            }
+            libm::scalbnf(s, 2 * libm::ilogbf(u) - self.spectrum_exponent)
+        })
     }
 
     /// The restricted (REML) log likelihood of the last update's readings under the probe's

@@ -1,12 +1,13 @@
 //! Updates: the fit of each channel (REML scale, GLS mean, weights), streams and channel
 //! combinations.
 
-use super::linalg::{cholesky, cholesky_solve, project, LogProduct};
+use super::linalg::{ldl, ldl_solve, project, LogProduct};
 use super::*;
 
 impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
-    /// Takes one reading per sensor. [`Error::InvalidRadiance`] for a non-finite reading
-    /// (the probe keeps its previous state).
+    /// Takes one reading per sensor: any finite value, negative ones included (an
+    /// offset-corrected sensor in the dark; module docs), in any units. [`Error::InvalidRadiance`]
+    /// for a non-finite reading (the probe keeps its previous state).
     pub fn update(&mut self, readings: &[T; K]) -> Result<(), Error> {
         check_readings(readings)?;
         self.stream_mean = *readings;
@@ -62,15 +63,29 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         }
         let mut log_bf = 0.0f32;
         for ch in 0..T::CHANNELS {
-            let square_mean =
-                self.stream_mean.iter().map(|m| m.channel(ch) * m.channel(ch)).sum::<f32>()
-                    / K as f32;
+            // In units of a power of two near the largest reading, mean or noise: the
+            // decision does not depend on the readings' units.
+            let mut top = 0.0f32;
             for i in 0..K {
-                let m = self.stream_mean[i].channel(ch);
-                let r = readings[i].channel(ch) - m;
-                let scale = self.whitening[i];
-                let noise = self.noise.absolute * self.noise.absolute / (scale * scale)
-                    + self.noise.relative * self.noise.relative * m * m;
+                let noise = self.absolute / self.whitening[i];
+                top = top
+                    .max(self.stream_mean[i].channel(ch).abs())
+                    .max(readings[i].channel(ch).abs())
+                    .max(noise);
+            }
+            let e = if top > 0.0 && top.is_finite() { libm::ilogbf(top) } else { 0 };
+            let working = |v: f32| libm::scalbnf(v, -e);
+            let square_mean = self
+                .stream_mean
+                .iter()
+                .map(|m| working(m.channel(ch)) * working(m.channel(ch)))
+                .sum::<f32>()
+                / K as f32;
+            for i in 0..K {
+                let m = working(self.stream_mean[i].channel(ch));
+                let r = working(readings[i].channel(ch)) - m;
+                let a = working(self.absolute / self.whitening[i]);
+                let noise = a * a + self.noise.relative * self.noise.relative * m * m;
                 // Rounding is not a change.
                 let tiny = 1e-5 * m.abs();
                 let s0 = noise * (1.0 + 1.0 / w) + tiny * tiny;
@@ -125,7 +140,8 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     ///
     /// Later updates of the returned probe treat its readings as one channel, with noise
     /// `(σ·|w|, η)`. Before any update, the returned probe is not updated either.
-    /// [`Error::InvalidWeights`] for non-finite weights or weights all zero.
+    /// [`Error::InvalidWeights`] for non-finite weights, weights all zero, or weights whose
+    /// combined readings or noise exceed `f32::MAX`.
     ///
     /// ```
     /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
@@ -148,19 +164,22 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         if w.iter().any(|v| !v.is_finite()) || w.iter().all(|&v| v == 0.0) {
             return Err(Error::InvalidWeights);
         }
-        let norm = math::sqrt(w.iter().map(|v| v * v).sum::<f32>());
+        let norm = magnitude(&w);
         let noise = Noise { absolute: self.noise.absolute * norm, relative: self.noise.relative };
+        let absolute = self.absolute * norm;
         let readings: [f32; K] = core::array::from_fn(|i| {
             (0..channels).map(|c| w[c] * self.stream_mean[i].channel(c)).sum::<f32>()
         });
-        let eta2 = self.noise.relative * self.noise.relative;
-        let relative: [f32; K] = core::array::from_fn(|i| {
-            eta2 * (0..channels)
-                .map(|c| {
-                    let v = w[c] * self.stream_mean[i].channel(c);
-                    v * v
-                })
-                .sum::<f32>()
+        if readings.iter().any(|v| !v.is_finite()) || !absolute.is_finite() {
+            return Err(Error::InvalidWeights);
+        }
+        // The combined reading's relative noise: η·|(w_c·Y_c)_c|.
+        let magnitudes: [f32; K] = core::array::from_fn(|i| {
+            let mut v = [0.0f32; MAX_CHANNELS];
+            for c in 0..channels {
+                v[c] = w[c] * self.stream_mean[i].channel(c);
+            }
+            magnitude(&v)
         });
         let mut probe = LayoutProbe::<K, f32> {
             directions: self.directions,
@@ -189,11 +208,16 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             average_hz: self.average_hz,
             average_hh: self.average_hh,
             noise,
+            absolute,
+            spectrum_exponent: self.spectrum_exponent,
+            rank: self.rank,
             alpha: [0.0; K],
             beta: [0.0; 2],
+            unit: 0.0,
             scale: 0.0,
             nugget: 0.0,
             average_variance: 0.0,
+            average_unit_variance: 0.0,
             updated: false,
             stream_mean: readings,
             stream_weight: self.stream_weight,
@@ -202,12 +226,14 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             last_change: self.last_change,
         };
         if self.updated {
-            let fit = probe.fit(&readings, self.stream_weight.max(1.0), Some(&relative));
+            let fit = probe.fit(&readings, self.stream_weight.max(1.0), Some(&magnitudes));
             probe.alpha = fit.alpha;
             probe.beta = [fit.beta, 0.0];
+            probe.unit = fit.unit;
             probe.scale = fit.scale;
             probe.nugget = fit.nugget;
             probe.average_variance = fit.average_variance;
+            probe.average_unit_variance = fit.average_unit_variance;
             probe.log_likelihood = fit.log_likelihood;
             probe.updated = true;
         }
@@ -219,64 +245,83 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     fn fit_all(&mut self, readings: &[T; K], pooled: f32) {
         let mut alpha = [[0.0f32; K]; MAX_CHANNELS];
         let mut beta = [0.0f32; MAX_CHANNELS];
+        let mut unit = [0.0f32; MAX_CHANNELS];
         let mut scale = [0.0f32; MAX_CHANNELS];
         let mut nugget = [0.0f32; MAX_CHANNELS];
         let mut average = [0.0f32; MAX_CHANNELS];
+        let mut average_unit = [0.0f32; MAX_CHANNELS];
         let mut log_likelihood = 0.0f32;
         for ch in 0..T::CHANNELS.min(MAX_CHANNELS) {
             let y: [f32; K] = core::array::from_fn(|i| readings[i].channel(ch));
             let fit = self.fit(&y, pooled, None);
             alpha[ch] = fit.alpha;
             beta[ch] = fit.beta;
+            unit[ch] = fit.unit;
             scale[ch] = fit.scale;
             nugget[ch] = fit.nugget;
             average[ch] = fit.average_variance;
+            average_unit[ch] = fit.average_unit_variance;
             log_likelihood += fit.log_likelihood;
         }
         self.log_likelihood = log_likelihood;
         self.alpha =
             core::array::from_fn(|i| from_channels(|ch| alpha[ch.min(MAX_CHANNELS - 1)][i]));
         self.beta = [from_channels(|ch| beta[ch.min(MAX_CHANNELS - 1)]), T::ZERO];
+        self.unit = from_channels(|ch| unit[ch.min(MAX_CHANNELS - 1)]);
         self.scale = from_channels(|ch| scale[ch.min(MAX_CHANNELS - 1)]);
         self.nugget = from_channels(|ch| nugget[ch.min(MAX_CHANNELS - 1)]);
         self.average_variance = from_channels(|ch| average[ch.min(MAX_CHANNELS - 1)]);
+        self.average_unit_variance = from_channels(|ch| average_unit[ch.min(MAX_CHANNELS - 1)]);
         self.updated = true;
     }
 
-    /// One channel's fit. `relative`: each reading's relative-noise variance in reading units
-    /// (before pooling) where it is not `η²·yᵢ²` (a combination of channels).
-    fn fit(&self, y: &[f32; K], pooled: f32, relative: Option<&[f32; K]>) -> Fit<K> {
-        // Work relative to a power of two near the largest whitened reading.
-        let top = (0..K).fold(0.0f32, |m, i| m.max((y[i] * self.whitening[i]).abs()));
+    /// One channel's fit. `magnitude`: each reading's size for the relative noise (its
+    /// variance `η²·mᵢ²`, before pooling) where it is not `|yᵢ|` (a combination of channels).
+    fn fit(&self, y: &[f32; K], pooled: f32, magnitude: Option<&[f32; K]>) -> Fit<K> {
+        // Work relative to a power of two 2ᵉ near the largest whitened reading (or the
+        // absolute noise, if larger): every statistic below is then free of the units.
+        let mut top = self.absolute;
+        for i in 0..K {
+            top = top.max(y[i].abs() * self.whitening[i]);
+        }
         if top == 0.0 {
+            // Every reading 0 without noise: an exact fit of zero.
             return Fit {
                 alpha: [0.0; K],
                 beta: 0.0,
+                unit: 1.0,
                 scale: 0.0,
                 nugget: 0.0,
                 average_variance: 0.0,
-                log_likelihood: 0.0,
+                average_unit_variance: self.unit_average(0.0, 0.0),
+                log_likelihood: f32::INFINITY,
             };
         }
-        let unit = libm::scalbnf(1.0, libm::ilogbf(top));
-        let inv = 1.0 / unit;
-        let yw: [f32; K] = core::array::from_fn(|i| y[i] * self.whitening[i] * inv);
+        let e = libm::ilogbf(top);
+        // 2ᵉ and 2⁻ᵉ are normal numbers for every e but the subnormal range's.
+        let (unit, inv) = if e >= -126 {
+            let unit = libm::scalbnf(1.0, e);
+            (unit, 1.0 / unit)
+        } else {
+            (libm::scalbnf(1.0, e), 0.0)
+        };
+        let to_working = |v: f32| if inv != 0.0 { v * inv } else { libm::scalbnf(v, -e) };
+        let yw: [f32; K] = core::array::from_fn(|i| to_working(y[i] * self.whitening[i]));
         let z = project(&self.vectors, &yw);
-        // Whitened noise variances ν_i = σ² + η²·(Y_i/w_i)², and their mean ν̄ for the scale
+        // Whitened noise variances ν_i = σ² + η²·(m_i/w_i)², and their mean ν̄ for the scale
         // and the variances.
-        let absolute = (self.noise.absolute * inv) * (self.noise.absolute * inv) / pooled;
-        let eta2 = self.noise.relative * self.noise.relative / pooled;
-        let nus: [f32; K] = match relative {
+        let sigma = to_working(self.absolute);
+        let absolute = sigma * sigma / pooled;
+        let eta = self.noise.relative;
+        let eta2 = eta * eta / pooled;
+        let nus: [f32; K] = match magnitude {
             None => core::array::from_fn(|i| absolute + eta2 * yw[i] * yw[i]),
-            Some(r) => core::array::from_fn(|i| {
-                let w = self.whitening[i] * inv;
-                absolute + r[i] * w * w / pooled
+            Some(m) => core::array::from_fn(|i| {
+                let r = eta * to_working(m[i] * self.whitening[i]);
+                absolute + r * r / pooled
             }),
         };
-        let per_reading = match relative {
-            None => eta2 > 0.0,
-            Some(r) => r.iter().any(|&v| v > 0.0),
-        };
+        let per_reading = eta2 > 0.0;
         let nu = nus.iter().sum::<f32>() / K as f32;
         let p = self.mean_terms;
         let h = &self.basis[0];
@@ -314,8 +359,12 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                     hh += h[j] * h[j] * inv;
                 }
             }
+            // The residual after the mean is a difference known to rounding, ε·r̃ᵀΛ⁻¹r̃ before
+            // the mean: readings that fit the mean exactly leave s at that level, not 0.
             let q = if p == 1 && hh > 0.0 { zz - hz * hz / hh } else { zz };
-            (q / (K - p) as f32).max(0.0)
+            let q = q.max(f32::EPSILON * zz);
+            // Degrees of freedom: the rank, not K (a duplicate sensor's copy says nothing new).
+            (q / self.rank.saturating_sub(p).max(1) as f32).max(0.0)
         };
         let s = if nu == 0.0 {
             noiseless
@@ -323,6 +372,8 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             // The root of the REML score in u = ln s by the Illinois variant of regula falsi:
             // s·dℓ/ds = −½·s·Σ λ_j/d_j + ½·s·Q′-terms, no logarithms, O(K) per trial.
             let score = |u: f32| -> f32 {
+                #[cfg(test)]
+                SCORES.with(|c| c.set(c.get() + 1));
                 let s = math::exp(u);
                 let (mut tr, mut zz1, mut a, mut b, mut a1, mut b1) =
                     (0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32);
@@ -370,6 +421,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 let mut side = 0i8;
                 let mut u = 0.5 * (lo + hi);
                 for _ in 0..24 {
+                    let previous = u;
                     u = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
                     let f = score(u);
                     if f > 0.0 {
@@ -387,7 +439,9 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                         }
                         side = -1;
                     }
-                    if hi - lo < 1e-3 || f == 0.0 {
+                    // Converged: the bracket within 10⁻⁵, or a step of the (superlinear)
+                    // iteration below 10⁻⁴, whose next would move u by far less.
+                    if hi - lo < 1e-5 || (u - previous).abs() < 1e-4 || f == 0.0 {
                         break;
                     }
                 }
@@ -396,7 +450,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             math::exp(u)
         };
         let d: [f32; K] = core::array::from_fn(|j| s * lam[j] + nu);
-        let (objective, beta, hh) = if s > 0.0 || nu > 0.0 {
+        let (objective, beta, _) = if s > 0.0 || nu > 0.0 {
             eval(s)
         } else {
             (
@@ -432,11 +486,12 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 }
                 row[i] += nus[i] + s * FLOOR * top;
             }
-            if cholesky(&mut a) {
+            let mut inverse = [0.0f32; K];
+            if ldl(&mut a, &mut inverse) {
                 // Q = (s·C̃ + diag ν)⁻¹: β = hᵀQy/hᵀQh, and the weights Q(y − βh) = Qy − β·Qh.
-                let mut weights = cholesky_solve(&a, &yw);
+                let mut weights = ldl_solve(&a, &inverse, &yw);
                 if p == 1 {
-                    let qh = cholesky_solve(&a, h_sensor);
+                    let qh = ldl_solve(&a, &inverse, h_sensor);
                     let hqh: f32 = h_sensor.iter().zip(&qh).map(|(x, q)| x * q).sum();
                     if hqh > 0.0 {
                         beta = h_sensor.iter().zip(&weights).map(|(x, q)| x * q).sum::<f32>() / hqh;
@@ -460,44 +515,105 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         };
         let mut alpha = [0.0f32; K];
         for i in 0..K {
-            alpha[i] = s * self.whitening[i] * weights[i] * unit;
+            alpha[i] = s * self.whitening[i] * weights[i];
         }
-        // Direction-averaged variance: s·V̄ − s²·Σ M̃_jj/d_j + avg[RᵀA⁻¹R].
-        let mut average = s * self.prior_variance;
-        for j in 0..K {
-            if d[j] > 0.0 {
-                average -= s * s * self.average_zz[j][j] / d[j];
-            }
-        }
-        if p == 1 && hh > 0.0 {
-            let hzq = &self.average_hz[0];
-            let hd: [f32; K] = core::array::from_fn(|j| if d[j] > 0.0 { h[j] / d[j] } else { 0.0 });
-            let mut cross = 0.0f32;
-            let mut quad = 0.0f32;
-            for j in 0..K {
-                cross += hd[j] * hzq[j];
-                let mut row = 0.0f32;
-                for k in 0..K {
-                    row += self.average_zz[j][k] * hd[k];
-                }
-                quad += hd[j] * row;
-            }
-            average += (self.average_hh[0][0] - 2.0 * s * cross + s * s * quad) / hh;
-        }
+        // Direction-averaged variance, s·(unit variance), in working units.
+        let average_unit = self.unit_average(s, nu);
+        let average = s * average_unit + self.average_mean_noise(s, nu);
         Fit {
             alpha,
-            beta: beta * unit,
-            scale: s * unit * unit,
-            nugget: nu * unit * unit,
-            average_variance: average.max(0.0) * unit * unit * self.variance_scale,
+            beta,
+            unit,
+            scale: s,
+            nugget: nu,
+            average_variance: libm::scalbnf(average.max(0.0) * self.variance_scale, 2 * e),
+            average_unit_variance: libm::scalbnf(
+                average_unit.max(0.0) * self.variance_scale,
+                self.spectrum_exponent,
+            ),
             log_likelihood,
         }
     }
+
+    /// The direction average of the posterior variance for `s = 1` at the noise ratio `ν/s`
+    /// (`ν/s = 0` without noise): `V̄ − Σ_j M̃_jj·q_j + avg[r²]/Σ h̃_j²q_j`, `q_j = 1/(λ_j + ν/s)`,
+    /// `r(n) = h(n) − Σ_j h̃_j·z̃_j(n)·q_j`. (`s = 0` with noise: the mean's part alone is
+    /// unbounded; [`Self::average_mean_noise`] has it in absolute terms.)
+    fn unit_average(&self, s: f32, nu: f32) -> f32 {
+        let q = self.noise_ratio_weights(s, nu);
+        let mut average = self.prior_variance;
+        for j in 0..K {
+            average -= self.average_zz[j][j] * q[j];
+        }
+        // Resolved to rounding, of the order of ε·V̄ (as the exact variances).
+        average = average.max(f32::EPSILON / 16.0 * self.prior_variance);
+        if self.mean_terms == 1 {
+            let (r2, hh) = self.average_residual(&q);
+            if hh > 0.0 {
+                average += r2.max(0.0) / hh;
+            }
+        }
+        average
+    }
+
+    /// `q_j = s/(s·λ_j + ν) = 1/(λ_j + ν/s)` (`1/λ_j` without noise, whatever `s`; 0 where
+    /// `s = 0 < ν`): a function of the noise ratio alone, so that it does not move with the
+    /// rounding of `s`.
+    pub(super) fn noise_ratio_weights(&self, s: f32, nu: f32) -> [f32; K] {
+        let ratio = if nu == 0.0 {
+            0.0
+        } else if s > 0.0 {
+            nu / s
+        } else {
+            f32::INFINITY
+        };
+        core::array::from_fn(|j| 1.0 / (self.values[j] + ratio))
+    }
+
+    /// `(avg[r(n)²], Σ h̃_j²·q_j)` for the mean's residual `r(n) = h(n) − Σ_j h̃_j q_j z̃_j(n)`.
+    fn average_residual(&self, q: &[f32; K]) -> (f32, f32) {
+        let h = &self.basis[0];
+        let hq: [f32; K] = core::array::from_fn(|j| h[j] * q[j]);
+        let hzq = &self.average_hz[0];
+        let (mut cross, mut quad, mut hh) = (0.0f32, 0.0f32, 0.0f32);
+        for j in 0..K {
+            hh += h[j] * hq[j];
+            cross += hq[j] * hzq[j];
+            let mut row = 0.0f32;
+            for k in 0..K {
+                row += self.average_zz[j][k] * hq[k];
+            }
+            quad += hq[j] * row;
+        }
+        (self.average_hh[0][0] - 2.0 * cross + quad, hh)
+    }
+
+    /// The mean's share of the averaged variance where `s = 0 < ν` (the readings are all
+    /// noise): `avg[h²]·ν/Σ h̃_j²`; 0 otherwise (it is in `s`·unit variance).
+    fn average_mean_noise(&self, s: f32, nu: f32) -> f32 {
+        if self.mean_terms == 1 && s == 0.0 && nu > 0.0 {
+            let hh: f32 = self.basis[0].iter().map(|h| h * h).sum();
+            if hh > 0.0 {
+                return self.average_hh[0][0] * nu / hh;
+            }
+        }
+        0.0
+    }
+}
+
+#[cfg(test)]
+extern crate std;
+#[cfg(test)]
+std::thread_local! {
+    /// Calls of the REML score (a cost measure for the tests).
+    pub(super) static SCORES: core::cell::Cell<usize> = const { core::cell::Cell::new(0) };
 }
 
 struct Fit<const K: usize> {
     alpha: [f32; K],
     beta: f32,
+    unit: f32,
+    average_unit_variance: f32,
     scale: f32,
     nugget: f32,
     average_variance: f32,
@@ -513,6 +629,21 @@ fn gls_exact<const K: usize>(h: &[f32; K], z: &[f32; K]) -> f32 {
     } else {
         0.0
     }
+}
+
+/// `|v|` without overflow or underflow in the squares (`+∞` where it exceeds `f32::MAX`).
+fn magnitude(v: &[f32; MAX_CHANNELS]) -> f32 {
+    let plain: f32 = v.iter().map(|x| x * x).sum();
+    if plain >= f32::MIN_POSITIVE && plain.is_finite() {
+        return math::sqrt(plain);
+    }
+    let top = v.iter().fold(0.0f32, |m, x| m.max(x.abs()));
+    if top == 0.0 || !top.is_finite() {
+        return top;
+    }
+    let e = libm::ilogbf(top);
+    let sum: f32 = v.iter().map(|x| libm::scalbnf(*x, -e)).map(|x| x * x).sum();
+    libm::scalbnf(math::sqrt(sum), e)
 }
 
 fn check_readings<T: Radiance, const K: usize>(readings: &[T; K]) -> Result<(), Error> {
