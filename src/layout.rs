@@ -223,7 +223,7 @@ use linalg::LogProduct;
 use crate::error::Error;
 use crate::math;
 use crate::probe::Estimate;
-use crate::radiance::{from_channels, Radiance};
+use crate::radiance::{from_channels, Radiance, MAX_CHANNELS};
 use crate::sg::SphericalGaussian;
 use crate::sh::ShL2;
 use crate::temporal::{gaussian_log_bf, log_odds, logistic, Change, DEFAULT_HAZARD};
@@ -237,8 +237,6 @@ pub const DEGREES: usize = 33;
 pub const MAX_RESPONSES: usize = 4;
 /// Nodes of the query-covariance tables over `t = dᵢ·n ∈ [−1, 1]`.
 const NODES: usize = 129;
-/// The most channels a reading may have.
-const MAX_CHANNELS: usize = 4;
 /// The least eigenvalue of the whitened covariance, relative to the largest.
 const FLOOR: f32 = 1e-6;
 const FOUR_PI: f32 = 4.0 * core::f32::consts::PI;

@@ -17,8 +17,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     ///   with an absolute noise, noise scales that differ by more than
     ///   [`MAX_NOISE_SCALE_RATIO`];
     /// - [`Error::InvalidPrior`]: a spectrum (finite, non-negative, not all zero), variance
-    ///   scale, zonal covariance or mean profile out of range;
-    /// - [`Error::InvalidChannel`]: a radiance type of more than four channels.
+    ///   scale, zonal covariance or mean profile out of range.
+    ///
+    /// A radiance type of more than [`MAX_CHANNELS`](crate::radiance::MAX_CHANNELS) channels
+    /// does not compile.
     ///
     /// Readings that the prior makes linearly dependent are fine: two sensors with the same
     /// direction and response, or the antipodal pairs of cosine sensors (their differences
@@ -31,9 +33,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             Mean::Zero => 0,
             _ => 1,
         };
-        if T::CHANNELS > MAX_CHANNELS {
-            return Err(Error::InvalidChannel);
-        }
+        let () = crate::radiance::Channels::<T>::VALID;
         if K == 0 || K > MAX_SENSORS || K <= mean_terms {
             return Err(Error::InvalidSize);
         }

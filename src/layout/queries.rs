@@ -148,7 +148,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 }
             }
             if ch == 0 {
-                unit_variance = libm::scalbnf(
+                unit_variance = math::ldexp_variance(
                     unit * self.variance_scale * mantissa * mantissa,
                     2 * exponent.clamp(-200, 200) + self.spectrum_exponent,
                 );
@@ -158,7 +158,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             if u == 0.0 || v == 0.0 {
                 continue;
             }
-            *out = libm::scalbnf(
+            *out = math::ldexp_variance(
                 v * self.variance_scale * mantissa * mantissa,
                 2 * (libm::ilogbf(u) + exponent),
             );

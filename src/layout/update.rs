@@ -439,9 +439,11 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                         }
                         side = -1;
                     }
-                    // Converged: the bracket within 10⁻⁵, or a step of the (superlinear)
-                    // iteration below 10⁻⁴, whose next would move u by far less.
-                    if hi - lo < 1e-5 || (u - previous).abs() < 1e-4 || f == 0.0 {
+                    // Converged to f32 resolution: the bracket within a few ulps of u, or a
+                    // step that no longer moves u. (A looser stop made the scale, and through
+                    // it the values, jump with the rounding of the readings.)
+                    let ulps = 4.0 * f32::EPSILON * (1.0 + math::abs(u));
+                    if hi - lo < ulps || (u - previous).abs() < ulps || f == 0.0 {
                         break;
                     }
                 }
@@ -526,8 +528,8 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             unit,
             scale: s,
             nugget: nu,
-            average_variance: libm::scalbnf(average.max(0.0) * self.variance_scale, 2 * e),
-            average_unit_variance: libm::scalbnf(
+            average_variance: math::ldexp_variance(average.max(0.0) * self.variance_scale, 2 * e),
+            average_unit_variance: math::ldexp_variance(
                 average_unit.max(0.0) * self.variance_scale,
                 self.spectrum_exponent,
             ),

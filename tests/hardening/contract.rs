@@ -309,20 +309,6 @@ fn answers_scale<R: Renderer>() {
     }
 }
 
-/// `y` rounded to f32, each value then moved by −1, 0 or +1 ulp at random.
-fn ulp_moved(y: &[f64], rng: &mut Rng) -> Vec<f32> {
-    y.iter()
-        .map(|&v| {
-            let v = v as f32;
-            match rng.next_u64() % 3 {
-                0 => f32::from_bits(v.to_bits() + 1),
-                1 => f32::from_bits(v.to_bits() - 1),
-                _ => v,
-            }
-        })
-        .collect()
-}
-
 /// The largest relative change of the variance over a few random one-ulp changes of every
 /// lookup.
 fn ulp_spread<R: Renderer>(n: Vec3, r: Vec3, y: &[f32], variance: f64) -> f64 {
@@ -391,6 +377,7 @@ fn renderer_non_finite_lookups_are_refused() {
 // Probes: N samples (or readings) in, queries out; streams of them.
 
 use sphere_quadrature::footprint::{CosinePower, Footprint as SampleFootprint, Gaussian, Point};
+use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
 use sphere_quadrature::probe::{Probe, ProbeTables};
 use sphere_quadrature::temporal::TemporalProbe;
 
@@ -476,6 +463,43 @@ impl<const N: usize, F: SampleFootprint, const S: usize> Estimator for Stream<N,
     }
 }
 
+/// A layout probe: cosine photodiodes on the directions of a 16-point spherical Fibonacci
+/// set (`STREAM`: pooled by `accumulate`; otherwise replaced by `update`), with a relative
+/// noise of 1 % or none.
+struct Layout<const STREAM: bool, const NOISY: bool>(LayoutProbe<16>);
+
+impl<const STREAM: bool, const NOISY: bool> Estimator for Layout<STREAM, NOISY> {
+    const NAME: &'static str = "LayoutProbe";
+    const UPDATES: usize = if STREAM { 6 } else { 1 };
+    fn fresh() -> Self {
+        let dirs = sphere_quadrature::SphericalFibonacci::<16>::new().points();
+        let noise = Noise { absolute: 0.0, relative: if NOISY { 0.01 } else { 0.0 } };
+        Self(LayoutProbe::new(&dirs.map(Sensor::cosine), Prior::ENVIRONMENT, noise).unwrap())
+    }
+    fn sample_directions(&self) -> Vec<Vec3> {
+        self.0.directions().to_vec()
+    }
+    fn update(&mut self, y: &[f32]) -> Result<String, Error> {
+        if STREAM {
+            Ok(format!("{:?}", self.0.accumulate(&array::<16>(y))?))
+        } else {
+            self.0.update(&array::<16>(y)).map(|()| String::new())
+        }
+    }
+    fn irradiance(&self, n: Vec3) -> Result<Estimate<f32>, Error> {
+        self.0.irradiance(n)
+    }
+    fn irradiance_variance(&self, n: Vec3) -> Option<Result<f32, Error>> {
+        Some(self.0.irradiance_variance(n))
+    }
+    fn phong(&self, axis: Vec3, e: f32) -> Option<Result<Estimate<f32>, Error>> {
+        Some(self.0.phong(axis, e))
+    }
+    fn state(&self) -> String {
+        format!("{:?}", self.0)
+    }
+}
+
 /// Normals of every kind, with lengths far from 1.
 fn normals() -> Vec<Vec3> {
     let mut rng = Rng::new(4);
@@ -518,19 +542,21 @@ fn stream_light(k: usize, updates: usize, d: Vec3) -> f64 {
     }
 }
 
-/// A stream of [`Estimator::UPDATES`] updates at scale `c`, each value moved by `ulp` ulps
-/// at random when `rng` is given: the probe and its decisions.
-fn run_stream<E: Estimator>(c: f64, mut rng: Option<&mut Rng>) -> (E, Vec<String>) {
+/// A stream of [`Estimator::UPDATES`] updates at scale `c`, sample `bump` (in every update)
+/// one ulp up when given: the probe and its decisions.
+fn run_stream<E: Estimator>(c: f64, bump: Option<usize>) -> (E, Vec<String>) {
     let mut p = E::fresh();
     let mut decisions = Vec::new();
     for k in 0..E::UPDATES {
-        let y: Vec<f64> =
-            p.sample_directions().iter().map(|&d| stream_light(k, E::UPDATES, d) * c).collect();
-        let y32 = match rng.as_deref_mut() {
-            Some(rng) => ulp_moved(&y, rng),
-            None => y.iter().map(|&v| v as f32).collect(),
-        };
-        decisions.push(p.update(&y32).unwrap());
+        let mut y: Vec<f32> = p
+            .sample_directions()
+            .iter()
+            .map(|&d| (stream_light(k, E::UPDATES, d) * c) as f32)
+            .collect();
+        if let Some(j) = bump {
+            y[j] = f32::from_bits(y[j].to_bits() + 1);
+        }
+        decisions.push(p.update(&y).unwrap());
     }
     (p, decisions)
 }
@@ -541,19 +567,19 @@ fn run_stream<E: Estimator>(c: f64, mut rng: Option<&mut Rng>) -> (E, Vec<String
 fn probe_answers_scale<E: Estimator>() {
     let (p, decisions) = run_stream::<E>(1.0, None);
     let (values, variances) = answers(&p);
-    // A decimal scale rounds every sample anew: each answer moves by as much as it does under
-    // one-ulp changes of the samples (measured here) on top of the stated tolerance.
-    let mut rng = Rng::new(10);
+    // A decimal scale rounds every sample anew, each by at most half an ulp: an answer moves
+    // by at most the sum over the samples of what one ulp of each moves it (measured here,
+    // one sample at a time), on top of the stated tolerance.
     let mut spread_values = vec![0.0f64; values.len()];
     let mut spread_variances = vec![0.0f64; variances.len()];
-    for _ in 0..8 {
-        let (q, _) = run_stream::<E>(1.0, Some(&mut rng));
+    for j in 0..E::fresh().sample_directions().len() {
+        let (q, _) = run_stream::<E>(1.0, Some(j));
         let (v, w) = answers(&q);
         for (s, (a, b)) in spread_values.iter_mut().zip(v.iter().zip(&values)) {
-            *s = s.max((a - b).abs() / b.abs().max(f64::MIN_POSITIVE));
+            *s += (a - b).abs() / b.abs().max(f64::MIN_POSITIVE);
         }
         for (s, (a, b)) in spread_variances.iter_mut().zip(w.iter().zip(&variances)) {
-            *s = s.max((a - b).abs() / b.abs().max(f64::MIN_POSITIVE));
+            *s += (a - b).abs() / b.abs().max(f64::MIN_POSITIVE);
         }
     }
     let top = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -563,7 +589,7 @@ fn probe_answers_scale<E: Estimator>() {
     };
     for c in scales() {
         let (q, got_decisions) = run_stream::<E>(c, None);
-        let what = format!("{} c = {c:e}", E::NAME);
+        let what = format!("{} c = {c:e}", std::any::type_name::<E>());
         let exact = c.log2().fract() == 0.0;
         let subnormal = smallest * c < TINY;
         let (tol_value, tol_variance) = match (exact, subnormal) {
@@ -602,6 +628,9 @@ fn probe_answers_scale_with_the_input() {
     probe_answers_scale::<Stream<16, Point, 1>>();
     probe_answers_scale::<Stream<64, Point, 0>>();
     probe_answers_scale::<Stream<32, Gaussian<4>, 2>>();
+    probe_answers_scale::<Layout<false, false>>();
+    probe_answers_scale::<Layout<false, true>>();
+    probe_answers_scale::<Layout<true, true>>();
 }
 
 /// The bad-input table: each cause gives its one error, and a refused call (or any query)
@@ -664,6 +693,8 @@ fn probe_bad_input_is_refused_and_leaves_the_state() {
     probe_bad_input::<PointProbe<16, CosinePower<1>>>();
     probe_bad_input::<Stream<16, Point, 1>>();
     probe_bad_input::<Stream<64, CosinePower<1>, 0>>();
+    probe_bad_input::<Layout<false, true>>();
+    probe_bad_input::<Layout<true, false>>();
 }
 
 // ---------------------------------------------------------------------------------------------
