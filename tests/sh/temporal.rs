@@ -823,11 +823,13 @@ fn irradiance_near_the_top_of_the_range_is_the_scaled_answer_never_nan() {
     // samples times 2⁻⁶⁴, bit for bit where it is a normal number, ±∞ where it exceeds
     // f32::MAX.
     let seed = u64::from_le_bytes([0x00, 0xb3, 0xff, 0xff, 0x06, 0, 0, 0]);
+    // 2⁶⁴ as a literal (exact; `powi` is not exact under Miri).
+    let two_64 = 18_446_744_073_709_551_616.0f64;
     let mut cases = Vec::new();
     for (a, b) in [(-f32::MAX, -f32::MAX), (-f32::MAX, f32::MAX), (f32::MAX, 0.5 * f32::MAX)] {
         let mut y = [0.0f32; 16];
         (y[0], y[1]) = (a, b);
-        let small = y.map(|v| v * 2f32.powi(-64));
+        let small = y.map(|v| v * (1.0 / two_64) as f32);
         cases.push((
             irradiance_after::<Gaussian<2>, 1>(seed, &y),
             irradiance_after::<Gaussian<2>, 1>(seed, &small),
@@ -840,7 +842,7 @@ fn irradiance_near_the_top_of_the_range_is_the_scaled_answer_never_nan() {
     let mut infinite = 0;
     for (big, small) in cases {
         for (&e, &s) in big.iter().zip(&small) {
-            let want = f64::from(s) * 2f64.powi(64);
+            let want = f64::from(s) * two_64;
             if want.abs() > f64::from(f32::MAX) {
                 assert_eq!(e, f32::INFINITY.copysign(s), "want {want:e}");
                 infinite += 1;
