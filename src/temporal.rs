@@ -438,8 +438,8 @@ pub struct TemporalProbe<
     /// The state's scale: every statistic above is in units of `2^scale` (second moments in
     /// units of `4^scale`), so that none depends on the units of the samples.
     scale: i32,
-    /// The queries' coefficients `A_l·s_l·p̄_lm/g_l` (0 for the degrees without `A_l`), in the
-    /// samples' units.
+    /// The queries' coefficients `A_l·s_l·p̄_lm/g_l` (0 for the degrees without `A_l`), in
+    /// units of `2^scale`.
     irradiance_coefficients: [T; COEFFICIENTS],
     /// The aliasing variance of an irradiance query, in units of `4^scale`.
     irradiance_variance: T,
@@ -944,7 +944,6 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Recomputes the queries' coefficients from the state.
     fn refresh(&mut self) {
         let w = self.weight;
-        let count = (self.degree + 1) * (self.degree + 1);
         let v = self.noise();
         let (mut variance, mut reported) = (T::ZERO, T::ZERO);
         // The largest power per coefficient of the top two degrees, shrunk and deconvolved.
@@ -1000,9 +999,6 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         if self.scale != 0 {
             let (e, e2) = (self.scale, 2 * self.scale);
             let one = |t: T| t.map(|x| math::ldexp(x, e));
-            for c in &mut self.irradiance_coefficients[..count] {
-                *c = one(*c);
-            }
             for c in &mut self.sh.coefficients {
                 *c = one(*c);
             }
@@ -1076,6 +1072,11 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         let mut value = T::ZERO;
         for (&c, &b) in self.irradiance_coefficients.iter().zip(&y).take(count) {
             value = value.mul_add(c, b);
+        }
+        // The sum in the state's units, `2^e` applied last: coefficients of opposite signs
+        // taken to the samples' units first could overflow to +∞ and −∞.
+        if self.scale != 0 {
+            value = value.map(|x| math::ldexp(x, self.scale));
         }
         Ok(Accumulated { value, variance: self.query_variance })
     }

@@ -802,3 +802,55 @@ fn a_damped_degree_keeps_an_error_bar() {
     println!("{damped} coefficients damped to 0");
     assert!(damped > 0);
 }
+
+/// The irradiance of one update of `samples` (samples `y·2^k`, `k` = 0 or −64), every normal
+/// of `normals(16)`.
+fn irradiance_after<F: sphere_quadrature::footprint::Footprint, const S: usize>(
+    seed: u64,
+    samples: &[f32; 16],
+) -> Vec<f32> {
+    let mut p = TemporalProbe::<16, f32, F, S>::new(seed);
+    assert_eq!(p.update(samples, &[0.0; S]), Ok(Change::First));
+    normals(16).into_iter().map(|n| p.irradiance(n).unwrap().value).collect()
+}
+
+#[test]
+fn irradiance_near_the_top_of_the_range_is_the_scaled_answer_never_nan() {
+    // Found by the `temporal` fuzz target: two samples of −f32::MAX (the rest 0) in one
+    // update gave E(+z) = NaN (the queries' coefficients were taken to the samples' units
+    // before their sum, so coefficients of opposite signs overflowed to +∞ and −∞). Powers of
+    // two are exact (module docs, "Radiance scale"): the answer is 2⁶⁴ times that of the
+    // samples times 2⁻⁶⁴, bit for bit where it is a normal number, ±∞ where it exceeds
+    // f32::MAX.
+    let seed = u64::from_le_bytes([0x00, 0xb3, 0xff, 0xff, 0x06, 0, 0, 0]);
+    // 2⁶⁴ as a literal (exact; `powi` is not exact under Miri).
+    let two_64 = 18_446_744_073_709_551_616.0f64;
+    let mut cases = Vec::new();
+    for (a, b) in [(-f32::MAX, -f32::MAX), (-f32::MAX, f32::MAX), (f32::MAX, 0.5 * f32::MAX)] {
+        let mut y = [0.0f32; 16];
+        (y[0], y[1]) = (a, b);
+        let small = y.map(|v| v * (1.0 / two_64) as f32);
+        cases.push((
+            irradiance_after::<Gaussian<2>, 1>(seed, &y),
+            irradiance_after::<Gaussian<2>, 1>(seed, &small),
+        ));
+        cases.push((
+            irradiance_after::<sphere_quadrature::footprint::Point, 0>(seed, &y),
+            irradiance_after::<sphere_quadrature::footprint::Point, 0>(seed, &small),
+        ));
+    }
+    let mut infinite = 0;
+    for (big, small) in cases {
+        for (&e, &s) in big.iter().zip(&small) {
+            let want = f64::from(s) * two_64;
+            if want.abs() > f64::from(f32::MAX) {
+                assert_eq!(e, f32::INFINITY.copysign(s), "want {want:e}");
+                infinite += 1;
+            } else {
+                assert_eq!(e.to_bits(), (want as f32).to_bits(), "{e:e}, want {want:e}");
+            }
+        }
+    }
+    // Both kinds of answer are checked.
+    assert!(infinite > 0 && infinite < 6 * 16, "{infinite} infinite answers");
+}
