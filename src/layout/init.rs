@@ -19,7 +19,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// - [`Error::InvalidPrior`]: a spectrum (finite, non-negative, not all zero), variance
     ///   scale, zonal covariance or mean profile out of range.
     ///
-    /// A radiance type of more than [`MAX_CHANNELS`](crate::radiance::MAX_CHANNELS) channels
+    /// A radiance type of more than [`MAX_CHANNELS`] channels
     /// does not compile.
     ///
     /// Readings that the prior makes linearly dependent are fine: two sensors with the same
