@@ -190,6 +190,22 @@ pub fn atan2_accurate(y: f32, x: f32) -> f32 {
     libm::atan2f(y, x)
 }
 
+/// `eˣ` from `libm` under every backend: for code whose result must follow its input
+/// smoothly, such as a root search (`micromath`'s approximation is piecewise, and a root
+/// found through it jumps with the rounding of the data).
+///
+/// # Examples
+/// ```
+/// use sphere_quadrature::math::exp_accurate;
+///
+/// assert!((exp_accurate(1.0) - core::f32::consts::E).abs() < 1e-6);
+/// ```
+#[inline]
+#[must_use]
+pub fn exp_accurate(x: f32) -> f32 {
+    libm::expf(x)
+}
+
 /// Arccosine in `[0, π]`; the argument is clamped to `[−1, 1]` first (NaN stays NaN), so
 /// rounding just outside the domain does not produce NaN.
 ///

@@ -374,7 +374,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             let score = |u: f32| -> f32 {
                 #[cfg(test)]
                 SCORES.with(|c| c.set(c.get() + 1));
-                let s = math::exp(u);
+                let s = math::exp_accurate(u);
                 let (mut tr, mut zz1, mut a, mut b, mut a1, mut b1) =
                     (0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32);
                 for j in 0..K {
@@ -449,7 +449,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 }
                 u
             };
-            math::exp(u)
+            math::exp_accurate(u)
         };
         let d: [f32; K] = core::array::from_fn(|j| s * lam[j] + nu);
         let (objective, beta, _) = if s > 0.0 || nu > 0.0 {
