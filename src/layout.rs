@@ -563,8 +563,14 @@ impl Prior {
         }
         let g = Response::Gaussian(lambda).gains()?;
         let x = f64::from(lambda);
-        // e^{−λ} i₀(λ) = (1 − e^{−2λ})/(2λ).
-        let k0 = 4.0 * core::f64::consts::PI * (1.0 - math::exp64(-2.0 * x)) / (2.0 * x);
+        // e^{−λ} i₀(λ) = (1 − e^{−2λ})/(2λ); below 10⁻⁴ its series 1 − λ + ⅔λ² − ⅓λ³ (the
+        // difference cancels there: to 0 below about 5·10⁻¹⁷), within 10⁻¹⁶.
+        let level = if x < 1e-4 {
+            1.0 - x * (1.0 - x * (2.0 / 3.0 - x / 3.0))
+        } else {
+            (1.0 - math::exp64(-2.0 * x)) / (2.0 * x)
+        };
+        let k0 = 4.0 * core::f64::consts::PI * level;
         Ok(Prior {
             spectrum: g.map(|r| (k0 * f64::from(r)) as f32),
             zonal: [0.0; 3],

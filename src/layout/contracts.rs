@@ -763,3 +763,93 @@ fn a_stream_decides_the_same_in_any_units() {
         }
     }
 }
+
+/// Guards against `Prior::squared_exponential` losing its level to cancellation for a small
+/// λ: `K₀ = 4π·(1 − e^{−2λ})/(2λ)` was 0 below about 5·10⁻¹⁷ (every `K_l` 0, and `new`
+/// refused the documented-valid prior with `InvalidPrior`), and off by up to `10⁻¹⁶/(2λ)`
+/// relative above (5·10⁻⁵ at 10⁻¹²). Its limit is `4π·(1 − λ + …)`: `4π` to f32 resolution
+/// for every λ below 10⁻⁸. (Found by the `layout` fuzz target: λ = 2.4·10⁻³⁸.)
+#[test]
+fn a_tiny_squared_exponential_keeps_its_level() {
+    let four_pi = (4.0 * core::f64::consts::PI) as f32;
+    for lambda in [f32::MIN_POSITIVE, 1e-45, 1e-30, 1e-20, 1e-16, 1e-12, 1e-9] {
+        let prior = Prior::squared_exponential(lambda).unwrap();
+        assert_eq!(prior.spectrum[0], four_pi, "K₀ at λ = {lambda:e}");
+        let probe = LayoutProbe::<6>::new(&cube(), prior, Noise::NONE);
+        assert!(probe.is_ok(), "λ = {lambda:e}: {:?}", probe.err());
+    }
+}
+
+/// Guards against a zonal mean profile far from 1 giving NaN: only its shape matters (its
+/// multiple is fitted), but a coefficient of 1.5·10²⁵ made the Phong query's unit variance
+/// NaN before and after an update (and with noise the values NaN); 10¹⁹ was still fine.
+/// Power-of-two multiples of a profile give the same answers bit for bit, any finite
+/// profile no NaN. (Found by the `layout` fuzz target.)
+#[test]
+fn a_zonal_profile_of_any_size_gives_the_same_probe() {
+    let sensors = fibonacci::<16>();
+    let answers = |profile: [f32; 9], noise: Noise| {
+        let prior = Prior::ENVIRONMENT.with_mean(Mean::Zonal(profile));
+        let mut probe = LayoutProbe::<16>::new(&sensors, prior, noise).unwrap();
+        let mut out = Vec::new();
+        let mut record = |p: &LayoutProbe<16>| {
+            let e = p.phong(Vec3::X, 0.0).unwrap();
+            let i = p.irradiance(Vec3::new(0.3, -0.2, 0.9)).unwrap();
+            let v = p.irradiance_variance(Vec3::Z).unwrap();
+            out.extend([e.value, e.variance, e.unit_variance, i.value, i.variance, v]);
+            out.extend(p.radiance_sh().coefficients);
+        };
+        record(&probe);
+        probe.update(&readings(&sensors)).unwrap();
+        record(&probe);
+        out
+    };
+    let mut shape = [0.0f32; 9];
+    shape[0] = 1.0;
+    shape[1] = 0.8;
+    shape[2] = 0.3;
+    for noise in [Noise::NONE, Noise { absolute: 0.01, relative: 0.02 }] {
+        let base = answers(shape, noise);
+        assert!(base.iter().all(|x| x.is_finite()), "{base:?}");
+        for e in [-120, -100, -30, 30, 90, 120] {
+            let scaled = shape.map(|a| a * 2f32.powi(e / 2) * 2f32.powi(e - e / 2));
+            let got = answers(scaled, noise);
+            assert_eq!(
+                got.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                base.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                "profile × 2^{e}, {noise:?}: {got:?} against {base:?}"
+            );
+        }
+    }
+    // The fuzzer's profile and noise.
+    let mut p = [824_468.56f32; 9];
+    p[0] = -7.498_498e-7;
+    p[6] = 1.520_876e25;
+    for noise in [Noise::NONE, Noise { absolute: 824_468.56, relative: 824_470.56 }] {
+        let got = answers(p, noise);
+        assert!(got.iter().all(|x| !x.is_nan()), "{noise:?}: {got:?}");
+    }
+}
+
+/// Guards against an absolute noise whose product with the noise scales leaves f32: `new`
+/// accepted `σ = w = 3.2·10²⁸` (sensor noise `w·σ ≈ 10⁵⁷`), and the first update overflowed
+/// an `i32` (`2·ilogb(∞)`; a panic in a debug build) or worked with an infinite unit. Such
+/// noise is `InvalidNoise`; a product within f32 is fine. (Found by the `layout` fuzz target.)
+#[test]
+fn absolute_noise_beyond_f32_is_refused() {
+    let noisy = |w: f32| cube().map(|s| s.with_noise_scale(w));
+    for (sigma, w) in [(3.2e28f32, 3.2e28f32), (1e20, 1e20), (f32::MAX, 2.0)] {
+        let noise = Noise { absolute: sigma, relative: 0.0 };
+        let r = LayoutProbe::<6>::new(&noisy(w), Prior::ENVIRONMENT, noise);
+        assert_eq!(r.err(), Some(Error::InvalidNoise), "σ = {sigma:e}, w = {w:e}");
+    }
+    for (sigma, w) in [(1e19f32, 1e19f32), (f32::MAX, 1.0), (1e-30, 1e30)] {
+        let noise = Noise { absolute: sigma, relative: 0.0 };
+        let mut probe = LayoutProbe::<6>::new(&noisy(w), Prior::ENVIRONMENT, noise).unwrap();
+        for y in [[0.0; 6], [1.0, 1.2, 0.9, 1.1, 2.0, 0.3]] {
+            probe.update(&y).unwrap();
+            let e = probe.irradiance(Vec3::Z).unwrap();
+            assert!(!e.value.is_nan() && e.variance >= 0.0, "σ = {sigma:e}, w = {w:e}: {e:?}");
+        }
+    }
+}

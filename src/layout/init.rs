@@ -15,7 +15,9 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// - [`Error::InvalidNoise`]: a noise scale that is not finite and positive, noise that
     ///   is not finite and non-negative, a relative noise above [`MAX_RELATIVE_NOISE`], or,
     ///   with an absolute noise, noise scales that differ by more than
-    ///   [`MAX_NOISE_SCALE_RATIO`];
+    ///   [`MAX_NOISE_SCALE_RATIO`] or an absolute noise whose product with the least noise
+    ///   scale exceeds `f32::MAX` (to within a factor 2: that scale rounded down to a power of
+    ///   two);
     /// - [`Error::InvalidPrior`]: a spectrum (finite, non-negative, not all zero), variance
     ///   scale, zonal covariance or mean profile out of range.
     ///
@@ -142,7 +144,27 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 if !any {
                     return Err(Error::InvalidPrior);
                 }
-                profile = p;
+                // Only the profile's shape matters (its multiple is fitted): one far from 1 is
+                // brought near it by a power of two (exact), so that no product of its
+                // coefficients overflows or underflows.
+                let mut largest = 0.0f32;
+                let mut l = 0;
+                while l < 9 {
+                    if absolute(p[l]) > largest {
+                        largest = absolute(p[l]);
+                    }
+                    l += 1;
+                }
+                let e = if largest > 1_048_576.0 || largest < 1.0 / 1_048_576.0 {
+                    exponent_of(largest)
+                } else {
+                    0
+                };
+                let mut l = 0;
+                while l < 9 {
+                    profile[l] = times_power_of_two(p[l], -e);
+                    l += 1;
+                }
             }
         }
         // Noise scales: only their ratios and the absolute noise matter. Without an absolute
@@ -170,6 +192,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         }
         let noise_exponent = if whiten { exponent_of(least) } else { 0 };
         let absolute = times_power_of_two(noise.absolute, noise_exponent);
+        if !absolute.is_finite() {
+            // σ times the least noise scale beyond f32: no sensor's noise is a number.
+            return Err(Error::InvalidNoise);
+        }
         let mut directions = [Vec3::ZERO; K];
         let mut whitening = [0.0f32; K];
         let mut class = [0u8; K];
