@@ -457,25 +457,38 @@ pub(crate) fn exponent(x: f32) -> i32 {
     ((x.to_bits() >> 23) & 0xff) as i32 - 127
 }
 
-/// `⌊log₂ |x|⌋` for any finite non-zero `x`, subnormals included (0 for zero).
+/// `⌊log₂ |x|⌋` for any finite non-zero `x`, subnormals included (0 for zero); from the bits,
+/// no `libm` call (the cold paths that use it stay small in flash).
 #[must_use]
 pub(crate) fn binade(x: f32) -> i32 {
-    if x == 0.0 {
-        0
+    let bits = x.to_bits() & 0x7FFF_FFFF;
+    if bits == 0 {
+        return 0;
+    }
+    let biased = (bits >> 23) as i32;
+    if biased == 0 {
+        // Subnormal: m·2^−149 with m < 2^23.
+        (31 - bits.leading_zeros() as i32) - 149
     } else {
-        libm::frexpf(x).1 - 1
+        biased - 127
     }
 }
 
-/// `x·2^e` for any `e`, rounded once: `±∞` beyond `f32::MAX`, subnormal or 0 below the
-/// normal range.
+/// `x·2^e` for any `e`, by at most three exact multiplications by powers of two (no `libm`
+/// call): `±∞` beyond `f32::MAX`; rounded once where the result is a normal number, and
+/// subnormal or 0 below the normal range.
 #[must_use]
 pub(crate) fn ldexp(x: f32, e: i32) -> f32 {
     if (-126..=127).contains(&e) {
-        x * pow2(e)
-    } else {
-        libm::scalbnf(x, e)
+        return x * pow2(e);
     }
+    // Three factors of the same direction: the intermediates lie between x and the result,
+    // so they stay normal when both ends are (and then every step but the last is exact).
+    // Beyond ±3·126 every finite x has overflowed or underflowed: the thirds stay in range.
+    let k = e.clamp(-378, 381);
+    let a = k / 3;
+    let b = (k - a) / 2;
+    x * pow2(a) * pow2(b) * pow2(k - a - b)
 }
 
 /// A variance `v ≥ 0` times `2^e`, rounded up where it is positive but below the least
