@@ -174,33 +174,33 @@
 //! (`LayoutProbe<K, f32>`), cosine photodiodes on the faces of a cube (`K = 6`) and on the
 //! directions of `Probe::<16, f32, CosinePower<1>>` (`K = 16`), [`Prior::ENVIRONMENT`], a
 //! relative noise of 1 % and readings of a real environment map:
-//! - `m4:layout_init K=6`: 77 740 instructions ([`LayoutProbe::new`])
-//! - `m4:layout_init K=16`: 369 640 instructions
-//! - `m4:layout_update K=6`: 4 010 instructions ([`LayoutProbe::update`])
-//! - `m4:layout_update K=16`: 19 280 instructions
-//! - `m4:layout_update_rgb K=6`: 12 400 instructions (`LayoutProbe<6, [f32; 3]>`)
-//! - `m4:layout_update_rgb K=16`: 63 620 instructions (`LayoutProbe<16, [f32; 3]>`)
-//! - `m4:layout_update_absolute K=6`: 3 020 instructions (an absolute noise of 1 % of the
+//! - `m4:layout_init K=6`: 78 600 instructions ([`LayoutProbe::new`])
+//! - `m4:layout_init K=16`: 358 640 instructions
+//! - `m4:layout_update K=6`: 4 160 instructions ([`LayoutProbe::update`])
+//! - `m4:layout_update K=16`: 17 850 instructions
+//! - `m4:layout_update_rgb K=6`: 12 960 instructions (`LayoutProbe<6, [f32; 3]>`)
+//! - `m4:layout_update_rgb K=16`: 57 320 instructions (`LayoutProbe<16, [f32; 3]>`)
+//! - `m4:layout_update_absolute K=6`: 3 340 instructions (an absolute noise of 1 % of the
 //!   mean reading instead: no per-reading solve)
-//! - `m4:layout_update_absolute K=16`: 6 870 instructions
-//! - `m4:layout_irradiance K=6`: 371 instructions ([`LayoutProbe::irradiance`])
-//! - `m4:layout_irradiance K=16`: 794 instructions
-//! - `m4:layout_irradiance_variance K=6`: 624 instructions
+//! - `m4:layout_update_absolute K=16`: 6 840 instructions
+//! - `m4:layout_irradiance K=6`: 364 instructions ([`LayoutProbe::irradiance`])
+//! - `m4:layout_irradiance K=16`: 800 instructions
+//! - `m4:layout_irradiance_variance K=6`: 634 instructions
 //!   ([`LayoutProbe::irradiance_variance`])
-//! - `m4:layout_irradiance_variance K=16`: 1 925 instructions
+//! - `m4:layout_irradiance_variance K=16`: 1 914 instructions
 //!
 //! Flash (release, LTO) that one call adds, the first on top of an empty program and the
 //! others on top of [`LayoutProbe::new`] (`K = 6`, one channel):
-//! - `flash:layout_new K=6`: 34 568 bytes of code and 320 bytes of tables
-//! - `flash:layout_update K=6`: 10 848 bytes of code and 276 bytes of tables
-//! - `flash:layout_irradiance K=6`: 4 104 bytes of code and 256 bytes of tables
-//! - `flash:layout_irradiance_variance K=6`: 3 528 bytes of code and 256 bytes of tables
+//! - `flash:layout_new K=6`: 43 312 bytes of code and 320 bytes of tables
+//! - `flash:layout_update K=6`: 9 392 bytes of code and 20 bytes of tables
+//! - `flash:layout_irradiance K=6`: 4 224 bytes of code and 256 bytes of tables
+//! - `flash:layout_irradiance_variance K=6`: 4 008 bytes of code and 268 bytes of tables
 //!
 //! RAM of the probe (`core::mem::size_of`), which [`LayoutProbe::new`] returns by value:
-//! - `ram:layout_f32 K=6`: 3 824 bytes (`LayoutProbe<6, f32>`)
-//! - `ram:layout_rgb K=6`: 3 960 bytes (`LayoutProbe<6, [f32; 3]>`)
-//! - `ram:layout_f32 K=16`: 7 196 bytes (`LayoutProbe<16, f32>`)
-//! - `ram:layout_rgb K=16`: 7 492 bytes (`LayoutProbe<16, [f32; 3]>`)
+//! - `ram:layout_f32 K=6`: 3 844 bytes (`LayoutProbe<6, f32>`)
+//! - `ram:layout_rgb K=6`: 3 996 bytes (`LayoutProbe<6, [f32; 3]>`)
+//! - `ram:layout_f32 K=16`: 7 216 bytes (`LayoutProbe<16, f32>`)
+//! - `ram:layout_rgb K=16`: 7 528 bytes (`LayoutProbe<16, [f32; 3]>`)
 //!
 //! [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
 

@@ -414,7 +414,7 @@ impl<T: Radiance> ShL2<T> {
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:sh_rotated_rgb N=9`: 349 instructions (RGB)
+    /// - `m4:sh_rotated_rgb N=9`: 350 instructions (RGB)
     ///
     /// # Examples
     /// ```

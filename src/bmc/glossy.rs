@@ -342,13 +342,13 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:glossy_renderer_estimate N=16`: 163 instructions (e = 50, one channel)
-    /// - `m4:glossy_renderer_estimate N=64`: 416 instructions (e = 50, one channel)
-    /// - `m4:glossy_renderer_estimate N=80`: 496 instructions (e = 50, one channel)
+    /// - `m4:glossy_renderer_estimate N=16`: 174 instructions (e = 50, one channel)
+    /// - `m4:glossy_renderer_estimate N=64`: 426 instructions (e = 50, one channel)
+    /// - `m4:glossy_renderer_estimate N=80`: 507 instructions (e = 50, one channel)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:glossy_renderer_estimate N=64`: 2 588 bytes of code and 26 624 bytes of tables
+    /// - `flash:glossy_renderer_estimate N=64`: 4 956 bytes of code and 26 624 bytes of tables
     ///   (e = 50)
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4

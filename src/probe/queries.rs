@@ -15,16 +15,16 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_irradiance N=16`: 837 instructions
-    /// - `m4:probe_irradiance N=32`: 1 562 instructions
-    /// - `m4:probe_irradiance N=64`: 2 916 instructions
-    /// - `m4:probe_irradiance N=256`: 11 640 instructions
-    /// - `m4:gaussian8_probe_irradiance N=64`: 2 956 instructions (`Gaussian<8>` footprint)
-    /// - `m4:photodiode_probe_irradiance N=16`: 837 instructions (`CosinePower<1>`)
+    /// - `m4:probe_irradiance N=16`: 841 instructions
+    /// - `m4:probe_irradiance N=32`: 1 566 instructions
+    /// - `m4:probe_irradiance N=64`: 2 922 instructions
+    /// - `m4:probe_irradiance N=256`: 11 644 instructions
+    /// - `m4:gaussian8_probe_irradiance N=64`: 2 961 instructions (`Gaussian<8>` footprint)
+    /// - `m4:photodiode_probe_irradiance N=16`: 842 instructions (`CosinePower<1>`)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_irradiance N=64`: 1 972 bytes of code and 24 352 bytes of tables
+    /// - `flash:probe_irradiance N=64`: 2 012 bytes of code and 24 352 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// # Examples
@@ -134,9 +134,9 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_masked_irradiance_variance_M16_m0 N=64`: 261 700 instructions (none missing)
-    /// - `m4:probe_masked_irradiance_variance_M8_m8 N=64`: 518 430 instructions (8 missing)
-    /// - `m4:probe_masked_irradiance_variance_M16_m16 N=64`: 547 330 instructions (16 missing)
+    /// - `m4:probe_masked_irradiance_variance_M16_m0 N=64`: 261 780 instructions (none missing)
+    /// - `m4:probe_masked_irradiance_variance_M8_m8 N=64`: 518 500 instructions (8 missing)
+    /// - `m4:probe_masked_irradiance_variance_M16_m16 N=64`: 547 410 instructions (16 missing)
     ///
     /// `M8`, `M16` in the names: the probe's capacity `M` for missing samples.
     ///
@@ -202,16 +202,16 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_glossy N=16`: 2 707 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=32`: 4 907 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=64`: 9 342 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=256`: 38 174 instructions (SG lobe of Phong e = 20)
-    /// - `m4:gaussian8_probe_glossy N=64`: 9 332 instructions (`Gaussian<8>`)
-    /// - `m4:photodiode_probe_glossy N=16`: 11 608 instructions (photodiodes)
+    /// - `m4:probe_glossy N=16`: 2 684 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=32`: 4 913 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=64`: 9 285 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=256`: 38 184 instructions (SG lobe of Phong e = 20)
+    /// - `m4:gaussian8_probe_glossy N=64`: 9 341 instructions (`Gaussian<8>`)
+    /// - `m4:photodiode_probe_glossy N=16`: 11 595 instructions (photodiodes)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_glossy N=64`: 4 008 bytes of code and 24 360 bytes of tables
+    /// - `flash:probe_glossy N=64`: 4 048 bytes of code and 24 360 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// # Examples
@@ -286,14 +286,14 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_glossy_variance N=16`: 773 836 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=32`: 894 020 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=64`: 1 217 180 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=256`: 5 495 160 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=16`: 773 910 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=32`: 894 096 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=64`: 1 217 260 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=256`: 5 495 280 instructions (soft f64 quadrature)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_glossy_variance N=64`: 19 620 bytes of code and 24 368 bytes of tables
+    /// - `flash:probe_glossy_variance N=64`: 19 700 bytes of code and 24 368 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
@@ -372,14 +372,14 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_phong N=16`: 9 445 instructions (e = 20)
-    /// - `m4:probe_phong N=32`: 13 533 instructions (e = 20)
-    /// - `m4:probe_phong N=64`: 21 450 instructions (e = 20)
-    /// - `m4:probe_phong N=256`: 66 520 instructions (e = 20)
+    /// - `m4:probe_phong N=16`: 9 454 instructions (e = 20)
+    /// - `m4:probe_phong N=32`: 13 508 instructions (e = 20)
+    /// - `m4:probe_phong N=64`: 21 393 instructions (e = 20)
+    /// - `m4:probe_phong N=256`: 66 527 instructions (e = 20)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_phong N=64`: 9 712 bytes of code and 24 352 bytes of tables
+    /// - `flash:probe_phong N=64`: 9 752 bytes of code and 24 352 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// # Examples
@@ -434,14 +434,14 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_phong_variance N=16`: 422 712 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=32`: 778 064 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=64`: 1 568 680 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=256`: 8 657 080 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=16`: 422 790 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=32`: 778 144 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=64`: 1 568 750 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=256`: 8 657 160 instructions (e = 20)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_phong_variance N=64`: 21 112 bytes of code and 24 352 bytes of tables
+    /// - `flash:probe_phong_variance N=64`: 21 208 bytes of code and 24 352 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4

@@ -112,14 +112,14 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_radiance_sh_variance N=16`: 353 270 instructions (soft f64)
-    /// - `m4:probe_radiance_sh_variance N=32`: 934 784 instructions (soft f64)
-    /// - `m4:probe_radiance_sh_variance N=64`: 2 787 460 instructions (soft f64)
-    /// - `m4:probe_radiance_sh_variance N=256`: 33 622 360 instructions (soft f64)
+    /// - `m4:probe_radiance_sh_variance N=16`: 353 972 instructions (soft f64)
+    /// - `m4:probe_radiance_sh_variance N=32`: 935 488 instructions (soft f64)
+    /// - `m4:probe_radiance_sh_variance N=64`: 2 787 870 instructions (soft f64)
+    /// - `m4:probe_radiance_sh_variance N=256`: 33 640 400 instructions (soft f64)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_radiance_sh_variance N=64`: 14 500 bytes of code and 24 208 bytes of tables
+    /// - `flash:probe_radiance_sh_variance N=64`: 14 588 bytes of code and 24 208 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
