@@ -425,7 +425,7 @@ export declare class LayoutProbe {
    * The normalised Phong average ∫ L(x)·(e + 1)/(2π)·max(0, axis·x)ᵉ dx about `axis` (the
    * glossy term about a mirror direction) with its exact posterior variance, RGB each.
    * @throws {ProbeError} `InvalidDirection` for a bad axis, `InvalidExponent` for an
-   *   exponent that is negative, not finite or above 4096, `LengthMismatch` unless the axis
+   *   exponent that is negative, not finite or above 1e8, `LengthMismatch` unless the axis
    *   has 3 components.
    */
   phong(axis: Direction, exponent: number): Estimate;

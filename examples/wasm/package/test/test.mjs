@@ -741,7 +741,10 @@ await rejects(TemporalProbe.create({ n: 16, wasm: bytesOf[64] }), "InvalidSize",
   throws(() => p.irradiance([0, 1]), "LengthMismatch", "layout: a normal of 2 components");
   throws(() => p.irradianceVariance([0, 0, 0]), "InvalidDirection", "layout: zero normal (exact variance)");
   throws(() => p.phong([0, 0, 1], Infinity), "InvalidExponent", "layout: infinite exponent");
-  throws(() => p.phong([0, 0, 1], 5000), "InvalidExponent", "layout: exponent above 4096");
+  // Every estimator takes the exponents 0 to 1e8, and refuses the rest.
+  const sharp = p.phong([0, 0, 1], 5000);
+  ok(sharp.value.every(Number.isFinite) && sharp.variance.every((v) => v >= 0), "layout: exponent 5000 (as the probe takes it)");
+  throws(() => p.phong([0, 0, 1], 2e8), "InvalidExponent", "layout: exponent above 1e8");
   // The `wasm` option, independence, dispose.
   const own = await LayoutProbe.create({ directions: faces, prior: { squaredExponential: 2 }, wasm: layoutBytes });
   own.update(Float32Array.from({ length: 18 }, (_, k) => L[k % 3]));
