@@ -38,8 +38,10 @@ fn check_estimate(what: &str, got: Result<f32, Error>, y: &[f32], w: &[f32], fac
     }
     let got = got.unwrap_or_else(|e| panic!("{what}: {e}"));
     assert!(!got.is_nan(), "{what}: NaN");
-    let sum: f64 = y.iter().zip(w).map(|(&y, &w)| f64::from(y) * f64::from(w)).sum::<f64>() * factor;
-    let abs: f64 = y.iter().zip(w).map(|(&y, &w)| (f64::from(y) * f64::from(w)).abs()).sum::<f64>() * factor;
+    let sum: f64 =
+        y.iter().zip(w).map(|(&y, &w)| f64::from(y) * f64::from(w)).sum::<f64>() * factor;
+    let abs: f64 =
+        y.iter().zip(w).map(|(&y, &w)| (f64::from(y) * f64::from(w)).abs()).sum::<f64>() * factor;
     let max = f64::from(f32::MAX);
     if sum.abs() > max * 1.0001 {
         assert_eq!(got, f32::INFINITY.copysign(sum as f32), "{what}: want {sum:e}");
@@ -55,13 +57,15 @@ fn samples(b: &mut Bytes, n: usize) -> Vec<f32> {
     let base = b.f32();
     let mixed = b.bool();
     (0..n)
-        .map(|j| {
-            if mixed && b.u8() % 8 != 0 {
-                base * (1.0 + (j % 7) as f32 / 8.0)
-            } else {
-                b.f32()
-            }
-        })
+        .map(
+            |j| {
+                if mixed && b.u8() % 8 != 0 {
+                    base * (1.0 + (j % 7) as f32 / 8.0)
+                } else {
+                    b.f32()
+                }
+            },
+        )
         .collect()
 }
 
@@ -79,7 +83,13 @@ where
     }
     let y = samples(b, N);
     let w = Renderer::<N>::weights();
-    check_estimate("Renderer::estimate", r.estimate(&core::array::from_fn(|j| y[j])), &y, w, core::f64::consts::PI);
+    check_estimate(
+        "Renderer::estimate",
+        r.estimate(&core::array::from_fn(|j| y[j])),
+        &y,
+        w,
+        core::f64::consts::PI,
+    );
 }
 
 fn glossy<const N: usize, const E: u32>(b: &mut Bytes)
@@ -98,7 +108,13 @@ where
     let y = samples(b, N);
     let mut w = [0.0f32; N];
     r.weights(n, m, &mut w).unwrap();
-    check_estimate("GlossyRenderer::estimate", r.estimate(n, m, &core::array::from_fn(|j| y[j])), &y, &w, 1.0);
+    check_estimate(
+        "GlossyRenderer::estimate",
+        r.estimate(n, m, &core::array::from_fn(|j| y[j])),
+        &y,
+        &w,
+        1.0,
+    );
 }
 
 fn footprint<const N: usize, B: Brdf>(b: &mut Bytes)
