@@ -22,7 +22,7 @@ pub(crate) fn in_range<T: Radiance>(sum: T) -> bool {
     })
 }
 
-/// The largest `|Yⱼ|` of channel `c`, and its binade `k` (`2^k ≤ max < 2^(k+1)`; 0 for an
+/// The binade `k` of the largest `|Yⱼ|` of channel `c` (`2^k ≤ max < 2^(k+1)`; 0 for an
 /// all-zero channel).
 pub(crate) fn channel_binade<T: Radiance>(lookups: &[T], c: usize) -> i32 {
     math::binade(lookups.iter().fold(0.0f32, |m, y| m.max(math::abs(y.channel(c)))))
