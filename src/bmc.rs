@@ -47,7 +47,7 @@
 //!
 //! let r = Renderer::<64>::new();
 //! let mut dirs = [Vec3::Z; 64];
-//! r.fill_directions(Vec3::new(0.0, 0.6, 0.8), 0x1234, &mut dirs)?;
+//! r.with_phase(0x1234).fill_directions(Vec3::new(0.0, 0.6, 0.8), &mut dirs)?;
 //! // Trace the directions; here a sky brighter towards +z.
 //! let samples = dirs.map(|d| 1.0 + 0.5 * d.z);
 //! let e = r.estimate(&samples)?;
@@ -111,7 +111,7 @@
 pub mod footprint;
 pub mod glossy;
 mod scaled;
-pub use footprint::{FootprintRenderer, FootprintSize};
+pub use footprint::{Diffuse, FootprintRenderer, FootprintSize, Phong};
 pub use glossy::{GlossyRenderer, GlossySize};
 
 use crate::error::Error;
@@ -196,7 +196,8 @@ pub const TABLE_BYTES: usize = {
 
 /// BMC irradiance from `N` hemisphere spherical Fibonacci samples with baked weights.
 ///
-/// Zero-sized: build it with [`Renderer::new`] (a `const fn`).
+/// Build it with [`Renderer::new`] (a `const fn`); it holds only the rotation of its set
+/// about the normal ([`Renderer::with_phase`], none by default).
 ///
 /// # Examples
 /// ```
@@ -205,20 +206,28 @@ pub const TABLE_BYTES: usize = {
 /// let r = Renderer::<64>::new();
 /// let n = Vec3::new(0.0, 0.6, 0.8);
 /// let mut dirs = [Vec3::ZERO; 64];
-/// r.fill_directions(n, 0, &mut dirs)?;
+/// r.fill_directions(n, &mut dirs)?;
 /// assert!(dirs.iter().all(|d| d.dot(n) > 0.0)); // all above the surface
 /// // The radiance along each direction, then E = π·Σ wᵢYᵢ: a constant 1 gives π.
 /// let samples = dirs.map(|_| 1.0f32);
 /// assert!((r.estimate(&samples)? - core::f32::consts::PI).abs() < 1e-4);
 /// // Callback form, same directions and weights.
-/// assert_eq!(r.irradiance(n, 0, |_| 1.0f32)?, r.estimate(&samples)?);
+/// assert_eq!(r.irradiance(n, |_| 1.0f32)?, r.estimate(&samples)?);
+/// // Another rotation of the set about the normal (per pixel, say): the same weights.
+/// let mut turned = [Vec3::ZERO; 64];
+/// r.with_phase(0x9e37_79b9_7f4a_7c15).fill_directions(n, &mut turned)?;
+/// assert!(turned.iter().zip(&dirs).all(|(a, b)| (a.dot(n) - b.dot(n)).abs() < 1e-5));
 /// # Ok::<(), sphere_quadrature::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Renderer<const N: usize>
 where
-    Size<N>: BakedSize;
+    Size<N>: BakedSize,
+{
+    /// The rotation about the normal, in units of 2⁻⁶⁴ turn.
+    phase_bits: u64,
+}
 
 impl<const N: usize> Renderer<N>
 where
@@ -235,22 +244,25 @@ where
     /// The renderer.
     #[must_use]
     pub const fn new() -> Self {
-        Self
+        Self { phase_bits: 0 }
+    }
+
+    /// The same renderer with its set rotated about the normal by `phase_bits / 2⁶⁴` turn
+    /// (a fresh phase per pixel or frame turns the set's structured error into noise). The
+    /// weights do not depend on it.
+    #[must_use]
+    pub const fn with_phase(self, phase_bits: u64) -> Self {
+        Self { phase_bits }
     }
 
     /// Writes the `N` sample directions about `normal` (normalised first), rotated about it by
-    /// `phase_bits / 2⁶⁴` turn: the hemisphere spherical Fibonacci set morphed onto
-    /// [`Renderer::lobe`].
+    /// the renderer's phase ([`Renderer::with_phase`]): the hemisphere spherical Fibonacci set
+    /// morphed onto [`Renderer::lobe`].
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite normal.
-    pub fn fill_directions(
-        &self,
-        normal: Vec3,
-        phase_bits: u64,
-        out: &mut [Vec3; N],
-    ) -> Result<(), Error> {
-        LobeSampler::new(normal, Self::LOBE, N, phase_bits)?.fill(out)
+    pub fn fill_directions(&self, normal: Vec3, out: &mut [Vec3; N]) -> Result<(), Error> {
+        LobeSampler::new(normal, Self::LOBE, N, self.phase_bits)?.fill(out)
     }
 
     /// The lobe the baked set is morphed onto: [`Lobe::Cosine`] (the shipped tables: the
@@ -309,11 +321,10 @@ where
     pub fn irradiance<T: Radiance, F: FnMut(Vec3) -> T>(
         &self,
         normal: Vec3,
-        phase_bits: u64,
         mut radiance: F,
     ) -> Result<T, Error> {
         let mut samples = [T::ZERO; N];
-        let s = LobeSampler::new(normal, Self::LOBE, N, phase_bits)?;
+        let s = LobeSampler::new(normal, Self::LOBE, N, self.phase_bits)?;
         for (slot, d) in samples.iter_mut().zip(s.iter()) {
             *slot = radiance(d);
         }

@@ -63,7 +63,7 @@
 //!
 //! Channels are fitted one by one, each with its own scale. Their errors are correlated, so
 //! the variance of a combination of channels (luminance from RGB) is not a sum of the
-//! channels' variances: [`LayoutProbe::combined`] fits the combined readings as one channel.
+//! channels' variances: [`LayoutProbe::combined_probe`] fits the combined readings as one channel.
 //!
 //! # Accuracy
 //! - **Against an f64 reference** (the unit tests: textbook Gaussian-process formulas in

@@ -55,6 +55,20 @@
 //! - [`fixed_point`] (feature `fixed`) and [`interop`] (feature `mint`).
 //!
 //! # Conventions
+//! One vocabulary for every type:
+//! - **Data in.** `update` replaces a probe's data ([`Probe::update`],
+//!   [`LayoutProbe::update`]); `pool` pools it with the evidence of earlier calls, forgetting
+//!   it where the light changed ([`TemporalProbe::pool`], [`LayoutProbe::pool`]), returns what
+//!   it did ([`temporal::Change`]), and `pooled_updates` is the weight of the pooled evidence
+//!   in updates.
+//! - **Answers out.** Every query returns an [`Estimate`] (value, variance and, where the
+//!   channels share one model, [`Estimate::unit_variance`]); `combine(&estimate, weights)`
+//!   gives a channel combination (luminance) with its variance on every probe.
+//! - **Directions.** A renderer's `fill_directions` and `estimate` take what its lobe
+//!   depends on: the normal for irradiance ([`bmc::Renderer`], whose set turns about the
+//!   normal by [`bmc::Renderer::with_phase`]; `FootprintRenderer<N, Diffuse>`), the normal and
+//!   the mirror direction for a glossy lobe ([`bmc::GlossyRenderer`],
+//!   `FootprintRenderer<N, Phong<E>>`).
 //! - `directions()` returns a probe's stored sample directions by reference; `fill` and
 //!   `fill_directions` write computed directions into a buffer of exactly the right length
 //!   and return a `Result` ([`Error::LengthMismatch`] otherwise).
@@ -106,8 +120,8 @@
 //! | `bmc::GlossyRenderer<N, E>` | (N, E) = (16, 10), (16, 50), (32, 50), (64, 50), (80, 50), (128, 50), (64, 200) | a `glossy = N e` line (`SPHERE_QUADRATURE_GLOSSY_TABLE`) |
 //! | `bmc::GlossyRenderer<N, E, Optimal>` | (N, E) = (16, 50), (64, 50), (64, 200) | an optimal set (`tables/optimal_sets.txt`) |
 //! | `bmc::FootprintRenderer<N, B>` | `Diffuse`, `Phong<10>`, `Phong<50>`, `Phong<200>` at N = 16, 32, 64; at N = 128 with the feature `footprint-128` | a `set` line of `tables/footprint_renderer.txt` |
-//! | `temporal::TemporalProbe<N, T, F, S>` | no tables: any N ≥ 1 and footprint | — |
-//! | `layout::LayoutProbe<K, T>` | no tables (computed by `new`, at run time or in a `const`): any K ≤ 64 | — |
+//! | `TemporalProbe<N, T, F, S>` | no tables: any N ≥ 1 and footprint | — |
+//! | `LayoutProbe<K, T>` | no tables (computed by `new`, at run time or in a `const`): any K ≤ 64 | — |
 //! | `qmc` estimators | no tables: any N ≥ 1 | — |
 //!
 //! # Directions
@@ -146,7 +160,10 @@
 //!   reset) is the same. A result is `±∞` only where it exceeds `f32::MAX` itself, and never
 //!   NaN.
 //! - **Error bars** are never 0 unless the answer is exact (a constant light, exact data): a
-//!   variance below the least positive f32 is rounded up to it, not to 0.
+//!   variance below the least positive f32 is rounded up to it, not to 0. The one exception
+//!   is a probe without data: before its first update every query answers 0 with variance 0
+//!   (`TemporalProbe::updates` and `LayoutProbe::is_updated` tell).
+//! - **One vocabulary**: the same names for the same acts in every type ([Conventions](#conventions)).
 //!
 //! # Limits
 //! The same in every type that takes the parameter:
@@ -195,6 +212,7 @@ mod tables;
 pub mod bmc;
 pub mod envmap;
 mod error;
+mod estimate;
 #[cfg(feature = "fixed")]
 #[cfg_attr(docsrs, doc(cfg(feature = "fixed")))]
 pub mod fixed_point;
@@ -224,9 +242,12 @@ pub struct ReadmeDoctests;
 
 pub use bmc::Size;
 pub use error::Error;
-pub use probe::Estimate;
+pub use estimate::Estimate;
+pub use layout::LayoutProbe;
+pub use probe::Probe;
 pub use radiance::Radiance;
 pub use rotation::{Mat3, RotationSequence};
 pub use sf::{FibonacciLattice, FibonacciPoints, HemisphericalFibonacci, SphericalFibonacci};
+pub use temporal::TemporalProbe;
 pub use vec3::Vec3;
 pub use warp::{Frame, Lobe};

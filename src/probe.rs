@@ -245,6 +245,9 @@ use crate::vec3::Vec3;
 use core::f32::consts::PI;
 use core::marker::PhantomData;
 
+#[doc(no_inline)]
+pub use crate::estimate::Estimate;
+
 mod covariance;
 mod missing;
 mod queries;
@@ -419,45 +422,6 @@ pub enum Selection {
     MaxLikelihood,
     /// Always this member (index into [`Probe::family`]).
     Member(usize),
-}
-
-/// An estimate and its posterior variance (per channel for RGB).
-///
-/// # Examples
-/// ```
-/// use sphere_quadrature::{probe::Probe, Vec3};
-///
-/// let mut probe = Probe::<64, [f32; 3]>::new();
-/// let samples = probe.directions().map(|d| [1.0 + d.x * d.y, 0.5, 2.0 + d.z]);
-/// probe.update(&samples)?;
-/// let e = probe.irradiance(Vec3::new(0.0, 0.6, 0.8))?;
-/// // A variance per channel, each the unit variance times that channel's signal variance.
-/// for c in 0..3 {
-///     assert!(e.variance[c] >= 0.0);
-///     let product = e.unit_variance * probe.signal_covariance(c, c)?;
-///     assert!((e.variance[c] - product).abs() <= 1e-5 * e.variance[c].max(1e-30));
-/// }
-/// // The constant green channel is exact: π·0.5, no variance.
-/// assert!((e.value[1] - 0.5 * core::f32::consts::PI).abs() < 1e-5 && e.variance[1] == 0.0);
-/// # Ok::<(), sphere_quadrature::Error>(())
-/// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Estimate<T> {
-    /// The posterior mean.
-    pub value: T,
-    /// The posterior variance (σ̂_f² from the samples times the unit variance).
-    pub variance: T,
-    /// The unit (σ_f = 1) posterior variance the query used, one for every channel (one
-    /// kernel serves them all): `variance` of channel `c` is `unit_variance` times
-    /// [`Probe::signal_covariance`]`(c, c)`, and [`Probe::combine`] gives the variance of
-    /// any linear combination of the channels. It carries the query's weight function
-    /// (a glossy lobe's amplitude `a` as `a²`), the channel covariance the radiance units.
-    ///
-    /// The query computes `variance` apart from this product, without intermediate overflow;
-    /// the product reproduces it to rounding whenever both factors are normal f32 numbers
-    /// (`unit_variance` is `+∞` when `a²` times the unit variance exceeds `f32::MAX`).
-    pub unit_variance: f32,
 }
 
 /// A Bayesian Monte Carlo lighting probe of `N` samples (`f32` or RGB `[f32; 3]`).

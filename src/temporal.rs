@@ -105,21 +105,21 @@
 //! for frame in 0..8 {
 //!     let samples = probe.directions().map(sky);
 //!     let sentinels = probe.sentinels().map(sky);
-//!     let change = probe.update(&samples, &sentinels)?;
+//!     let change = probe.pool(&samples, &sentinels)?;
 //!     assert_eq!(change, if frame == 0 { Change::First } else { Change::Blended });
 //! }
 //! let e = probe.irradiance(Vec3::Z)?;
 //! // π·(1 + 0.5·2/3) = 4.18879.
 //! assert!((e.value - 4.18879).abs() < 0.01);
 //! // The light switches off: the sentinels see it, the state restarts.
-//! assert_eq!(probe.update(&[0.0; 60], &[0.0; 4])?, Change::Reset);
+//! assert_eq!(probe.pool(&[0.0; 60], &[0.0; 4])?, Change::Reset);
 //! assert!(probe.irradiance(Vec3::Z)?.value.abs() < 1e-6);
 //! # Ok::<(), sphere_quadrature::Error>(())
 //! ```
 //!
 //! # Radiance scale
 //! Samples may be in any units: for `c·Y` every value is `c` times and every variance `c²`
-//! times the answer for `Y`, and every decision ([`Change`], the effective updates) is the
+//! times the answer for `Y`, and every decision ([`Change`], the pooled updates) is the
 //! same, for `c` from 10⁻³⁰ to 10³⁰ (subnormal samples included; `±∞` only where the answer
 //! itself exceeds `f32::MAX`, 0 or subnormal where it is below the normal range). The state
 //! is kept in units of a power of two `2^e` (channels together), moved to an update's largest
@@ -148,6 +148,7 @@
 //! [`docs/temporal.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/temporal.md
 
 use crate::error::Error;
+use crate::estimate::Estimate;
 use crate::footprint::{Footprint, Kind, Point, MAX_PARAMETER};
 use crate::math;
 use crate::radiance::Radiance;
@@ -303,7 +304,7 @@ const fn degree_for(n: usize) -> usize {
     }
 }
 
-/// What [`TemporalProbe::update`] did with the old evidence.
+/// What [`TemporalProbe::pool`] did with the old evidence.
 ///
 /// # Examples
 /// ```
@@ -311,10 +312,10 @@ const fn degree_for(n: usize) -> usize {
 ///
 /// let mut probe = TemporalProbe::<64>::new(3);
 /// let frame = |p: &TemporalProbe<64>, level: f32| p.directions().map(|d| level + 0.25 * d.z);
-/// assert_eq!(probe.update(&frame(&probe, 1.0), &[])?, Change::First);
-/// assert_eq!(probe.update(&frame(&probe, 1.0), &[])?, Change::Blended);
+/// assert_eq!(probe.pool(&frame(&probe, 1.0), &[])?, Change::First);
+/// assert_eq!(probe.pool(&frame(&probe, 1.0), &[])?, Change::Blended);
 /// // The lighting changes by far more than the noise: the state restarts.
-/// assert_eq!(probe.update(&frame(&probe, 20.0), &[])?, Change::Reset);
+/// assert_eq!(probe.pool(&frame(&probe, 20.0), &[])?, Change::Reset);
 /// # Ok::<(), sphere_quadrature::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -340,38 +341,6 @@ pub enum Change {
 pub type RgbTemporalProbe<const N: usize, F = Point, const S: usize = 0> =
     TemporalProbe<N, [f32; 3], F, S>;
 
-/// An estimate of the accumulated state: value and variance per channel.
-///
-/// The fields are those of [`Estimate`](crate::Estimate), without its `unit_variance`: the
-/// temporal probe shrinks each channel on its own, so its channels share no unit variance
-/// that [`Probe::combine`](crate::probe::Probe::combine) could scale.
-///
-/// # Examples
-/// ```
-/// use sphere_quadrature::{temporal::TemporalProbe, Vec3};
-///
-/// let mut probe = TemporalProbe::<64>::new(5);
-/// for _ in 0..4 {
-///     let samples = probe.directions().map(|_| 2.0);
-///     probe.update(&samples, &[])?;
-/// }
-/// let a = probe.irradiance(Vec3::new(0.0, 1.0, 0.0))?;
-/// // A constant field of 2 has irradiance 2π everywhere.
-/// assert!((a.value / (2.0 * core::f32::consts::PI) - 1.0).abs() < 1e-5);
-/// assert!(a.variance >= 0.0);
-/// # Ok::<(), sphere_quadrature::Error>(())
-/// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Accumulated<T> {
-    /// The value.
-    pub value: T,
-    /// Its variance: the aliasing noise left after pooling and shrinkage, and for irradiance
-    /// a floor for the degrees above `L` (module docs). Zero only before the first update
-    /// (no data) or when the answer is exact (a light without aliasing, such as a constant).
-    pub variance: T,
-}
-
 /// A probe updated again and again under fresh rotations of `N` directions, pooling the
 /// evidence of every sample (see the module docs), with `S` fixed sentinel directions for the
 /// change signal. `T` is `f32` or RGB `[f32; C]`, `F` the samples' footprint
@@ -389,7 +358,7 @@ pub struct Accumulated<T> {
 /// let mut probe = TemporalProbe::<64, [f32; 3]>::new(11);
 /// for _ in 0..8 {
 ///     let samples = probe.directions().map(|d| [1.0 + 0.5 * d.z; 3]);
-///     probe.update(&samples, &[])?;
+///     probe.pool(&samples, &[])?;
 /// }
 /// assert_eq!(probe.updates(), 8);
 /// let e = probe.irradiance(Vec3::Z)?;
@@ -614,16 +583,16 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// // A NaN sample is refused and nothing changes.
     /// let mut samples = [1.0f32; 16];
     /// samples[3] = f32::NAN;
-    /// assert_eq!(probe.update(&samples, &[]), Err(Error::InvalidRadiance));
+    /// assert_eq!(probe.pool(&samples, &[]), Err(Error::InvalidRadiance));
     /// assert_eq!(probe.updates(), 0);
     /// samples[3] = 1.0;
-    /// probe.update(&samples, &[])?;
+    /// probe.pool(&samples, &[])?;
     /// assert_eq!(probe.updates(), 1);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    pub fn update(&mut self, samples: &[T; N], sentinels: &[T; S]) -> Result<Change, Error> {
+    pub fn pool(&mut self, samples: &[T; N], sentinels: &[T; S]) -> Result<Change, Error> {
         let (original_samples, original_sentinels) = (samples, sentinels);
         let channels = |&y: &T| (0..T::CHANNELS).map(move |c| y.channel(c));
         let peak = scale::peak_bits(samples.iter().chain(sentinels).flat_map(channels))
@@ -1035,7 +1004,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// The weight of the pooled evidence in updates: the number of updates since the last
     /// full reset when nothing was forgotten in between, less after partial resets.
     #[must_use]
-    pub const fn effective_updates(&self) -> f32 {
+    pub const fn pooled_updates(&self) -> f32 {
         self.weight
     }
 
@@ -1059,12 +1028,12 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// [`Error::InvalidDirection`] for a zero or non-finite normal.
     ///
     /// # Cost
-    /// Cortex-M4F instructions per call (as [`TemporalProbe::update`]'s), one channel: the
+    /// Cortex-M4F instructions per call (as [`TemporalProbe::pool`]'s), one channel: the
     /// harmonics of degree `L` at the normal and a dot product.
     /// - `m4:temporal_irradiance_S1 N=16`: 908 instructions (`L = 4`)
     /// - `m4:temporal_irradiance_S2 N=64`: 1 450 instructions (`L = 6`)
     /// - `m4:temporal_irradiance_S4 N=256`: 2 186 instructions (`L = 8`)
-    pub fn irradiance(&self, normal: Vec3) -> Result<Accumulated<T>, Error> {
+    pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let mut y = [0.0f32; COEFFICIENTS];
         basis(self.degree, n, &mut y);
@@ -1078,7 +1047,35 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         if self.scale != 0 {
             value = value.map(|x| math::ldexp(x, self.scale));
         }
-        Ok(Accumulated { value, variance: self.query_variance })
+        Ok(Estimate { value, variance: self.query_variance, unit_variance: None })
+    }
+
+    /// The channel combination `Σ_c w_c·value_c` of an estimate of this probe, with the
+    /// largest variance that any correlation of the channels' errors allows,
+    /// `(Σ_c |w_c|·σ_c)²`: reached when the errors are perfectly correlated (a grey light),
+    /// exact for one channel. The probe shrinks each channel on its own and keeps no
+    /// covariance between them. The same call as [`Probe::combine`](crate::Probe::combine).
+    ///
+    /// # Errors
+    /// [`Error::InvalidWeights`] for a NaN or infinite weight.
+    ///
+    /// ```
+    /// use sphere_quadrature::{TemporalProbe, Vec3};
+    ///
+    /// let mut probe = TemporalProbe::<64, [f32; 3]>::new(11);
+    /// for _ in 0..4 {
+    ///     let samples = probe.directions().map(|d| [1.0 + 0.5 * d.z, 0.8 + 0.3 * d.x * d.y, 0.6]);
+    ///     probe.pool(&samples, &[])?;
+    /// }
+    /// let e = probe.irradiance(Vec3::Z)?;
+    /// let y = probe.combine(&e, [0.2126, 0.7152, 0.0722])?;
+    /// let sum = 0.2126 * e.value[0] + 0.7152 * e.value[1] + 0.0722 * e.value[2];
+    /// assert!((y.value - sum).abs() < 1e-5 * sum);
+    /// assert!(y.variance >= 0.7152f32.powi(2) * e.variance[1]);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
+    pub fn combine(&self, estimate: &Estimate<T>, weights: T) -> Result<Estimate<f32>, Error> {
+        crate::estimate::combine_bound(estimate, weights)
     }
 }
 

@@ -141,13 +141,13 @@ fn check_queries<T: Sample, F: Footprint, const N: usize, const S: usize>(
     for v in *probe.radiance_sh_variance() {
         check_variance("radiance_sh_variance", v, state);
     }
-    let (k, w) = (probe.updates(), probe.effective_updates());
+    let (k, w) = (probe.updates(), probe.pooled_updates());
     if state == State::Empty {
         assert_eq!((k, w), (0, 0.0), "updates, effective updates before any update");
     } else {
         // The weight of the pooled evidence, the update just taken counting 1, less than
         // the count after partial resets.
-        assert!(w >= 1.0 && w <= k as f32, "effective_updates {w} after {k} updates");
+        assert!(w >= 1.0 && w <= k as f32, "pooled_updates {w} after {k} updates");
     }
     assert_eq!(before, format!("{probe:?}"), "a query changed the probe");
 }
@@ -190,7 +190,7 @@ fn run<T: Sample, F: Footprint, const N: usize, const S: usize>(b: &mut Bytes) {
                 let ys: [T; N] = samples(b, &dirs, light);
                 let ss: [T; S] = samples(b, probe.sentinels(), light);
                 let all = || ys.iter().chain(&ss).flat_map(|&y| channels(y));
-                let r = probe.update(&ys, &ss);
+                let r = probe.pool(&ys, &ss);
                 if !all().all(f32::is_finite) {
                     assert_eq!(r, Err(Error::InvalidRadiance), "update({ys:?}, {ss:?})");
                     assert_eq!(before, format!("{probe:?}"), "a refused update changed the probe");

@@ -91,7 +91,7 @@ use crate::warp::{Frame, Lobe};
 /// use sphere_quadrature::Vec3;
 ///
 /// // Constant radiance 1 gives the irradiance π.
-/// let e = FootprintRenderer::<64, Diffuse>::new().estimate(Vec3::Z, Vec3::Z, &[1.0f32; 64])?;
+/// let e = FootprintRenderer::<64, Diffuse>::new().estimate(&[1.0f32; 64])?;
 /// assert!((e - core::f32::consts::PI).abs() < 1e-4);
 /// # Ok::<(), sphere_quadrature::Error>(())
 /// ```
@@ -238,18 +238,18 @@ pub(crate) mod sealed {
 /// let r = FootprintRenderer::<32, Diffuse>::new();
 /// let n = Vec3::new(0.0, 0.6, 0.8);
 /// let mut dirs = [Vec3::ZERO; 32];
-/// r.fill_directions(n, n, &mut dirs)?;
+/// r.fill_directions(n, &mut dirs)?;
 /// // Light 1 + x·n seen through any footprint is 1 + g₁·x·n: irradiance π + (2π/3)·g₁ …
 /// let lookups: [f32; 32] = core::array::from_fn(|j| {
 ///     let g1 = r.footprints()[j].gain(1).unwrap() as f32;
 ///     1.0 + g1 * dirs[j].dot(n)
 /// });
-/// let e = r.estimate(n, n, &lookups)?;
+/// let e = r.estimate(&lookups)?;
 /// assert!((e - (core::f32::consts::PI + 2.0 * core::f32::consts::PI / 3.0)).abs() < 1e-3);
 /// // … and a NaN lookup is an error.
 /// let mut bad = lookups;
 /// bad[3] = f32::NAN;
-/// assert_eq!(r.estimate(n, n, &bad), Err(Error::InvalidRadiance));
+/// assert_eq!(r.estimate(&bad), Err(Error::InvalidRadiance));
 /// # Ok::<(), sphere_quadrature::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -283,12 +283,9 @@ where
         lobe_frame(normal, mirror)
     }
 
-    /// Writes the `N` lookup directions for normal `n` and mirror direction `r` (both
-    /// normalised first; [`Diffuse`] ignores `r` but checks it, so pass `n`).
-    ///
-    /// # Errors
-    /// [`Error::InvalidDirection`] for a zero or non-finite vector.
-    pub fn fill_directions(
+    /// The `N` lookup directions for normal `n` and mirror direction `r` (both normalised
+    /// first; the irradiance lobe does not depend on `r`).
+    fn fill_directions_at(
         &self,
         normal: Vec3,
         mirror: Vec3,
@@ -305,8 +302,8 @@ where
         Ok(())
     }
 
-    /// The footprint of each lookup, in the order of
-    /// [`fill_directions`](Self::fill_directions): normalised spherical Gaussians.
+    /// The footprint of each lookup, in the order of the directions (`fill_directions`):
+    /// normalised spherical Gaussians.
     #[must_use]
     pub fn footprints(&self) -> [Kind; N] {
         let s = Self::SET.sharpness;
@@ -330,12 +327,8 @@ where
         table.get(k * width..(k + 1) * width).ok_or(Error::Internal)
     }
 
-    /// The interpolated weights for `(n, r)`, in the order of
-    /// [`fill_directions`](Self::fill_directions).
-    ///
-    /// # Errors
-    /// [`Error::InvalidDirection`] for a zero or non-finite vector.
-    pub fn weights(&self, normal: Vec3, mirror: Vec3, out: &mut [f32; N]) -> Result<(), Error> {
+    /// The interpolated weights for `(n, r)`, in the order of the directions.
+    fn weights_at(&self, normal: Vec3, mirror: Vec3, out: &mut [f32; N]) -> Result<(), Error> {
         let (k, [alpha, beta]) = Self::rows(normal, mirror)?;
         let a = Self::row(Self::SET.weights, k, N)?;
         let b = if beta == 0.0 { a } else { Self::row(Self::SET.weights, k + 1, N)? };
@@ -345,21 +338,8 @@ where
         Ok(())
     }
 
-    /// The integral from the lookups `Y` in the directions of
-    /// [`fill_directions`](Self::fill_directions), through [`footprints`](Self::footprints):
-    /// `Σ wⱼYⱼ`, O(N).
-    ///
-    /// # Errors
-    /// [`Error::InvalidDirection`] for a zero or non-finite vector, [`Error::InvalidRadiance`]
-    /// for a NaN or infinite lookup.
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against), lookups not counted:
-    /// - `m4:footprint_renderer_estimate N=64`: 472 instructions (e = 50, one channel)
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    pub fn estimate<T: Radiance>(
+    /// `Σ wⱼYⱼ` for `(n, r)`.
+    fn estimate_at<T: Radiance>(
         &self,
         normal: Vec3,
         mirror: Vec3,
@@ -396,29 +376,14 @@ where
         })
     }
 
-    /// [`estimate`](Self::estimate) with its error bar: the variance per channel under the
-    /// family's model most likely for the lookups (the channels' likelihoods pooled), times
-    /// the calibration factor squared. `unit_variance` is that model's error variance for a
-    /// signal variance of 1. Added to each channel's variance before the calibration: the
-    /// arithmetic's own error (f32 rounding of the weighted sum, and the interpolation of the
-    /// weights between the baked `θₙ` nodes: the error measured at each interval's midpoint
-    /// when baked, times `4t(1 − t)` at the fraction `t` of the interval), which is all a
-    /// channel whose lookups are equal has.
-    ///
-    /// # Errors
-    /// As [`estimate`](Self::estimate).
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (as [`estimate`](Self::estimate)):
-    /// - `m4:footprint_renderer_estimate_with_variance N=64`: 29 580 instructions (e = 50, one
-    ///   channel, 8 × 4 models, 24 contrasts)
-    pub fn estimate_with_variance<T: Radiance>(
+    /// `estimate_at` with its error bar (the public calls' docs).
+    fn estimate_with_variance_at<T: Radiance>(
         &self,
         normal: Vec3,
         mirror: Vec3,
         lookups: &[T; N],
     ) -> Result<Estimate<T>, Error> {
-        let value = self.estimate(normal, mirror, lookups)?;
+        let value = self.estimate_at(normal, mirror, lookups)?;
         let set = Self::SET;
         let (node, [alpha, beta]) = Self::rows(normal, mirror)?;
         let nuggets = &crate::tables::FOOTPRINT_NUGGETS;
@@ -449,7 +414,7 @@ where
             }
         }
         let mut w = [0.0f32; N];
-        self.weights(normal, mirror, &mut w)?;
+        self.weights_at(normal, mirror, &mut w)?;
         let interpolation =
             |i: usize| set.interpolation.get(2 * node + i).map_or(0.0, |&b| f32::from_bits(b));
         // Linear interpolation's error grows as 4αβ from the nodes to the midpoint.
@@ -563,6 +528,134 @@ where
             };
             math::ldexp_variance(normalised, 2 * binade)
         });
-        Ok(Estimate { value, variance, unit_variance })
+        Ok(Estimate { value, variance, unit_variance: Some(unit_variance) })
+    }
+}
+
+/// Irradiance: the lobe is the cosine about the normal, and its weights depend on nothing else.
+impl<const N: usize> FootprintRenderer<N, Diffuse>
+where
+    Size<N>: FootprintSize<Diffuse>,
+{
+    /// Writes the `N` lookup directions about `normal` (normalised first), in the order of
+    /// the weights and [`footprints`](Self::footprints).
+    ///
+    /// # Errors
+    /// [`Error::InvalidDirection`] for a zero or non-finite normal.
+    pub fn fill_directions(&self, normal: Vec3, out: &mut [Vec3; N]) -> Result<(), Error> {
+        self.fill_directions_at(normal, normal, out)
+    }
+
+    /// The weights, in the order of [`fill_directions`](Self::fill_directions) (one baked
+    /// node: they depend on no direction).
+    ///
+    /// # Errors
+    /// None for a baked set ([`Error::Internal`] would report a malformed table).
+    pub fn weights(&self, out: &mut [f32; N]) -> Result<(), Error> {
+        self.weights_at(Vec3::Z, Vec3::Z, out)
+    }
+
+    /// Irradiance from the lookups `Y` in the directions of
+    /// [`fill_directions`](Self::fill_directions), through [`footprints`](Self::footprints):
+    /// `Σ wⱼYⱼ`, O(N).
+    ///
+    /// # Errors
+    /// [`Error::InvalidRadiance`] for a NaN or infinite lookup.
+    pub fn estimate<T: Radiance>(&self, lookups: &[T; N]) -> Result<T, Error> {
+        self.estimate_at(Vec3::Z, Vec3::Z, lookups)
+    }
+
+    /// [`estimate`](Self::estimate) with its error bar: the variance per channel under the
+    /// family's model most likely for the lookups (the channels' likelihoods pooled), times
+    /// the calibration factor squared. `unit_variance` is that model's error variance for a
+    /// signal variance of 1. Added to each channel's variance before the calibration: the
+    /// arithmetic's own error (f32 rounding of the weighted sum), which is all a channel
+    /// whose lookups are equal has.
+    ///
+    /// # Errors
+    /// As [`estimate`](Self::estimate).
+    pub fn estimate_with_variance<T: Radiance>(
+        &self,
+        lookups: &[T; N],
+    ) -> Result<Estimate<T>, Error> {
+        self.estimate_with_variance_at(Vec3::Z, Vec3::Z, lookups)
+    }
+}
+
+/// A Phong lobe about the mirror direction, clipped by the surface: directions and weights
+/// depend on the normal and the mirror direction.
+impl<const N: usize, const E: u32> FootprintRenderer<N, Phong<E>>
+where
+    Size<N>: FootprintSize<Phong<E>>,
+{
+    /// Writes the `N` lookup directions for normal `n` and mirror direction `r` (both
+    /// normalised first), in the order of the weights and [`footprints`](Self::footprints).
+    ///
+    /// # Errors
+    /// [`Error::InvalidDirection`] for a zero or non-finite vector.
+    pub fn fill_directions(
+        &self,
+        normal: Vec3,
+        mirror: Vec3,
+        out: &mut [Vec3; N],
+    ) -> Result<(), Error> {
+        self.fill_directions_at(normal, mirror, out)
+    }
+
+    /// The weights for `(n, r)`, interpolated between the baked angles, in the order of
+    /// [`fill_directions`](Self::fill_directions).
+    ///
+    /// # Errors
+    /// [`Error::InvalidDirection`] for a zero or non-finite vector.
+    pub fn weights(&self, normal: Vec3, mirror: Vec3, out: &mut [f32; N]) -> Result<(), Error> {
+        self.weights_at(normal, mirror, out)
+    }
+
+    /// The integral from the lookups `Y` in the directions of
+    /// [`fill_directions`](Self::fill_directions), through [`footprints`](Self::footprints):
+    /// `Σ wⱼYⱼ`, O(N).
+    ///
+    /// # Errors
+    /// [`Error::InvalidDirection`] for a zero or non-finite vector, [`Error::InvalidRadiance`]
+    /// for a NaN or infinite lookup.
+    ///
+    /// # Cost
+    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
+    /// [`examples/cortex-m4`], whose output CI checks these lines against), lookups not counted:
+    /// - `m4:footprint_renderer_estimate N=64`: 472 instructions (e = 50, one channel)
+    ///
+    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
+    pub fn estimate<T: Radiance>(
+        &self,
+        normal: Vec3,
+        mirror: Vec3,
+        lookups: &[T; N],
+    ) -> Result<T, Error> {
+        self.estimate_at(normal, mirror, lookups)
+    }
+
+    /// [`estimate`](Self::estimate) with its error bar: the variance per channel under the
+    /// family's model most likely for the lookups (the channels' likelihoods pooled), times
+    /// the calibration factor squared. `unit_variance` is that model's error variance for a
+    /// signal variance of 1. Added to each channel's variance before the calibration: the
+    /// arithmetic's own error (f32 rounding of the weighted sum, and the interpolation of the
+    /// weights between the baked `θₙ` nodes: the error measured at each interval's midpoint
+    /// when baked, times `4t(1 − t)` at the fraction `t` of the interval), which is all a
+    /// channel whose lookups are equal has.
+    ///
+    /// # Errors
+    /// As [`estimate`](Self::estimate).
+    ///
+    /// # Cost
+    /// Cortex-M4F instructions per call (as [`estimate`](Self::estimate)):
+    /// - `m4:footprint_renderer_estimate_with_variance N=64`: 29 580 instructions (e = 50, one
+    ///   channel, 8 × 4 models, 24 contrasts)
+    pub fn estimate_with_variance<T: Radiance>(
+        &self,
+        normal: Vec3,
+        mirror: Vec3,
+        lookups: &[T; N],
+    ) -> Result<Estimate<T>, Error> {
+        self.estimate_with_variance_at(normal, mirror, lookups)
     }
 }

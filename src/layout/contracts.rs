@@ -356,13 +356,13 @@ fn finite_input_gives_no_nan() {
     )
     .unwrap();
     rgb.update(&y.map(|v| [v, 2.0 * v, 0.5])).unwrap();
-    let tiny = rgb.combined([1e-40, 0.0, 0.0]).unwrap();
+    let tiny = rgb.combined_probe([1e-40, 0.0, 0.0]).unwrap();
     assert!(finite(tiny.irradiance(Vec3::Z).unwrap()));
     // Weights whose combined readings overflow: InvalidWeights.
     let mut rgb =
         LayoutProbe::<6, [f32; 3]>::new(&sensors, Prior::ENVIRONMENT, Noise::NONE).unwrap();
     rgb.update(&y.map(|v| [v * 1e30, 1.0, 1.0])).unwrap();
-    assert_eq!(rgb.combined([1e30, 0.0, 0.0]).err(), Some(Error::InvalidWeights));
+    assert_eq!(rgb.combined_probe([1e30, 0.0, 0.0]).err(), Some(Error::InvalidWeights));
     // A glossy lobe of amplitude 3·10³⁸: its integral exceeds f32::MAX (∞), never NaN; and one
     // whose answer is in range stays finite.
     let mut probe = LayoutProbe::<6>::new(&sensors, Prior::ENVIRONMENT, Noise::NONE).unwrap();
@@ -459,7 +459,8 @@ fn lobe_limits_are_those_of_probe() {
 }
 
 /// `Estimate::unit_variance` is the variance for a signal variance of 1: `variance` is
-/// `unit_variance·s` for one channel (it was 1.0).
+/// `unit_variance·s` for one channel (it was 1.0); with more channels, each fitted with its
+/// own noise ratio, there is no shared factor and it is `None`.
 #[test]
 fn unit_variance_is_the_variance_at_unit_scale() {
     let sensors = fibonacci::<16>();
@@ -477,13 +478,16 @@ fn unit_variance_is_the_variance_at_unit_scale() {
             probe.phong(Vec3::new(0.1, 0.9, 0.2), 20.0).unwrap(),
             probe.glossy(&lobe).unwrap(),
         ] {
-            assert!(e.unit_variance != 1.0);
-            assert!(
-                (e.unit_variance * s / e.variance - 1.0).abs() < 1e-5,
-                "{noise:?}: {e:?}, s {s}"
-            );
+            let unit = e.unit_variance.expect("one channel shares its model");
+            assert!(unit != 1.0);
+            assert!((unit * s / e.variance - 1.0).abs() < 1e-5, "{noise:?}: {e:?}, s {s}");
         }
     }
+    let mut rgb =
+        LayoutProbe::<16, [f32; 3]>::new(&sensors, Prior::ENVIRONMENT, Noise::NONE).unwrap();
+    rgb.update(&readings(&sensors).map(|v| [v, 0.5 * v, 2.0])).unwrap();
+    assert_eq!(rgb.irradiance(Vec3::Z).unwrap().unit_variance, None);
+    assert_eq!(rgb.phong(Vec3::Z, 20.0).unwrap().unit_variance, None);
 }
 
 /// Readings `0.2 … 2.2` at random (a rough light) for a seed, the smooth sky's for 0.
@@ -744,7 +748,7 @@ fn a_stream_decides_the_same_in_any_units() {
         steps
             .iter()
             .map(|r| {
-                let change = probe.accumulate(&r.map(|v| v * c)).unwrap();
+                let change = probe.pool(&r.map(|v| v * c)).unwrap();
                 (change, probe.last_change_probability(), probe.pooled_updates())
             })
             .collect::<Vec<_>>()
@@ -796,7 +800,14 @@ fn a_zonal_profile_of_any_size_gives_the_same_probe() {
             let e = p.phong(Vec3::X, 0.0).unwrap();
             let i = p.irradiance(Vec3::new(0.3, -0.2, 0.9)).unwrap();
             let v = p.irradiance_variance(Vec3::Z).unwrap();
-            out.extend([e.value, e.variance, e.unit_variance, i.value, i.variance, v]);
+            out.extend([
+                e.value,
+                e.variance,
+                e.unit_variance.unwrap_or(-1.0),
+                i.value,
+                i.variance,
+                v,
+            ]);
             out.extend(p.radiance_sh().coefficients);
         };
         record(&probe);

@@ -55,9 +55,9 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     }
 
     /// Irradiance `E(n) = ∫ L(x)·max(0, n·x) dx` with the direction-averaged posterior
-    /// variance (O(K)), and as [`Estimate::unit_variance`] that variance for a signal variance
-    /// `s` of 1 (`variance` is `unit_variance ·`[`LayoutProbe::signal_variance`]; of the first
-    /// channel: with noise each channel has its own noise ratio). [`Error::InvalidDirection`]
+    /// variance (O(K)), and for one channel as [`Estimate::unit_variance`] that variance for a
+    /// signal variance `s` of 1 (`variance` is `unit_variance ·`[`LayoutProbe::signal_variance`];
+    /// `None` for more channels: each channel has its own noise ratio). [`Error::InvalidDirection`]
     /// for a zero or non-finite normal; before the first update, zero with zero variance.
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = unit(normal)?;
@@ -81,7 +81,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         Ok(Estimate {
             value: self.to_readings(value),
             variance: self.average_variance,
-            unit_variance: self.average_unit_variance.channel(0),
+            unit_variance: (T::CHANNELS == 1).then_some(self.average_unit_variance.channel(0)),
         })
     }
 
@@ -204,15 +204,15 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             libm::scalbnf(value.channel(ch) * mantissa, libm::ilogbf(u) + exponent)
         });
         let (variance, unit) = self.exact_variance(&z, h, prior, mantissa, exponent);
-        Estimate { value, variance, unit_variance: unit }
+        Estimate { value, variance, unit_variance: (T::CHANNELS == 1).then_some(unit) }
     }
 
     /// The normalised Phong average `∫ L(x)·(e + 1)/(2π)·max(0, axis·x)ᵉ dx` (the glossy term
     /// about a mirror direction), with its exact posterior variance, O(K·DEGREES + K²).
     /// [`Error::InvalidDirection`] for a zero or non-finite axis, [`Error::InvalidExponent`]
     /// for an exponent that is negative, not finite or above [`MAX_GLOSSY_SHARPNESS`] (the
-    /// limit of [`crate::probe::Probe::phong`]). [`Estimate::unit_variance`] is the variance
-    /// for `s = 1`, as in [`LayoutProbe::irradiance`].
+    /// limit of [`crate::probe::Probe::phong`]). [`Estimate::unit_variance`] is as in
+    /// [`LayoutProbe::irradiance`].
     ///
     /// ```
     /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
@@ -241,8 +241,8 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// or negative), [`Error::InvalidWeights`] for a non-finite amplitude,
     /// [`Error::InvalidDirection`] for a bad axis. The amplitude is kept apart from the
     /// lobe's shape: the value is `±∞` only where `∫ L·G` itself exceeds `f32::MAX`, the
-    /// variance where its square does. [`Estimate::unit_variance`] is the variance for
-    /// `s = 1` (with the amplitude's square).
+    /// variance where its square does. [`Estimate::unit_variance`] is as in
+    /// [`LayoutProbe::irradiance`] (with the amplitude's square).
     ///
     /// ```
     /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};

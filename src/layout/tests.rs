@@ -368,7 +368,7 @@ fn a_combination_of_channels_is_fitted_with_its_own_noise() {
     let noise = Noise { absolute: 0.02, relative: 0.0 };
     let mut probe = LayoutProbe::<5, [f32; 3]>::new(&sensors, prior, noise).unwrap();
     probe.update(&rgb).unwrap();
-    let luminance = probe.combined(w).unwrap();
+    let luminance = probe.combined_probe(w).unwrap();
     let mut direct =
         LayoutProbe::<5>::new(&sensors, prior, Noise { absolute: 0.02 * norm, relative: 0.0 })
             .unwrap();
@@ -389,7 +389,7 @@ fn a_combination_of_channels_is_fitted_with_its_own_noise() {
         LayoutProbe::<5, [f32; 3]>::new(&sensors, prior, Noise { absolute: 0.0, relative: eta })
             .unwrap();
     probe.update(&rgb).unwrap();
-    let luminance = probe.combined(w).unwrap();
+    let luminance = probe.combined_probe(w).unwrap();
     let s = f64::from(luminance.signal_variance());
     let gains: Vec<f64> =
         Response::CosinePower(1.0).gains().unwrap().iter().map(|&g| f64::from(g)).collect();
@@ -422,15 +422,15 @@ fn a_combination_of_channels_is_fitted_with_its_own_noise() {
     // level of rounding without noise.)
     let mut probe = LayoutProbe::<5, [f32; 3]>::new(&sensors, prior, Noise::NONE).unwrap();
     probe.update(&y.map(|v| [v, 2.0 * v, 3.0 * v])).unwrap();
-    let sum = probe.combined([1.0, 1.0, 1.0]).unwrap();
+    let sum = probe.combined_probe([1.0, 1.0, 1.0]).unwrap();
     let one = probe.irradiance(Vec3::Z).unwrap().variance[0];
     let all = sum.irradiance(Vec3::Z).unwrap().variance;
     assert!(one > 0.0 && (all / one - 36.0).abs() < 36.0 * 1e-5, "{}", all / one);
     // Bad weights.
-    assert_eq!(probe.combined([f32::NAN, 1.0, 0.0]).unwrap_err(), Error::InvalidWeights);
-    assert_eq!(probe.combined([0.0; 3]).unwrap_err(), Error::InvalidWeights);
+    assert_eq!(probe.combined_probe([f32::NAN, 1.0, 0.0]).unwrap_err(), Error::InvalidWeights);
+    assert_eq!(probe.combined_probe([0.0; 3]).unwrap_err(), Error::InvalidWeights);
     let fresh = LayoutProbe::<5, [f32; 3]>::new(&sensors, prior, Noise::NONE).unwrap();
-    assert!(!fresh.combined(w).unwrap().is_updated());
+    assert!(!fresh.combined_probe(w).unwrap().is_updated());
 }
 
 /// Phong and SG lobes against the f64 reference with the lobes' Legendre coefficients
@@ -572,7 +572,7 @@ fn a_stream_pools_static_light_and_resets_on_a_change() {
         let mut p = probe.clone();
         for k in 0..64 {
             let y = exact.map(|v| v * (1.0 + eta * gaussian()));
-            let change = p.accumulate(&y).unwrap();
+            let change = p.pool(&y).unwrap();
             if k == 0 {
                 assert_eq!(change, Change::First);
                 first += error(&p);
@@ -586,12 +586,12 @@ fn a_stream_pools_static_light_and_resets_on_a_change() {
     // Measured 0.15 (1/√64 = 0.125).
     assert!(pooled < 0.25 * first, "pooled {pooled}, first {first}");
     // The light dims to a half: a reset.
-    probe.accumulate(&exact).unwrap();
-    probe.accumulate(&exact).unwrap();
+    probe.pool(&exact).unwrap();
+    probe.pool(&exact).unwrap();
     let before = probe.irradiance(Vec3::Z).unwrap();
-    assert_eq!(probe.accumulate(&[1.0, f32::NAN, 1.0, 1.0, 1.0, 1.0]), Err(Error::InvalidRadiance));
+    assert_eq!(probe.pool(&[1.0, f32::NAN, 1.0, 1.0, 1.0, 1.0]), Err(Error::InvalidRadiance));
     assert_eq!(probe.irradiance(Vec3::Z).unwrap(), before);
-    assert_eq!(probe.accumulate(&exact.map(|v| 0.5 * v)).unwrap(), Change::Reset);
+    assert_eq!(probe.pool(&exact.map(|v| 0.5 * v)).unwrap(), Change::Reset);
     assert!(probe.last_change_probability() > 0.99 && probe.pooled_updates() < 1.01);
     for h in [0.0, 1.0, f32::NAN] {
         assert!(probe.clone().with_hazard(h).is_err());

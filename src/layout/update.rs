@@ -43,15 +43,15 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// let noise = Noise { absolute: 0.01, relative: 0.0 };
     /// let mut probe = LayoutProbe::<6>::new(&faces.map(Sensor::cosine), Prior::ENVIRONMENT, noise)?;
     /// let light = [1.0, 1.2, 0.9, 1.1, 2.0, 0.3];
-    /// assert_eq!(probe.accumulate(&light)?, Change::First);
-    /// assert_eq!(probe.accumulate(&light.map(|v| v + 0.004))?, Change::Blended);
+    /// assert_eq!(probe.pool(&light)?, Change::First);
+    /// assert_eq!(probe.pool(&light.map(|v| v + 0.004))?, Change::Blended);
     /// assert!(probe.pooled_updates() > 1.9);
     /// // The lamp goes off: every sensor reads half.
-    /// assert_eq!(probe.accumulate(&light.map(|v| 0.5 * v))?, Change::Reset);
+    /// assert_eq!(probe.pool(&light.map(|v| 0.5 * v))?, Change::Reset);
     /// assert!(probe.pooled_updates() < 1.1);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
-    pub fn accumulate(&mut self, readings: &[T; K]) -> Result<Change, Error> {
+    pub fn pool(&mut self, readings: &[T; K]) -> Result<Change, Error> {
         check_readings(readings)?;
         let w = self.stream_weight;
         if w <= 0.0 {
@@ -106,27 +106,57 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         Ok(if probability >= 0.5 { Change::Reset } else { Change::Blended })
     }
 
-    /// The effective number of updates pooled by [`LayoutProbe::accumulate`] (1 after
+    /// The effective number of updates pooled by [`LayoutProbe::pool`] (1 after
     /// [`LayoutProbe::update`], 0 before any).
     #[must_use]
     pub const fn pooled_updates(&self) -> f32 {
         self.stream_weight
     }
 
-    /// The posterior probability of a change at the last [`LayoutProbe::accumulate`].
+    /// The posterior probability of a change at the last [`LayoutProbe::pool`].
     #[must_use]
     pub const fn last_change_probability(&self) -> f32 {
         self.last_change
     }
 
     /// The same probe with hazard `h` (the prior probability of a change per update of
-    /// [`LayoutProbe::accumulate`]), `0 < h < 1`; [`Error::InvalidHazard`] otherwise.
+    /// [`LayoutProbe::pool`]), `0 < h < 1`; [`Error::InvalidHazard`] otherwise.
     pub fn with_hazard(mut self, h: f32) -> Result<Self, Error> {
         if !(h > 0.0 && h < 1.0) {
             return Err(Error::InvalidHazard);
         }
         self.hazard = h;
         Ok(self)
+    }
+
+    /// The channel combination `Σ_c w_c·value_c` of an estimate of this probe, with the
+    /// largest variance that any correlation of the channels' errors allows,
+    /// `(Σ_c |w_c|·σ_c)²`: reached when the errors are perfectly correlated (a grey light),
+    /// exact for one channel. The same call as [`Probe::combine`](crate::Probe::combine); for
+    /// the combination's own posterior variance, fit it as one channel:
+    /// [`LayoutProbe::combined_probe`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidWeights`] for a NaN or infinite weight.
+    ///
+    /// ```
+    /// use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
+    /// use sphere_quadrature::Vec3;
+    ///
+    /// let faces = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+    /// let mut rgb = LayoutProbe::<6, [f32; 3]>::new(&faces.map(Sensor::cosine), Prior::ENVIRONMENT, Noise::NONE)?;
+    /// rgb.update(&faces.map(|d| [1.0 + 0.5 * d.z, 0.8 + 0.3 * d.x, 0.6]))?;
+    /// let e = rgb.irradiance(Vec3::Z)?;
+    /// let y = rgb.combine(&e, [0.2126, 0.7152, 0.0722])?;
+    /// let sum = 0.2126 * e.value[0] + 0.7152 * e.value[1] + 0.0722 * e.value[2];
+    /// assert!((y.value - sum).abs() < 1e-5 * sum);
+    /// // Never below the variance of independent channel errors.
+    /// let independent = 0.2126f32.powi(2) * e.variance[0] + 0.7152f32.powi(2) * e.variance[1];
+    /// assert!(y.variance >= independent);
+    /// # Ok::<(), sphere_quadrature::Error>(())
+    /// ```
+    pub fn combine(&self, estimate: &Estimate<T>, weights: T) -> Result<Estimate<f32>, Error> {
+        crate::estimate::combine_bound(estimate, weights)
     }
 
     /// A one-channel probe of the combination `Σ_c w_c·Y_c` of this probe's channels
@@ -150,14 +180,14 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// let faces = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
     /// let mut rgb = LayoutProbe::<6, [f32; 3]>::new(&faces.map(Sensor::cosine), Prior::ENVIRONMENT, Noise::NONE)?;
     /// rgb.update(&faces.map(|d| [1.0 + 0.5 * d.z, 0.8 + 0.3 * d.x, 0.6]))?;
-    /// let luminance = rgb.combined([0.2126, 0.7152, 0.0722])?;
+    /// let luminance = rgb.combined_probe([0.2126, 0.7152, 0.0722])?;
     /// let (e, y) = (rgb.irradiance(Vec3::Z)?, luminance.irradiance(Vec3::Z)?);
     /// let sum = 0.2126 * e.value[0] + 0.7152 * e.value[1] + 0.0722 * e.value[2];
     /// assert!((y.value - sum).abs() < 1e-5 * sum);
     /// assert!(y.variance > 0.0);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
-    pub fn combined(&self, weights: T) -> Result<LayoutProbe<K, f32>, Error> {
+    pub fn combined_probe(&self, weights: T) -> Result<LayoutProbe<K, f32>, Error> {
         let channels = T::CHANNELS.min(MAX_CHANNELS);
         let w: [f32; MAX_CHANNELS] =
             core::array::from_fn(|c| if c < channels { weights.channel(c) } else { 0.0 });

@@ -55,7 +55,7 @@ where
     /// `S_cc` is [`Probe::signal_variance`] of channel `c` (σ̂_f²), bit for bit, and
     /// `S_ab = S_ba`. The posterior
     /// covariance of channels `a` and `b` of an [`Estimate`] is
-    /// `estimate.unit_variance × S_ab`. Computed relative to the samples' spread: `±∞` only
+    /// `estimate.unit_variance × S_ab` (`unit_variance` is always `Some` for a `Probe`). Computed relative to the samples' spread: `±∞` only
     /// where `S_ab` itself exceeds `f32::MAX`.
     ///
     /// # Errors
@@ -136,18 +136,21 @@ where
 
     /// The channel combination `Σ_c w_c·value_c` of an estimate of this probe (after the
     /// last update) with its posterior variance `unit_variance × wᵀSw`
-    /// ([`Probe::signal_variance_of`]); `unit_variance` is passed through.
+    /// ([`Probe::signal_variance_of`]); `unit_variance` is passed through. The same call on
+    /// every probe: [`TemporalProbe::combine`](crate::TemporalProbe::combine),
+    /// [`LayoutProbe::combine`](crate::LayoutProbe::combine).
     ///
     /// This costs O(N²) per call (the quadratic form over the baked factors). For many
     /// queries with the same weights, call [`Probe::signal_variance_of`] once per update and
     /// multiply each estimate's `unit_variance` by it (`combine` only avoids the overflow of
-    /// that product in its intermediates).
+    /// that product in its intermediates). An estimate without a `unit_variance` (not one of
+    /// this probe's) gets the bound of [`TemporalProbe::combine`](crate::TemporalProbe::combine).
     ///
     /// # Errors
     /// [`Error::InvalidWeights`] for a NaN or infinite weight.
     ///
     /// ```
-    /// use sphere_quadrature::{probe::Probe, Vec3};
+    /// use sphere_quadrature::{Probe, Vec3};
     ///
     /// let mut probe = Probe::<64, [f32; 3]>::new();
     /// let samples = probe.directions().map(|d| [1.0 + 0.5 * d.z, 0.8 + 0.4 * d.x, 0.5]);
@@ -158,7 +161,8 @@ where
     /// assert!((y.value - (0.2126 * e.value[0] + 0.7152 * e.value[1] + 0.0722 * e.value[2])).abs() < 1e-5);
     /// // Once per update, then one multiplication per query:
     /// let s_y = probe.signal_variance_of(luminance)?;
-    /// assert!((y.variance - e.unit_variance * s_y).abs() <= 1e-6 * y.variance);
+    /// let unit = e.unit_variance.expect("a Probe's channels share one model");
+    /// assert!((y.variance - unit * s_y).abs() <= 1e-6 * y.variance);
     /// // A single channel's weights give that channel's variance.
     /// let red = probe.combine(&e, [1.0, 0.0, 0.0])?;
     /// assert!((red.variance - e.variance[0]).abs() <= 1e-6 * e.variance[0]);
@@ -166,10 +170,12 @@ where
     /// ```
     pub fn combine(&self, estimate: &Estimate<T>, weights: T) -> Result<Estimate<f32>, Error> {
         check_weights(weights)?;
+        let Some(unit) = estimate.unit_variance else {
+            return crate::estimate::combine_bound(estimate, weights);
+        };
         let value = (0..T::CHANNELS).fold(0.0f64, |acc, c| {
             acc + f64::from(weights.channel(c)) * f64::from(estimate.value.channel(c))
         }) as f32;
-        let unit = estimate.unit_variance;
         let (normalised, shift) = self.combination_parts(weights);
         let variance = if normalised == 0.0 || unit == 0.0 {
             0.0
@@ -177,7 +183,7 @@ where
             let (m, e) = libm::frexpf(unit);
             crate::math::ldexp_variance(m * normalised, shift + e)
         };
-        Ok(Estimate { value, variance, unit_variance: unit })
+        Ok(Estimate { value, variance, unit_variance: Some(unit) })
     }
 }
 

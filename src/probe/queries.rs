@@ -72,7 +72,7 @@ where
         Ok(Estimate {
             value: self.absolute(PI, acc),
             variance: self.scaled(unit),
-            unit_variance: unit,
+            unit_variance: Some(unit),
         })
     }
 
@@ -266,7 +266,7 @@ where
         Ok(Estimate {
             value: self.rescaled(full, acc, amp),
             variance: self.rescaled_variance(unit, amp),
-            unit_variance: amp * (amp * unit),
+            unit_variance: Some(amp * (amp * unit)),
         })
     }
 
@@ -420,7 +420,7 @@ where
         Ok(Estimate {
             value: self.absolute(1.0, acc),
             variance: self.scaled(unit),
-            unit_variance: unit,
+            unit_variance: Some(unit),
         })
     }
 
@@ -516,7 +516,7 @@ where
         let len = cosine_series_f32(f.lambda, exponent, &mut h);
         let mut rho = [0.0f32; MAX_SERIES];
         let Some(rho) = rho.get_mut(..len) else {
-            return Estimate { value: T::ZERO, variance: T::ZERO, unit_variance: 0.0 };
+            return Estimate { value: T::ZERO, variance: T::ZERO, unit_variance: Some(0.0) };
         };
         bessel_ratios(mu, rho);
         for (h, &p) in h.iter_mut().zip(rho.iter()) {
@@ -531,7 +531,7 @@ where
         Estimate {
             value: self.rescaled(full, acc, amp),
             variance: self.rescaled_variance(unit, amp),
-            unit_variance: amp * (amp * unit),
+            unit_variance: Some(amp * (amp * unit)),
         }
     }
 

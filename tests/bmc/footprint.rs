@@ -10,6 +10,7 @@ use sphere_quadrature::footprint::Kind;
 use sphere_quadrature::{Error, Vec3};
 use std::f64::consts::PI;
 
+use crate::footprint_lookups::Lookups;
 use crate::gen;
 use crate::gen::fp::{Design, Integrand, Model};
 
@@ -61,6 +62,7 @@ fn query(rng: &mut Rng, theta_n: f64) -> (Vec3, Vec3) {
 fn check_weights<const N: usize, B: Brdf>(e: u32, tolerance: f64)
 where
     Size<N>: FootprintSize<B>,
+    FootprintRenderer<N, B>: Lookups<N>,
 {
     let (family, s) = spec(N, e);
     let (design, own, lmax) = model(&family, &s);
@@ -81,9 +83,9 @@ where
     for theta in angles {
         let (n, mirror) = query(&mut rng, theta);
         let mut dirs = [Vec3::ZERO; N];
-        r.fill_directions(n, if e == 0 { n } else { mirror }, &mut dirs).unwrap();
+        r.fill(n, if e == 0 { n } else { mirror }, &mut dirs).unwrap();
         let mut w = [0.0f32; N];
-        r.weights(n, if e == 0 { n } else { mirror }, &mut w).unwrap();
+        r.weights_for(n, if e == 0 { n } else { mirror }, &mut w).unwrap();
         // The exact weights at the crate's own θₙ (from the f32 vectors).
         let (n64, r64) = (v64(n), v64(mirror));
         let nn = reference::vec::normalize(n64);
@@ -157,7 +159,7 @@ fn irradiance_of_smooth_light() {
         let n = rng.uniform_sphere();
         let nv = Vec3::new(n[0] as f32, n[1] as f32, n[2] as f32);
         let mut dirs = [Vec3::ZERO; N];
-        r.fill_directions(nv, nv, &mut dirs).unwrap();
+        r.fill_directions(nv, &mut dirs).unwrap();
         let kinds = r.footprints();
         let lookups: [f32; N] = std::array::from_fn(|j| {
             let Kind::Gaussian { sharpness } = kinds[j] else { unreachable!("Gaussian") };
@@ -166,7 +168,7 @@ fn irradiance_of_smooth_light() {
                 as f32
         });
         let truth = PI * base + lights.iter().map(|g| g.irradiance(v64(nv))).sum::<f64>();
-        let e = r.estimate_with_variance(nv, nv, &lookups).unwrap();
+        let e = r.estimate_with_variance(&lookups).unwrap();
         let err = (f64::from(e.value) - truth).abs();
         worst = worst.max(err / truth);
         inside += usize::from(err <= 2.0 * f64::from(e.variance).sqrt());

@@ -6,6 +6,8 @@
 //!
 //! One test binary, one module per concept: `cargo test --test bmc glossy::` runs one module.
 
+#[path = "../shared/footprint_lookups.rs"]
+mod footprint_lookups;
 #[allow(dead_code)] // build.rs uses the rest
 #[path = "../../gen/mod.rs"]
 mod gen;

@@ -12,6 +12,8 @@ use sphere_quadrature::bmc::footprint::{Brdf, Diffuse, FootprintRenderer, Phong}
 use sphere_quadrature::bmc::{self, BakedSize, FootprintSize, GlossyRenderer, GlossySize, Size};
 use sphere_quadrature::{Error, Estimate, Vec3};
 
+use crate::footprint_lookups::Lookups;
+
 /// What the suite asks of a renderer: its sample directions for a normal and a mirror
 /// direction, and its estimate (with an error bar where it has one) from one value per
 /// direction.
@@ -41,7 +43,7 @@ where
     const USES_MIRROR: bool = false;
     fn directions(n: Vec3, _r: Vec3) -> Result<Vec<Vec3>, Error> {
         let mut out = [Vec3::ZERO; N];
-        bmc::Renderer::<N>::new().fill_directions(n, 0, &mut out)?;
+        bmc::Renderer::<N>::new().fill_directions(n, &mut out)?;
         Ok(out.to_vec())
     }
     fn estimate(_n: Vec3, _r: Vec3, y: &[f32]) -> Result<f32, Error> {
@@ -74,19 +76,20 @@ where
 impl<const N: usize, B: Brdf> Renderer for Footprint<N, B>
 where
     Size<N>: FootprintSize<B>,
+    FootprintRenderer<N, B>: Lookups<N>,
 {
     const NAME: &'static str = "FootprintRenderer";
-    const USES_MIRROR: bool = true;
+    const USES_MIRROR: bool = <FootprintRenderer<N, B> as Lookups<N>>::MIRROR;
     fn directions(n: Vec3, r: Vec3) -> Result<Vec<Vec3>, Error> {
         let mut out = [Vec3::ZERO; N];
-        FootprintRenderer::<N, B>::new().fill_directions(n, r, &mut out)?;
+        FootprintRenderer::<N, B>::new().fill(n, r, &mut out)?;
         Ok(out.to_vec())
     }
     fn estimate(n: Vec3, r: Vec3, y: &[f32]) -> Result<f32, Error> {
-        FootprintRenderer::<N, B>::new().estimate(n, r, &array::<N>(y))
+        FootprintRenderer::<N, B>::new().estimate_for(n, r, &array::<N>(y))
     }
     fn estimate_with_variance(n: Vec3, r: Vec3, y: &[f32]) -> Option<Result<Estimate<f32>, Error>> {
-        Some(FootprintRenderer::<N, B>::new().estimate_with_variance(n, r, &array::<N>(y)))
+        Some(FootprintRenderer::<N, B>::new().estimate_with_variance_for(n, r, &array::<N>(y)))
     }
 }
 
@@ -451,12 +454,11 @@ impl<const N: usize, F: SampleFootprint, const S: usize> Estimator for Stream<N,
         self.0.directions().iter().chain(self.0.sentinels()).copied().collect()
     }
     fn update(&mut self, y: &[f32]) -> Result<String, Error> {
-        let change = self.0.update(&array::<N>(y), &array::<S>(&y[N..]))?;
+        let change = self.0.pool(&array::<N>(y), &array::<S>(&y[N..]))?;
         Ok(format!("{change:?}"))
     }
     fn irradiance(&self, n: Vec3) -> Result<Estimate<f32>, Error> {
-        let a = self.0.irradiance(n)?;
-        Ok(Estimate { value: a.value, variance: a.variance, unit_variance: f32::NAN })
+        self.0.irradiance(n)
     }
     fn state(&self) -> String {
         format!("{:?}", self.0)
@@ -481,7 +483,7 @@ impl<const STREAM: bool, const NOISY: bool> Estimator for Layout<STREAM, NOISY> 
     }
     fn update(&mut self, y: &[f32]) -> Result<String, Error> {
         if STREAM {
-            Ok(format!("{:?}", self.0.accumulate(&array::<16>(y))?))
+            Ok(format!("{:?}", self.0.pool(&array::<16>(y))?))
         } else {
             self.0.update(&array::<16>(y)).map(|()| String::new())
         }

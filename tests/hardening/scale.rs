@@ -588,8 +588,9 @@ fn combine_reproduces_the_channels() {
                 assert_eq!(one.unit_variance, e.unit_variance);
                 close(one.variance, e.variance[ch], &format!("{what} channel {ch}"));
                 let s = probe.signal_covariance(ch, ch).unwrap();
-                if s.is_normal() && (s * e.unit_variance).is_normal() {
-                    close(e.unit_variance * s, e.variance[ch], &format!("{what}: unit × S"));
+                let unit = e.unit_variance.expect("a Probe's channels share one model");
+                if s.is_normal() && (s * unit).is_normal() {
+                    close(unit * s, e.variance[ch], &format!("{what}: unit × S"));
                 }
             }
             let w = [0.2126, 0.7152, 0.0722];
@@ -597,8 +598,9 @@ fn combine_reproduces_the_channels() {
             let want: f64 = (0..3).map(|i| f64::from(w[i]) * f64::from(e.value[i])).sum();
             check(y.value, want, 1e-6, &what);
             let s = probe.signal_variance_of(w).unwrap();
-            if s.is_normal() && (s * e.unit_variance).is_normal() {
-                close(y.variance, e.unit_variance * s, &format!("{what}: luminance"));
+            let unit = e.unit_variance.expect("a Probe's channels share one model");
+            if s.is_normal() && (s * unit).is_normal() {
+                close(y.variance, unit * s, &format!("{what}: luminance"));
             }
             // c² times the c = 1 variance, also where S alone overflows (c = 10²⁰: S ~ 10⁴⁰,
             // the variance 10³⁶) or the variance underflows.

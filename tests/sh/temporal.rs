@@ -144,7 +144,7 @@ fn pooling_agrees_with_an_independent_f64_reference() {
                 for k in 0..12 {
                     let dirs = *probe.directions();
                     let samples = dirs.map(sky);
-                    let change = probe.update(&samples, &[]).unwrap();
+                    let change = probe.pool(&samples, &[]).unwrap();
                     assert_eq!(change, if k == 0 { Change::First } else { Change::Blended });
                     reference.update(&dirs, &samples);
                     for n in normals(32) {
@@ -200,11 +200,11 @@ fn before_any_update_everything_is_zero() {
 fn a_constant_is_exact_and_a_new_constant_resets() {
     let mut probe = TemporalProbe::<64, [f32; 3]>::new(2);
     for k in 0..5 {
-        let change = probe.update(&[[2.0, 1.0, 0.5]; 64], &[]).unwrap();
+        let change = probe.pool(&[[2.0, 1.0, 0.5]; 64], &[]).unwrap();
         assert_eq!(change, if k == 0 { Change::First } else { Change::Blended });
     }
     assert_eq!(probe.updates(), 5);
-    assert_eq!(probe.effective_updates(), 5.0);
+    assert_eq!(probe.pooled_updates(), 5.0);
     let e = probe.irradiance(Vec3::new(0.3, -0.2, 0.9)).unwrap();
     for (c, want) in [2.0f32, 1.0, 0.5].into_iter().enumerate() {
         assert!((e.value[c] - std::f32::consts::PI * want).abs() <= 1e-5 * want, "{:?}", e.value);
@@ -212,8 +212,8 @@ fn a_constant_is_exact_and_a_new_constant_resets() {
         assert!(e.variance[c] <= 1e-10 * e.value[c] * e.value[c], "{:?}", e.variance);
     }
     // Any change of a constant is infinitely unlikely under zero scatter.
-    assert_eq!(probe.update(&[[2.0, 1.0, 0.6]; 64], &[]).unwrap(), Change::Reset);
-    assert_eq!(probe.effective_updates(), 1.0);
+    assert_eq!(probe.pool(&[[2.0, 1.0, 0.6]; 64], &[]).unwrap(), Change::Reset);
+    assert_eq!(probe.pooled_updates(), 1.0);
     assert!(
         (probe.irradiance(Vec3::Z).unwrap().value[2] - std::f32::consts::PI * 0.6).abs() < 1e-5
     );
@@ -227,12 +227,12 @@ fn every_update_rotates_the_set_and_the_rotations_follow_the_seed() {
     assert_eq!(a.directions(), b.directions());
     assert_ne!(a.directions(), c.directions());
     let first = *a.directions();
-    a.update(&first.map(sky), &[]).unwrap();
+    a.pool(&first.map(sky), &[]).unwrap();
     assert_ne!(a.directions(), &first);
     // The sentinels never move.
     let mut s = TemporalProbe::<32, f32, sphere_quadrature::footprint::Point, 4>::new(7);
     let sentinels = *s.sentinels();
-    s.update(&s.directions().map(sky), &sentinels.map(sky)).unwrap();
+    s.pool(&s.directions().map(sky), &sentinels.map(sky)).unwrap();
     assert_eq!(s.sentinels(), &sentinels);
 }
 
@@ -263,14 +263,14 @@ fn static_light_keeps_improving() {
         for k in 0..64 {
             let samples = p.directions().map(sky);
             let sentinels = p.sentinels().map(sky);
-            let change = p.update(&samples, &sentinels).unwrap();
+            let change = p.pool(&samples, &sentinels).unwrap();
             assert_ne!(change, Change::Reset, "seed {seed}, update {k}");
             if k == 0 {
                 one += rms(&p);
             }
         }
         last += rms(&p);
-        assert!(p.effective_updates() > 60.0, "{}", p.effective_updates());
+        assert!(p.pooled_updates() > 60.0, "{}", p.pooled_updates());
     }
     println!("RMS after one update {:.4}, after 64 {:.4}", one / 6.0, last / 6.0);
     assert!(last < 0.25 * one, "64 updates {last} vs one {one}");
@@ -284,7 +284,7 @@ fn a_footprint_probe_answers_for_the_unfiltered_light() {
     let mut probe = TemporalProbe::<64, f32, Gaussian<8>>::new(4);
     for _ in 0..4 {
         let samples = probe.directions().map(|d| 1.0 + 0.5 * g1 * d.z);
-        probe.update(&samples, &[]).unwrap();
+        probe.pool(&samples, &[]).unwrap();
     }
     let e = probe.irradiance(Vec3::Z).unwrap();
     assert!((e.value - 4.18879).abs() < 2e-3, "{}", e.value);
@@ -299,12 +299,12 @@ fn a_switch_seen_by_the_sentinels_resets_at_once() {
     let mut p = TemporalProbe::<60, f32, sphere_quadrature::footprint::Point, 4>::new(9);
     for _ in 0..16 {
         let (s, t) = (p.directions().map(sky), p.sentinels().map(sky));
-        assert_ne!(p.update(&s, &t).unwrap(), Change::Reset);
+        assert_ne!(p.pool(&s, &t).unwrap(), Change::Reset);
     }
     let (s, t) = (p.directions().map(other), p.sentinels().map(other));
-    assert_eq!(p.update(&s, &t).unwrap(), Change::Reset);
+    assert_eq!(p.pool(&s, &t).unwrap(), Change::Reset);
     assert!(p.last_change_probability() > 0.99);
-    assert!(p.effective_updates() < 1.01);
+    assert!(p.pooled_updates() < 1.01);
 }
 
 #[test]
@@ -318,25 +318,25 @@ fn a_flickering_sentinel_costs_at_most_one_reset() {
         if k % 2 == 1 {
             t[0] *= 1.5;
         }
-        if p.update(&s, &t).unwrap() == Change::Reset {
+        if p.pool(&s, &t).unwrap() == Change::Reset {
             resets += 1;
         }
     }
-    println!("{resets} resets; effective updates {}", p.effective_updates());
+    println!("{resets} resets; effective updates {}", p.pooled_updates());
     assert!(resets <= 1, "{resets} resets");
-    assert!(p.effective_updates() > 32.0, "{}", p.effective_updates());
+    assert!(p.pooled_updates() > 32.0, "{}", p.pooled_updates());
 }
 
 #[test]
 fn bad_input_is_refused_and_keeps_the_state() {
     let mut probe = TemporalProbe::<16, f32, sphere_quadrature::footprint::Point, 2>::new(3);
-    probe.update(&probe.directions().map(sky), &probe.sentinels().map(sky)).unwrap();
+    probe.pool(&probe.directions().map(sky), &probe.sentinels().map(sky)).unwrap();
     let dirs = *probe.directions();
     let before = probe.irradiance(Vec3::Z).unwrap();
     let mut bad = dirs.map(sky);
     bad[3] = f32::NAN;
-    assert_eq!(probe.update(&bad, &[1.0, 1.0]), Err(Error::InvalidRadiance));
-    assert_eq!(probe.update(&dirs.map(sky), &[1.0, f32::INFINITY]), Err(Error::InvalidRadiance));
+    assert_eq!(probe.pool(&bad, &[1.0, 1.0]), Err(Error::InvalidRadiance));
+    assert_eq!(probe.pool(&dirs.map(sky), &[1.0, f32::INFINITY]), Err(Error::InvalidRadiance));
     assert_eq!(probe.directions(), &dirs);
     assert_eq!(probe.irradiance(Vec3::Z).unwrap(), before);
     assert_eq!(probe.updates(), 1);
@@ -359,7 +359,7 @@ fn a_real_switch_does_not_teach_the_sentinels_flicker() {
     for (light, updates) in [(sky as fn(Vec3) -> f32, 16), (other, 16), (sky, 1)] {
         for _ in 0..updates {
             let (s, t) = (p.directions().map(light), p.sentinels().map(light));
-            changes.push(p.update(&s, &t).unwrap());
+            changes.push(p.pool(&s, &t).unwrap());
         }
     }
     assert_eq!(changes[16], Change::Reset);
@@ -383,7 +383,7 @@ fn a_persistent_change_only_the_sentinels_see_is_not_flicker() {
     for (light, updates) in lights {
         for _ in 0..updates {
             let (s, t) = (p.directions().map(light), p.sentinels().map(light));
-            changes.push(p.update(&s, &t).unwrap());
+            changes.push(p.pool(&s, &t).unwrap());
         }
     }
     assert_eq!(changes[16], Change::Reset, "{changes:?}");
@@ -413,7 +413,7 @@ fn a_blurry_footprint_does_not_amplify_aliasing() {
         assert_eq!(p.degree(), 3);
         for _ in 0..4 {
             let (s, t) = (p.directions().map(seen), p.sentinels().map(seen));
-            p.update(&s, &t).unwrap();
+            p.pool(&s, &t).unwrap();
         }
         let e2: f64 = normals
             .iter()
@@ -463,7 +463,7 @@ fn scaled_run<const N: usize, const S: usize>(c: f64, seed: u64) -> Run {
         for _ in 0..updates {
             let scale = |d: Vec3| (f64::from(light(d)) * c) as f32;
             let (s, t) = (p.directions().map(scale), p.sentinels().map(scale));
-            let change = p.update(&s, &t).unwrap();
+            let change = p.pool(&s, &t).unwrap();
             let mut queries: Vec<(f32, f32)> = normals
                 .iter()
                 .map(|&n| {
@@ -474,7 +474,7 @@ fn scaled_run<const N: usize, const S: usize>(c: f64, seed: u64) -> Run {
             // The SH export and its variances scale the same way.
             let sh = p.radiance_sh().coefficients.iter().zip(p.radiance_sh_variance());
             queries.extend(sh.map(|(&c, &v)| (c, v)));
-            out.push((change, p.effective_updates(), queries));
+            out.push((change, p.pooled_updates(), queries));
         }
     }
     out
@@ -559,10 +559,10 @@ fn switch_off_after<const S: usize>(c: f32, k: usize) -> (Change, f32) {
     let mut p = TemporalProbe::<16, f32, sphere_quadrature::footprint::Point, S>::new(5);
     for _ in 0..k {
         let (s, t) = (p.directions().map(|d| c * sky(d)), p.sentinels().map(|d| c * sky(d)));
-        p.update(&s, &t).unwrap();
+        p.pool(&s, &t).unwrap();
     }
-    let weight = p.effective_updates();
-    (p.update(&[0.0; 16], &[0.0; S]).unwrap(), weight)
+    let weight = p.pooled_updates();
+    (p.pool(&[0.0; 16], &[0.0; S]).unwrap(), weight)
 }
 
 #[test]
@@ -606,7 +606,7 @@ fn outlier_run<const S: usize>(
         if k == 20 {
             s[5] = outlier;
         }
-        p.update(&s, &t).unwrap();
+        p.pool(&s, &t).unwrap();
         for n in normals(8) {
             let e = p.irradiance(n).unwrap();
             assert!(!e.value.is_nan() && !e.variance.is_nan(), "S = {S}, update {k}: {e:?}");
@@ -657,7 +657,7 @@ fn coverage_on_maps<const N: usize, const S: usize>(
             .unwrap();
         for _ in 0..updates {
             let (s, t) = (p.directions().map(light), p.sentinels().map(light));
-            p.update(&s, &t).unwrap();
+            p.pool(&s, &t).unwrap();
         }
         let mut within = 0;
         for &n in &normals {
@@ -669,7 +669,7 @@ fn coverage_on_maps<const N: usize, const S: usize>(
         }
         println!(
             "{name}, N = {N}, S = {S}, {updates} updates: {} effective, {within}/{} within 3σ",
-            p.effective_updates(),
+            p.pooled_updates(),
             normals.len()
         );
     }
@@ -724,7 +724,7 @@ fn a_hundred_thousand_updates_of_a_linear_light_stay_within_their_error_bars() {
         .unwrap();
     for k in 1..=100_000 {
         let (s, t) = (p.directions().map(light), p.sentinels().map(light));
-        p.update(&s, &t).unwrap();
+        p.pool(&s, &t).unwrap();
         if k % 10_000 == 0 {
             let worst = normals(48)
                 .iter()
@@ -736,7 +736,7 @@ fn a_hundred_thousand_updates_of_a_linear_light_stay_within_their_error_bars() {
             assert!(worst <= 3.0, "{k} updates: |error|/σ up to {worst}");
         }
     }
-    assert_eq!(p.effective_updates(), 100_000.0);
+    assert_eq!(p.pooled_updates(), 100_000.0);
 }
 
 /// The mean effective updates over updates 5 000–10 000 of a static map without sentinels, per
@@ -750,9 +750,9 @@ fn pooled_without_sentinels(name: &str) -> Vec<f32> {
             let mut p = TemporalProbe::<16>::new(seed);
             let mut mean = 0.0;
             for k in 0..10_000 {
-                p.update(&p.directions().map(light), &[]).unwrap();
+                p.pool(&p.directions().map(light), &[]).unwrap();
                 if k >= 5_000 {
-                    mean += p.effective_updates() / 5_000.0;
+                    mean += p.pooled_updates() / 5_000.0;
                 }
             }
             mean
@@ -786,7 +786,7 @@ fn a_damped_degree_keeps_an_error_bar() {
     for seed in 0..8 {
         let mut p = TemporalProbe::<16>::new(seed);
         for k in 0..4 {
-            p.update(&p.directions().map(light), &[]).unwrap();
+            p.pool(&p.directions().map(light), &[]).unwrap();
             let (sh, var) = (p.radiance_sh().coefficients, p.radiance_sh_variance());
             for i in 1..9 {
                 damped += usize::from(sh[i] == 0.0);
@@ -810,7 +810,7 @@ fn irradiance_after<F: sphere_quadrature::footprint::Footprint, const S: usize>(
     samples: &[f32; 16],
 ) -> Vec<f32> {
     let mut p = TemporalProbe::<16, f32, F, S>::new(seed);
-    assert_eq!(p.update(samples, &[0.0; S]), Ok(Change::First));
+    assert_eq!(p.pool(samples, &[0.0; S]), Ok(Change::First));
     normals(16).into_iter().map(|n| p.irradiance(n).unwrap().value).collect()
 }
 

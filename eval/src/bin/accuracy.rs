@@ -394,7 +394,10 @@ where
             let sobol = PI * peers::sobol(lum, n, 1.0, N as u32, scramble);
             let sf = qmc::irradiance::<N, f32, _>(n32, phases.next_phase(), lum32)
                 .expect("normals are unit vectors") as f64;
-            renderer.fill_directions(n32, phases.next_phase(), &mut dirs).expect("unit normal");
+            renderer
+                .with_phase(phases.next_phase())
+                .fill_directions(n32, &mut dirs)
+                .expect("unit normal");
             let bmc = renderer.estimate(&dirs.map(lum32)).expect("finite map") as f64;
             for (s, e) in se.iter_mut().zip([mc, sobol, sf, bmc]) {
                 *s += (e - t).powi(2);

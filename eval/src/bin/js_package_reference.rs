@@ -178,7 +178,7 @@ fn temporal_stream<const R: usize, const S: usize, F: Footprint>(
         println!("t_{key} {n} {stream}.{u} 0 {}", p.updates());
         println!("t_{key} {n} {stream}.{u} 1 {}", p.degree());
         let (rotated, sentinels) = p.last_evidence();
-        let floats = [p.effective_updates(), p.last_change_probability(), rotated, sentinels];
+        let floats = [p.pooled_updates(), p.last_change_probability(), rotated, sentinels];
         for (i, v) in floats.into_iter().enumerate() {
             println!("t_{key} {n} {stream}.{u} {} {:08x}", i + 2, v.to_bits());
         }
@@ -202,7 +202,7 @@ fn temporal_stream<const R: usize, const S: usize, F: Footprint>(
             let sentinels = probe.sentinels().map(|d| light(which, d));
             out("sample", u, &mut samples.iter().flatten().copied());
             out("reading", u, &mut sentinels.iter().flatten().copied());
-            let change = match probe.update(&samples, &sentinels) {
+            let change = match probe.pool(&samples, &sentinels) {
                 Ok(c) => format!("{c:?}").to_lowercase(),
                 Err(e) => format!("{e:?}"),
             };
@@ -220,11 +220,11 @@ fn temporal_stream<const R: usize, const S: usize, F: Footprint>(
     let mut samples = before.map(|d| light(2, d));
     let sentinels = probe.sentinels().map(|d| light(2, d));
     samples[R / 2][1] = f32::NAN;
-    println!("t_err {n} {stream}.{u} 0 {:?}", probe.update(&samples, &sentinels).err());
+    println!("t_err {n} {stream}.{u} 0 {:?}", probe.pool(&samples, &sentinels).err());
     samples[R / 2][1] = 1.0;
     let mut bad = sentinels;
     bad[S - 1][2] = f32::INFINITY;
-    println!("t_err {n} {stream}.{u} 1 {:?}", probe.update(&samples, &bad).err());
+    println!("t_err {n} {stream}.{u} 1 {:?}", probe.pool(&samples, &bad).err());
     println!("t_err {n} {stream}.{u} 2 {}", probe.directions() == &before);
     state("state_after_err", u, &probe);
     println!("t_err {n} {stream}.{u} 3 {:?}", probe.irradiance(Vec3::ZERO).err());
@@ -379,7 +379,7 @@ fn layout_case<const K: usize>(
                 step += 1;
                 let readings = layout_readings(&dirs, light, step, noise_amount);
                 out("reading", step, &mut readings.iter().flatten().copied());
-                let change = match probe.accumulate(&readings) {
+                let change = match probe.pool(&readings) {
                     Ok(c) => format!("{c:?}").to_lowercase(),
                     Err(e) => format!("{e:?}"),
                 };
@@ -397,7 +397,7 @@ fn layout_case<const K: usize>(
     bad[K / 2][1] = f32::NAN;
     println!("l_err {name}.{step} 0 {:?}", probe.update(&bad).err());
     bad[K / 2][1] = f32::INFINITY;
-    println!("l_err {name}.{step} 1 {:?}", probe.accumulate(&bad).err());
+    println!("l_err {name}.{step} 1 {:?}", probe.pool(&bad).err());
     state(step + 1, &probe);
     queries(step + 1, &probe);
     println!("l_err {name}.{step} 2 {:?}", probe.irradiance(Vec3::ZERO).err());

@@ -314,7 +314,7 @@ fn run_sequence<const N: usize, const NR: usize, const S: usize>(
                 std::array::from_fn(|j| lookup(&temporal.directions()[j]));
             let sentinels: [[f32; 3]; S] =
                 std::array::from_fn(|j| lookup(&temporal.sentinels()[j]));
-            let change = temporal.update(&rotated, &sentinels).expect("finite samples");
+            let change = temporal.pool(&rotated, &sentinels).expect("finite samples");
             if total > 0 && change == Change::Reset {
                 if measured && before.is_some() {
                     detected |= k < 2;

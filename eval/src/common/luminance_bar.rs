@@ -52,7 +52,10 @@ impl LuminanceBar {
 
     /// Luminance value and variance of `estimate`, `unit_variance × wᵀSw`.
     pub fn estimate(&self, estimate: &Estimate<[f32; 3]>) -> (f64, f64) {
-        (luminance(estimate.value), f64::from(estimate.unit_variance) * f64::from(self.signal))
+        (
+            luminance(estimate.value),
+            f64::from(estimate.unit_variance.unwrap_or(f32::NAN)) * f64::from(self.signal),
+        )
     }
 
     /// The same through `Probe::combine`.
@@ -83,6 +86,6 @@ impl LuminanceBar {
             }
         });
         let unit = if s > 0.0 { per_channel[c] / s } else { 0.0 };
-        Estimate { value: estimate.value, variance: per_channel, unit_variance: unit }
+        Estimate { value: estimate.value, variance: per_channel, unit_variance: Some(unit) }
     }
 }

@@ -4,11 +4,11 @@
 //! `(N, e)` as a plain function.
 
 use reference::envmap::luminance;
-use sphere_quadrature::bmc::footprint::{Brdf as FpBrdf, Diffuse, FootprintRenderer, Phong};
+use sphere_quadrature::bmc::footprint::{Diffuse, FootprintRenderer, Phong};
 use sphere_quadrature::bmc::{FootprintSize, Size};
 use sphere_quadrature::envmap::{EquirectMap, MipPyramid};
 use sphere_quadrature::footprint::Kind;
-use sphere_quadrature::Vec3;
+use sphere_quadrature::{Estimate, Vec3};
 
 use super::scenes::{Light, Scene};
 use crate::renderer_engine as engine;
@@ -17,49 +17,73 @@ use crate::renderer_engine as engine;
 /// `read(direction, sharpness)`.
 pub type CrateFn = fn(Vec3, Vec3, &dyn Fn(Vec3, u32) -> f64) -> (f64, f64);
 
-fn crate_query<const N: usize, B: FpBrdf>(
-    n: Vec3,
-    r: Vec3,
+/// The lookups `read(direction, sharpness)` of each direction through its footprint.
+fn lookups<const N: usize>(
+    dirs: &[Vec3; N],
+    kinds: [Kind; N],
     read: &dyn Fn(Vec3, u32) -> f64,
-) -> (f64, f64)
-where
-    Size<N>: FootprintSize<B>,
-{
-    let fr = FootprintRenderer::<N, B>::new();
-    let mut dirs = [Vec3::ZERO; N];
-    if fr.fill_directions(n, r, &mut dirs).is_err() {
-        return (f64::NAN, f64::NAN);
-    }
-    let kinds = fr.footprints();
-    let y: [f32; N] = std::array::from_fn(|j| match kinds[j] {
+) -> [f32; N] {
+    std::array::from_fn(|j| match kinds[j] {
         Kind::Gaussian { sharpness } => read(dirs[j], sharpness) as f32,
         _ => f32::NAN,
-    });
-    match fr.estimate_with_variance(n, r, &y) {
+    })
+}
+
+fn pair(e: Result<Estimate<f32>, sphere_quadrature::Error>) -> (f64, f64) {
+    match e {
         Ok(e) => (f64::from(e.value), f64::from(e.variance)),
         Err(_) => (f64::NAN, f64::NAN),
     }
 }
 
+/// Irradiance: the renderer takes the normal only.
+fn diffuse_query<const N: usize>(n: Vec3, _r: Vec3, read: &dyn Fn(Vec3, u32) -> f64) -> (f64, f64)
+where
+    Size<N>: FootprintSize<Diffuse>,
+{
+    let fr = FootprintRenderer::<N, Diffuse>::new();
+    let mut dirs = [Vec3::ZERO; N];
+    if fr.fill_directions(n, &mut dirs).is_err() {
+        return (f64::NAN, f64::NAN);
+    }
+    pair(fr.estimate_with_variance(&lookups(&dirs, fr.footprints(), read)))
+}
+
+fn phong_query<const N: usize, const E: u32>(
+    n: Vec3,
+    r: Vec3,
+    read: &dyn Fn(Vec3, u32) -> f64,
+) -> (f64, f64)
+where
+    Size<N>: FootprintSize<Phong<E>>,
+{
+    let fr = FootprintRenderer::<N, Phong<E>>::new();
+    let mut dirs = [Vec3::ZERO; N];
+    if fr.fill_directions(n, r, &mut dirs).is_err() {
+        return (f64::NAN, f64::NAN);
+    }
+    pair(fr.estimate_with_variance(n, r, &lookups(&dirs, fr.footprints(), read)))
+}
+
 /// The crate's renderer for `(N, e)` (`e = 0`: irradiance), if it bakes that set.
 pub fn crate_fn(n: usize, e: u32) -> Option<CrateFn> {
     Some(match (n, e) {
-        (16, 0) => crate_query::<16, Diffuse>,
-        (32, 0) => crate_query::<32, Diffuse>,
-        (64, 0) => crate_query::<64, Diffuse>,
-        (128, 0) => crate_query::<128, Diffuse>,
-        (16, 10) => crate_query::<16, Phong<10>>,
-        (32, 10) => crate_query::<32, Phong<10>>,
-        (64, 10) => crate_query::<64, Phong<10>>,
-        (128, 10) => crate_query::<128, Phong<10>>,
-        (16, 50) => crate_query::<16, Phong<50>>,
-        (32, 50) => crate_query::<32, Phong<50>>,
-        (64, 50) => crate_query::<64, Phong<50>>,
-        (128, 50) => crate_query::<128, Phong<50>>,
-        (16, 200) => crate_query::<16, Phong<200>>,
-        (32, 200) => crate_query::<32, Phong<200>>,
-        (64, 200) => crate_query::<64, Phong<200>>,
-        (128, 200) => crate_query::<128, Phong<200>>,
+        (16, 0) => diffuse_query::<16>,
+        (32, 0) => diffuse_query::<32>,
+        (64, 0) => diffuse_query::<64>,
+        (128, 0) => diffuse_query::<128>,
+        (16, 10) => phong_query::<16, 10>,
+        (32, 10) => phong_query::<32, 10>,
+        (64, 10) => phong_query::<64, 10>,
+        (128, 10) => phong_query::<128, 10>,
+        (16, 50) => phong_query::<16, 50>,
+        (32, 50) => phong_query::<32, 50>,
+        (64, 50) => phong_query::<64, 50>,
+        (128, 50) => phong_query::<128, 50>,
+        (16, 200) => phong_query::<16, 200>,
+        (32, 200) => phong_query::<32, 200>,
+        (64, 200) => phong_query::<64, 200>,
+        (128, 200) => phong_query::<128, 200>,
         _ => return None,
     })
 }

@@ -275,7 +275,7 @@ fn crate_renderer(brdf: Brdf, n: usize, q: &Query, qi: usize) -> Option<(Vec<[f6
             match n {
                 $($n => {
                     let mut d = [Vec3::Z; $n];
-                    Renderer::<$n>::new().fill_directions(normal, phase_bits, &mut d).ok()?;
+                    Renderer::<$n>::new().with_phase(phase_bits).fill_directions(normal, &mut d).ok()?;
                     let w = Renderer::<$n>::weights().iter().map(|&w| PI * f64::from(w));
                     Some((d.iter().map(|&x| v64(x)).collect(), w.collect()))
                 })*

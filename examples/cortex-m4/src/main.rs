@@ -247,7 +247,7 @@ fn masked_counts<const M: usize>(counts: &[usize]) {
     }
 }
 
-/// `TemporalProbe<NR, f32, Point, S>::update` and `irradiance` (lines
+/// `TemporalProbe<NR, f32, Point, S>::pool` and `irradiance` (lines
 /// `# count temporal_{update,irradiance}_S{S} N={rays}`), on a probe warmed by three updates.
 fn temporal_counts<const NR: usize, const S: usize>(
     rays: usize,
@@ -258,11 +258,11 @@ fn temporal_counts<const NR: usize, const S: usize>(
     let sky = |d: Vec3| 1.0 + 0.5 * d.z + 0.25 * d.x * d.y;
     for _ in 0..3 {
         let (y, s) = (p.directions().map(sky), p.sentinels().map(sky));
-        let _ = p.update(&y, &s);
+        let _ = p.pool(&y, &s);
     }
     let (y, s) = (p.directions().map(sky), p.sentinels().map(sky));
     let n = black_box(Vec3::new(0.3, -0.4, 0.5));
-    let update = count(update_reps, || black_box(&mut p).update(black_box(&y), black_box(&s)));
+    let update = count(update_reps, || black_box(&mut p).pool(black_box(&y), black_box(&s)));
     let query = count(query_reps, || black_box(&p).irradiance(n));
     hprintln!("# count temporal_update_S{} N={} {} instructions/call", S, rays, update);
     hprintln!("# count temporal_irradiance_S{} N={} {} instructions/call", S, rays, query);

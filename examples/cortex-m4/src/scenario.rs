@@ -215,7 +215,7 @@ pub fn run(out: &mut impl Sink) {
     }
     missing_samples(out, &mut seq);
     let r = bmc::Renderer::<64>::new();
-    error(out, "renderer64", r.irradiance(Vec3::new(0.2, 0.3, 0.9), 77, sky));
+    error(out, "renderer64", r.with_phase(77).irradiance(Vec3::new(0.2, 0.3, 0.9), sky));
 
     // Light sensors (issue #11): N photodiodes with a cosine response, readings of a real map
     // taken on the host and embedded.

@@ -161,9 +161,9 @@ fn spherical_gaussian() {
 fn bmc_renderer() {
     let r = Renderer::<64>::new();
     let mut out = [Vec3::ZERO; 64];
-    keep(r.fill_directions(dir(), black_box(11), &mut out));
+    keep(r.with_phase(black_box(11)).fill_directions(dir(), &mut out));
     keep(r.estimate(black_box(&[1.5f32; 64])));
-    keep(r.irradiance(dir(), black_box(11), sky));
+    keep(r.with_phase(black_box(11)).irradiance(dir(), sky));
     let g = sphere_quadrature::bmc::GlossyRenderer::<64, 50>::new();
     keep(g.fill_directions(dir(), dir2(), &mut out));
     keep(g.estimate(dir(), dir2(), black_box(&[1.5f32; 64])));
@@ -179,7 +179,8 @@ fn bmc_renderer() {
         32,
         sphere_quadrature::bmc::footprint::Diffuse,
     >::new();
-    keep(d.estimate_with_variance(dir(), dir(), black_box(&[1.5f32; 32])));
+    keep(d.fill_directions(dir(), &mut [Vec3::ZERO; 32]));
+    keep(d.estimate_with_variance(black_box(&[1.5f32; 32])));
 }
 
 /// A second black-box direction.

@@ -132,7 +132,7 @@ fn directions<const K: usize>(p: &LayoutProbe<K, [f32; 3]>) -> Result<(), Error>
 fn take<const K: usize>(p: &mut LayoutProbe<K, [f32; 3]>, accumulate: bool) -> Result<(), Error> {
     let ys = readings::<K>();
     let change = if accumulate {
-        match p.accumulate(&ys)? {
+        match p.pool(&ys)? {
             Change::First => 1,
             Change::Blended => 2,
             Change::Reset => 3,

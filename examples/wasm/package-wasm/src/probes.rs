@@ -196,7 +196,7 @@ fn temporal_update<F: Footprint>(
     let samples: [[f32; 3]; ROTATED] = core::array::from_fn(|j| [0, 1, 2].map(|c| load(3 * j + c)));
     let sentinels: [[f32; 3]; SENTINELS] =
         core::array::from_fn(|j| [0, 1, 2].map(|c| load(3 * (ROTATED + j) + c)));
-    let change = p.update(&samples, &sentinels)?;
+    let change = p.pool(&samples, &sentinels)?;
     store_bits([match change {
         Change::First => 1,
         Change::Blended => 2,
@@ -234,7 +234,7 @@ fn temporal_state<F: Footprint>(
     p: &TemporalProbe<ROTATED, [f32; 3], F, SENTINELS>,
 ) -> Result<(), Error> {
     let (rotated, sentinels) = p.last_evidence();
-    let floats = [p.effective_updates(), p.last_change_probability(), rotated, sentinels];
+    let floats = [p.pooled_updates(), p.last_change_probability(), rotated, sentinels];
     let degree = u32::try_from(p.degree()).unwrap_or(u32::MAX);
     store_bits([p.updates(), degree].into_iter().chain(floats.map(f32::to_bits)));
     Ok(())
