@@ -289,7 +289,7 @@ where
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:renderer_w_dot_y N=64`: 3 644 bytes of code and 256 bytes of tables
+    /// - `flash:renderer_w_dot_y N=64`: 2 452 bytes of code and 256 bytes of tables
     ///
     /// Flash: `4·N` bytes of weights per size used ([`TABLE_BYTES`] for all of them).
     ///

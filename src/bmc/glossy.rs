@@ -348,7 +348,7 @@ where
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:glossy_renderer_estimate N=64`: 4 956 bytes of code and 26 624 bytes of tables
+    /// - `flash:glossy_renderer_estimate N=64`: 3 708 bytes of code and 26 624 bytes of tables
     ///   (e = 50)
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4

@@ -76,13 +76,10 @@ pub(super) const fn project<const K: usize>(v: &[[f32; K]; K], x: &[f32; K]) -> 
     out
 }
 
-/// `VᵀAV`.
-pub(super) const fn congruence<const K: usize>(
-    v: &[[f32; K]; K],
-    a: &[[f32; K]; K],
-) -> [[f32; K]; K] {
-    // AV first, then Vᵀ(AV).
-    let mut av = [[0.0f32; K]; K];
+/// `AB`, row by row in the order `Σ_k a_ik·b_kj` (the order [`congruence`] and
+/// [`congruence_diagonal`] share, so that their diagonals agree bit for bit).
+const fn product<const K: usize>(a: &[[f32; K]; K], b: &[[f32; K]; K]) -> [[f32; K]; K] {
+    let mut out = [[0.0f32; K]; K];
     let mut i = 0;
     while i < K {
         let mut k = 0;
@@ -90,13 +87,23 @@ pub(super) const fn congruence<const K: usize>(
             let aik = a[i][k];
             let mut j = 0;
             while j < K {
-                av[i][j] += aik * v[k][j];
+                out[i][j] += aik * b[k][j];
                 j += 1;
             }
             k += 1;
         }
         i += 1;
     }
+    out
+}
+
+/// `VᵀAV`.
+pub(super) const fn congruence<const K: usize>(
+    v: &[[f32; K]; K],
+    a: &[[f32; K]; K],
+) -> [[f32; K]; K] {
+    // AV first, then Vᵀ(AV).
+    let av = product(a, v);
     let mut out = [[0.0f32; K]; K];
     let mut i = 0;
     while i < K {
@@ -120,21 +127,7 @@ pub(super) const fn congruence_diagonal<const K: usize>(
     v: &[[f32; K]; K],
     a: &[[f32; K]; K],
 ) -> [[f32; K]; K] {
-    let mut av = [[0.0f32; K]; K];
-    let mut i = 0;
-    while i < K {
-        let mut k = 0;
-        while k < K {
-            let aik = a[i][k];
-            let mut j = 0;
-            while j < K {
-                av[i][j] += aik * v[k][j];
-                j += 1;
-            }
-            k += 1;
-        }
-        i += 1;
-    }
+    let av = product(a, v);
     let mut out = [[0.0f32; K]; K];
     let mut i = 0;
     while i < K {

@@ -15,12 +15,12 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_irradiance N=16`: 841 instructions
-    /// - `m4:probe_irradiance N=32`: 1 566 instructions
-    /// - `m4:probe_irradiance N=64`: 2 922 instructions
+    /// - `m4:probe_irradiance N=16`: 837 instructions
+    /// - `m4:probe_irradiance N=32`: 1 562 instructions
+    /// - `m4:probe_irradiance N=64`: 2 921 instructions
     /// - `m4:probe_irradiance N=256`: 11 644 instructions
-    /// - `m4:gaussian8_probe_irradiance N=64`: 2 961 instructions (`Gaussian<8>` footprint)
-    /// - `m4:photodiode_probe_irradiance N=16`: 842 instructions (`CosinePower<1>`)
+    /// - `m4:gaussian8_probe_irradiance N=64`: 2 959 instructions (`Gaussian<8>` footprint)
+    /// - `m4:photodiode_probe_irradiance N=16`: 838 instructions (`CosinePower<1>`)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
@@ -134,7 +134,7 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_masked_irradiance_variance_M16_m0 N=64`: 261 780 instructions (none missing)
+    /// - `m4:probe_masked_irradiance_variance_M16_m0 N=64`: 261 770 instructions (none missing)
     /// - `m4:probe_masked_irradiance_variance_M8_m8 N=64`: 518 500 instructions (8 missing)
     /// - `m4:probe_masked_irradiance_variance_M16_m16 N=64`: 547 410 instructions (16 missing)
     ///
@@ -202,16 +202,16 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_glossy N=16`: 2 684 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=32`: 4 913 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=64`: 9 285 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=256`: 38 184 instructions (SG lobe of Phong e = 20)
-    /// - `m4:gaussian8_probe_glossy N=64`: 9 341 instructions (`Gaussian<8>`)
-    /// - `m4:photodiode_probe_glossy N=16`: 11 595 instructions (photodiodes)
+    /// - `m4:probe_glossy N=16`: 2 694 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=32`: 4 908 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=64`: 9 278 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=256`: 38 188 instructions (SG lobe of Phong e = 20)
+    /// - `m4:gaussian8_probe_glossy N=64`: 9 336 instructions (`Gaussian<8>`)
+    /// - `m4:photodiode_probe_glossy N=16`: 11 593 instructions (photodiodes)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_glossy N=64`: 4 048 bytes of code and 24 360 bytes of tables
+    /// - `flash:probe_glossy N=64`: 4 164 bytes of code and 24 360 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// # Examples
@@ -288,8 +288,8 @@ where
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_glossy_variance N=16`: 773 910 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=32`: 894 096 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=64`: 1 217 260 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=256`: 5 495 280 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=64`: 1 217 250 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=256`: 5 495 240 instructions (soft f64 quadrature)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
@@ -372,14 +372,14 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_phong N=16`: 9 454 instructions (e = 20)
-    /// - `m4:probe_phong N=32`: 13 508 instructions (e = 20)
-    /// - `m4:probe_phong N=64`: 21 393 instructions (e = 20)
-    /// - `m4:probe_phong N=256`: 66 527 instructions (e = 20)
+    /// - `m4:probe_phong N=16`: 9 450 instructions (e = 20)
+    /// - `m4:probe_phong N=32`: 13 507 instructions (e = 20)
+    /// - `m4:probe_phong N=64`: 21 390 instructions (e = 20)
+    /// - `m4:probe_phong N=256`: 66 524 instructions (e = 20)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
-    /// - `flash:probe_phong N=64`: 9 752 bytes of code and 24 352 bytes of tables
+    /// - `flash:probe_phong N=64`: 9 736 bytes of code and 24 352 bytes of tables
     ///   (on top of `Probe::new`)
     ///
     /// # Examples

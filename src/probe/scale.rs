@@ -88,12 +88,7 @@ pub(super) fn scaled_variance(x: f32, s: f32, a: f32) -> f32 {
         return 0.0;
     }
     let (ma, ea) = libm::frexpf(a);
-    let v = libm::scalbnf(ma * (ma * x), 2 * (ea + exponent(s)));
-    if v == 0.0 && x > 0.0 {
-        f32::from_bits(1)
-    } else {
-        v
-    }
+    crate::math::ldexp_variance(ma * (ma * x), 2 * (ea + exponent(s)))
 }
 
 /// `v`, with each channel that is 0 where its unscaled `x` is positive raised to the least

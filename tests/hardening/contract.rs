@@ -403,6 +403,8 @@ trait Estimator: Sized {
     fn phong(&self, _axis: Vec3, _e: f32) -> Option<Result<Estimate<f32>, Error>> {
         None
     }
+    /// The channel combination of one of its estimates (every probe has `combine`).
+    fn combine(&self, e: &Estimate<f32>, w: f32) -> Result<Estimate<f32>, Error>;
     /// The whole state, to check that a refused call left it as it was.
     fn state(&self) -> String;
 }
@@ -436,6 +438,9 @@ where
     fn phong(&self, axis: Vec3, e: f32) -> Option<Result<Estimate<f32>, Error>> {
         Some(self.0.phong(axis, e))
     }
+    fn combine(&self, e: &Estimate<f32>, w: f32) -> Result<Estimate<f32>, Error> {
+        self.0.combine(e, w)
+    }
     fn state(&self) -> String {
         format!("{:?}", self.0)
     }
@@ -459,6 +464,9 @@ impl<const N: usize, F: SampleFootprint, const S: usize> Estimator for Stream<N,
     }
     fn irradiance(&self, n: Vec3) -> Result<Estimate<f32>, Error> {
         self.0.irradiance(n)
+    }
+    fn combine(&self, e: &Estimate<f32>, w: f32) -> Result<Estimate<f32>, Error> {
+        self.0.combine(e, w)
     }
     fn state(&self) -> String {
         format!("{:?}", self.0)
@@ -496,6 +504,9 @@ impl<const STREAM: bool, const NOISY: bool> Estimator for Layout<STREAM, NOISY> 
     }
     fn phong(&self, axis: Vec3, e: f32) -> Option<Result<Estimate<f32>, Error>> {
         Some(self.0.phong(axis, e))
+    }
+    fn combine(&self, e: &Estimate<f32>, w: f32) -> Result<Estimate<f32>, Error> {
+        self.0.combine(e, w)
     }
     fn state(&self) -> String {
         format!("{:?}", self.0)
@@ -633,6 +644,71 @@ fn probe_answers_scale_with_the_input() {
     probe_answers_scale::<Layout<false, false>>();
     probe_answers_scale::<Layout<false, true>>();
     probe_answers_scale::<Layout<true, true>>();
+}
+
+/// `combine` on one channel scales: weight `w` gives `w` times the value and `w²` times the
+/// variance (to rounding), `unit_variance` passed through; a NaN or infinite weight is
+/// `InvalidWeights`.
+fn combine_scales_one_channel<E: Estimator>() {
+    let (p, _) = run_stream::<E>(1.0, None);
+    for n in normals() {
+        let e = p.irradiance(n).unwrap();
+        for w in [1.0f32, -2.5, 1e-20, 3e15, 0.0] {
+            let c = p.combine(&e, w).unwrap();
+            let what = format!("{} combine {w:e} at {n:?}", E::NAME);
+            check(c.value, f64::from(w) * f64::from(e.value), 1e-6, &what);
+            check_variance(c.variance, f64::from(w).powi(2) * f64::from(e.variance), 1e-6, &what);
+            assert_eq!(c.unit_variance, e.unit_variance, "{what}");
+        }
+        for w in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            assert_eq!(p.combine(&e, w), Err(Error::InvalidWeights), "{} weight {w}", E::NAME);
+        }
+    }
+}
+
+#[test]
+fn combine_is_the_same_call_on_every_probe() {
+    combine_scales_one_channel::<PointProbe<64, Point>>();
+    combine_scales_one_channel::<PointProbe<64, Gaussian<8>>>();
+    combine_scales_one_channel::<Stream<16, Point, 1>>();
+    combine_scales_one_channel::<Layout<false, false>>();
+    combine_scales_one_channel::<Layout<true, true>>();
+}
+
+/// Degenerate data: every sample equal (a constant light of radiance `c`, at any scale) gives
+/// `π·c` at every normal, exactly (to `tol`) where the type's error bar says so and within
+/// the bar otherwise (a layout's learned prior does not know that the light is constant);
+/// the bar is never NaN, and `+∞` only where the rounding's variance exceeds `f32::MAX`.
+fn constant_light_is_exact<E: Estimator>() {
+    for c in [1.0f32, 3e-30, 7e29, 1e-40] {
+        let mut p = E::fresh();
+        for _ in 0..E::UPDATES {
+            let y = vec![c; p.sample_directions().len()];
+            p.update(&y).unwrap();
+        }
+        let want = core::f64::consts::PI * f64::from(c);
+        for n in normals() {
+            let e = p.irradiance(n).unwrap();
+            let what = format!("{} constant {c:e} at {n:?}: {e:?}", E::NAME);
+            let tol = if c < f32::MIN_POSITIVE { 1e-3 } else { 1e-5 };
+            let v = f64::from(e.variance);
+            assert!(v >= 0.0, "{what}");
+            assert!(v.is_finite() || (tol * want).powi(2) > f64::from(f32::MAX), "{what}");
+            let err = (f64::from(e.value) - want).abs();
+            assert!(err <= tol * want + 2.0 * v.sqrt(), "{what}: error {err:e}");
+        }
+    }
+}
+
+#[test]
+fn constant_light_is_exact_on_every_probe() {
+    constant_light_is_exact::<PointProbe<16, Point>>();
+    constant_light_is_exact::<PointProbe<64, Gaussian<8>>>();
+    constant_light_is_exact::<PointProbe<16, CosinePower<1>>>();
+    constant_light_is_exact::<Stream<16, Point, 1>>();
+    constant_light_is_exact::<Stream<64, Point, 0>>();
+    constant_light_is_exact::<Layout<false, false>>();
+    constant_light_is_exact::<Layout<true, true>>();
 }
 
 /// The bad-input table: each cause gives its one error, and a refused call (or any query)
