@@ -684,36 +684,31 @@ impl Prior {
 /// zero or not finite are skipped). If one does, its axis can be turned until its boundary
 /// holds two independent directions (or all of them, when they lie on one great circle), so
 /// it suffices to try `±dᵢ × dⱼ` for every pair; a direction counts as inside when it is at
-/// most 10⁻⁶ below the boundary (the rounding of a direction on it).
+/// most 10⁻⁶ below the boundary (the rounding of a direction on it), in units of the largest
+/// component of each vector. No square roots: O(K³) multiply-adds.
 const fn looks_all_round(sensors: &[Sensor]) -> bool {
     let mut any_pair = false;
     let mut i = 0;
     while i < sensors.len() {
-        let a = match normalized(sensors[i].direction) {
-            Some(a) => a,
-            None => {
-                i += 1;
-                continue;
-            }
+        let Some(a) = boxed(sensors[i].direction) else {
+            i += 1;
+            continue;
         };
         let mut j = i + 1;
         while j < sensors.len() {
-            let b = match normalized(sensors[j].direction) {
-                Some(b) => b,
-                None => {
-                    j += 1;
-                    continue;
-                }
+            let Some(b) = boxed(sensors[j].direction) else {
+                j += 1;
+                continue;
             };
             let axis =
                 Vec3::new(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
-            if let Some(v) = normalized(axis) {
+            if let Some(v) = boxed(axis) {
                 any_pair = true;
                 // Whether every direction lies in front of v, or every one behind it.
                 let (mut front, mut back) = (true, true);
                 let mut k = 0;
-                while k < sensors.len() {
-                    if let Some(d) = normalized(sensors[k].direction) {
+                while k < sensors.len() && (front || back) {
+                    if let Some(d) = boxed(sensors[k].direction) {
                         let t = v.x * d.x + v.y * d.y + v.z * d.z;
                         front &= t >= -1e-6;
                         back &= t <= 1e-6;
@@ -731,6 +726,21 @@ const fn looks_all_round(sensors: &[Sensor]) -> bool {
     // Pairs but no hemisphere: all round. No two independent directions: one direction
     // (and its opposite) lies in a hemisphere.
     any_pair
+}
+
+/// `v` over its largest component's magnitude (const): each component in `[−1, 1]`; `None`
+/// for a zero or non-finite vector.
+const fn boxed(v: Vec3) -> Option<Vec3> {
+    if !(v.x.is_finite() && v.y.is_finite() && v.z.is_finite()) {
+        return None;
+    }
+    let (ax, ay, az) = (absolute(v.x), absolute(v.y), absolute(v.z));
+    let m = if ax > ay { ax } else { ay };
+    let m = if m > az { m } else { az };
+    if m == 0.0 {
+        return None;
+    }
+    Some(Vec3::new(v.x / m, v.y / m, v.z / m))
 }
 
 /// The Legendre gains of the normalised `(P + 1)/(2π)·max(0, t)ᴾ`, `P ≥ 0` (any size),

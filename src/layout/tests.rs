@@ -840,6 +840,20 @@ fn the_recommended_prior_follows_what_the_layout_sees() {
     bad[2] = Sensor::cosine(Vec3::new(f32::NAN, 0.0, 1.0));
     assert_eq!(Prior::for_layout(&bad), Prior::ONE_SIDED);
     assert_eq!(Prior::for_layout(&[]), Prior::ONE_SIDED);
+    // At compile time.
+    const OCTANT: Prior = Prior::for_layout(&[
+        Sensor::cosine(Vec3::X),
+        Sensor::cosine(Vec3::Y),
+        Sensor::cosine(Vec3::Z),
+    ]);
+    assert_eq!(OCTANT, Prior::ONE_SIDED);
+    // Only directions matter: lengths from 1e-30 to 1e30 (no overflow in the products).
+    for scale in [1e-30, 1e-3, 1e30] {
+        let big = cube().map(|c| Sensor::cosine(c.direction * scale));
+        assert_eq!(Prior::for_layout(&big), Prior::ENVIRONMENT, "{scale}");
+        let table: [Sensor; 5] = core::array::from_fn(|i| big[i]);
+        assert_eq!(Prior::for_layout(&table), Prior::ONE_SIDED, "{scale}");
+    }
 }
 
 /// A constant sky of 1 read by a ring at 20° elevation: the ring cannot tell the level from
