@@ -516,10 +516,12 @@ pub struct Prior {
 }
 
 impl Prior {
-    /// Light in general, for layouts in any orientation: a zero mean and the mean angular
-    /// power spectrum of the luminance (over its mean) of four real environment maps, indoor
-    /// and outdoor, with pixels above 30 times the mean clamped (sun disks); computed in f64
-    /// from the maps and rounded once to f32.
+    /// Light in general, for layouts that look all round, in any orientation (what
+    /// [`Prior::for_layout`] gives them; for sensors that all look into one hemisphere see
+    /// [`Prior::ONE_SIDED`]): a zero mean and the mean angular power spectrum of the
+    /// luminance (over its mean) of four real environment maps, indoor and outdoor, with
+    /// pixels above 30 times the mean clamped (sun disks); computed in f64 from the maps and
+    /// rounded once to f32.
     pub const ENVIRONMENT: Prior = Prior {
         spectrum: learned::ENVIRONMENT_SPECTRUM,
         zonal: [0.0; 3],
@@ -566,8 +568,9 @@ impl Prior {
     /// on degrees ≤ 2 (`K₀ = K₁ = K₂ = 1`, a zero mean, no preferred direction), and above
     /// degree 2 the spectrum of [`Prior::ENVIRONMENT`] over its mean power per coefficient
     /// of degrees ≤ 2. Its variance factor is fitted, leaving one training map out, so
-    /// that 2σ of [`LayoutProbe::irradiance_variance`] holds for 95 % of the errors where a
-    /// dome of 5 and a ring of 6 with a zenith sensor look.
+    /// that 2σ of [`LayoutProbe::irradiance_variance`] holds for 95 % of the errors on the
+    /// training maps where a dome of 5 and a ring of 6 with a zenith sensor look (without
+    /// noise and at 1 % and 5 %).
     ///
     /// Why flat: such a layout cannot tell the level of the light from its gradient along
     /// the axis it looks along (a ring sees one mix of the level, the vertical gradient and
