@@ -103,7 +103,11 @@
 //!   round (16 on a spherical Fibonacci set: 0.70 on sharp light, 0.57 on smooth light,
 //!   without noise; a cube ties the fit), 0.96–1.04 for layouts that look into one
 //!   hemisphere (a dome, rings with and without a zenith sensor, a cube on a table, a
-//!   wall), where they look; no map above 1.14. 2σ of the direction-averaged variance holds
+//!   wall), where they look; no map above 1.14. Over the best of the nearest sensor, the
+//!   cosine-weighted average and the degree-1 and degree-2 fits, per map: 0.57–1.00 all
+//!   round, 0.96–1.10 one-sided (a ring of 8 without a zenith sensor 1.07–1.10, its worst
+//!   map 1.57: there the degree-1 fit or the cosine average beats the degree-2 fit on some
+//!   maps). 2σ of the direction-averaged variance holds
 //!   for 94–99 % of the queries all round and 97–100 % where one-sided layouts look (the
 //!   average includes the half they cannot see); 2σ of the exact variance for 86–100 %.
 //!
