@@ -551,8 +551,8 @@ impl Prior {
     /// the extrapolation runs away. Eight sensors on a ring at 20° elevation, no zenith
     /// sensor, read a constant sky of 1 and this prior answers `E(+z) = 5.11` and
     /// `E(+x) = 2.35` (both are π); on held-out maps its error there is 3.0–5.3 times the
-    /// degree-2 SH fit's on the same readings (its worst map 4.1–10.7 times), on layouts
-    /// that see all round 1.24–1.66 times. [`Prior::for_layout`] is the recommendation for
+    /// degree-2 SH fit's on the same readings (its worst map 4.1–10.7 times), on a cube,
+    /// its corners and a tetrahedron 1.24–1.66 times. [`Prior::for_layout`] is the recommendation for
     /// every layout.
     pub const SKY_ABOVE: Prior = Prior {
         spectrum: learned::ENVIRONMENT_SKY_SPECTRUM,
@@ -591,7 +591,7 @@ impl Prior {
     ///
     /// Where the half a layout cannot see is like the half it sees (a wall with `+z` up:
     /// sensors that look sideways, above and below the horizon), [`Prior::ENVIRONMENT`]
-    /// does better: on 6 sensors on a wall, 0.57–0.87 times the SH fit's error against
+    /// does better: on 6 sensors on a wall, 0.59–0.87 times the SH fit's error against
     /// 1.00–1.04 for this prior. Choose it there if you know the orientation.
     pub const ONE_SIDED: Prior = Prior {
         spectrum: learned::ENVIRONMENT_SKY_SPECTRUM,
