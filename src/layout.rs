@@ -107,9 +107,9 @@
 //!   cosine-weighted average and the degree-1 and degree-2 fits, per map: 0.57–1.00 all
 //!   round, 0.96–1.10 one-sided (a ring of 8 without a zenith sensor 1.07–1.10, its worst
 //!   map 1.57: there the degree-1 fit or the cosine average beats the degree-2 fit on some
-//!   maps). 2σ of the direction-averaged variance holds
-//!   for 94–99 % of the queries all round and 97–100 % where one-sided layouts look (the
-//!   average includes the half they cannot see); 2σ of the exact variance for 86–100 %.
+//!   maps). 2σ of the direction-averaged variance holds for 94–99 % of the queries all
+//!   round and 97–100 % where one-sided layouts look (the average includes the half they
+//!   cannot see); 2σ of the exact variance for 86–100 %.
 //!
 //! # Tables at compile time
 //! [`LayoutProbe::new`] is a `const fn`: a probe in a `static` or `const` has its tables
@@ -550,10 +550,10 @@ impl Prior {
     /// what it sees, and where a layout cannot tell the level from the vertical gradient
     /// the extrapolation runs away. Eight sensors on a ring at 20° elevation, no zenith
     /// sensor, read a constant sky of 1 and this prior answers `E(+z) = 5.11` and
-    /// `E(+x) = 2.35` (both are π); on held-out maps its error there is 3.0–5.3 times the
-    /// degree-2 SH fit's on the same readings (its worst map 4.1–10.7 times), on a cube,
-    /// its corners and a tetrahedron 1.24–1.66 times. [`Prior::for_layout`] is the recommendation for
-    /// every layout.
+    /// `E(+x) = 2.35` where both are π; on held-out maps its error there is 3.0–5.3 times
+    /// the degree-2 SH fit's on the same readings (its worst map 4.1–10.7 times), on a
+    /// cube, its corners and a tetrahedron 1.24–1.66 times. [`Prior::for_layout`] is the
+    /// recommendation for every layout.
     pub const SKY_ABOVE: Prior = Prior {
         spectrum: learned::ENVIRONMENT_SKY_SPECTRUM,
         zonal: learned::ENVIRONMENT_SKY_ZONAL,
