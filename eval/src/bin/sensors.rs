@@ -573,6 +573,7 @@ struct Args {
     #[command(flatten)]
     maps: cli::TrainingMaps,
     /// Also write rows sensors,<layout>,<noise>,<tier>,<estimator>,<map>,<rel_rmse>,<coverage2s>
+    /// (coverage: the share of queries within 2σ, σ² the variance that `irradiance` returns)
     #[arg(long, value_name = "FILE")]
     csv: Option<PathBuf>,
     /// Write DIR/sensors.md (`--out docs` regenerates the repository's docs)
@@ -583,7 +584,8 @@ struct Args {
     /// Rotations per map
     #[arg(long, default_value_t = 16)]
     rotations: usize,
-    /// Query normals per rotation
+    /// Query normals per layout (twice as many over the sphere for `wall6`, each scored where
+    /// the wall faces)
     #[arg(long, default_value_t = 48)]
     normals: usize,
     #[command(flatten)]
