@@ -78,6 +78,8 @@ pub(super) const ENVIRONMENT_SKY_SPECTRUM: [f32; super::DEGREES] = [
 pub(super) const ENVIRONMENT_SKY_ZONAL: [f32; 3] = [0.5000387, 0.51215947, 0.3318849];
 /// Variance factor of light from above (leave one map out), clamp tier.
 pub(super) const ENVIRONMENT_SKY_CALIBRATION: f32 = 0.59460354;
+/// Variance factor of the one-sided prior (leave one map out), clamp tier.
+pub(super) const ENVIRONMENT_ONE_SIDED_CALIBRATION: f32 = 0.5;
 /// Spectrum `K_l` of the smooth tier.
 pub(super) const SMOOTH_SPECTRUM: [f32; super::DEGREES] = [
     12.566371,
@@ -154,3 +156,5 @@ pub(super) const SMOOTH_SKY_SPECTRUM: [f32; super::DEGREES] = [
 pub(super) const SMOOTH_SKY_ZONAL: [f32; 3] = [0.5000277, 0.51225716, 0.33210352];
 /// Variance factor of light from above (leave one map out), smooth tier.
 pub(super) const SMOOTH_SKY_CALIBRATION: f32 = 0.35355338;
+/// Variance factor of the one-sided prior (leave one map out), smooth tier.
+pub(super) const SMOOTH_ONE_SIDED_CALIBRATION: f32 = 0.35355338;

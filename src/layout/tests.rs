@@ -789,3 +789,115 @@ fn scale_invariance() {
     assert_eq!(ea.value * 1024.0, eb.value);
     assert_eq!(ea.variance * 1024.0 * 1024.0, eb.variance);
 }
+
+/// Eight cosine sensors on a ring at 20° elevation, 45° apart, no zenith sensor.
+fn ring8() -> [Sensor; 8] {
+    let e = 20f32.to_radians();
+    core::array::from_fn(|k| {
+        let a = (45 * k) as f32 * core::f32::consts::PI / 180.0;
+        let c = math::cos(e);
+        Sensor::cosine(Vec3::new(c * math::cos(a), c * math::sin(a), math::sin(e)))
+    })
+}
+
+#[test]
+fn the_recommended_prior_follows_what_the_layout_sees() {
+    let h = 1.0 / 3f32.sqrt();
+    let tetrahedron =
+        [Vec3::new(h, h, h), Vec3::new(h, -h, -h), Vec3::new(-h, h, -h), Vec3::new(-h, -h, h)]
+            .map(Sensor::cosine);
+    let corners: [Sensor; 8] = core::array::from_fn(|k| {
+        let s = |b: usize| if k >> b & 1 == 1 { -1.0 } else { 1.0 };
+        Sensor::cosine(Vec3::new(s(0), s(1), s(2)))
+    });
+    for all_round in [&cube()[..], &tetrahedron, &corners] {
+        assert_eq!(Prior::for_layout(all_round), Prior::ENVIRONMENT);
+        assert_eq!(Prior::smooth_for_layout(all_round), Prior::SMOOTH_ENVIRONMENT);
+    }
+    // On a table (no −z face), a dome, a ring, a wall (+x), a great circle, one sensor, an
+    // antipodal pair: a closed hemisphere holds them.
+    let table = &cube()[..5];
+    let wall: [Sensor; 3] =
+        [Vec3::X, Vec3::new(0.5, 0.8, 0.0), Vec3::new(0.5, -0.3, -0.8)].map(Sensor::cosine);
+    let circle = [Vec3::X, Vec3::Y, -Vec3::X, -Vec3::Y].map(Sensor::cosine);
+    let pair = [Vec3::Z, -Vec3::Z].map(Sensor::cosine);
+    for one_sided in [table, &dome(), &ring8(), &wall, &circle, &pair, &[Sensor::cosine(Vec3::Z)]] {
+        assert_eq!(Prior::for_layout(one_sided), Prior::ONE_SIDED);
+        assert_eq!(Prior::smooth_for_layout(one_sided), Prior::SMOOTH_ONE_SIDED);
+    }
+    // The table at a random rotation (directions rounded off its boundary): still one-sided;
+    // one sensor 1° below that boundary makes it all round.
+    let r = crate::Mat3::from_axis_angle(Vec3::new(0.3, -0.5, 0.8), 0.7);
+    let turned: [Sensor; 5] = core::array::from_fn(|i| Sensor::cosine(r * table[i].direction));
+    assert_eq!(Prior::for_layout(&turned), Prior::ONE_SIDED);
+    let one = 1f32.to_radians();
+    let mut below = cube();
+    below[5] = Sensor::cosine(Vec3::new(math::cos(one), 0.0, -math::sin(one)));
+    assert_eq!(Prior::for_layout(&below), Prior::ENVIRONMENT);
+    // A zero or non-finite direction is skipped (`new` refuses it).
+    let mut bad = cube();
+    bad[1] = Sensor::cosine(Vec3::ZERO);
+    bad[2] = Sensor::cosine(Vec3::new(f32::NAN, 0.0, 1.0));
+    assert_eq!(Prior::for_layout(&bad), Prior::ONE_SIDED);
+    assert_eq!(Prior::for_layout(&[]), Prior::ONE_SIDED);
+    // At compile time.
+    const OCTANT: Prior = Prior::for_layout(&[
+        Sensor::cosine(Vec3::X),
+        Sensor::cosine(Vec3::Y),
+        Sensor::cosine(Vec3::Z),
+    ]);
+    assert_eq!(OCTANT, Prior::ONE_SIDED);
+    // Only directions matter: lengths from 1e-30 to 1e30 (no overflow in the products).
+    for scale in [1e-30, 1e-3, 1e30] {
+        let big = cube().map(|c| Sensor::cosine(c.direction * scale));
+        assert_eq!(Prior::for_layout(&big), Prior::ENVIRONMENT, "{scale}");
+        let table: [Sensor; 5] = core::array::from_fn(|i| big[i]);
+        assert_eq!(Prior::for_layout(&table), Prior::ONE_SIDED, "{scale}");
+    }
+}
+
+/// A constant sky of 1 read by a ring at 20° elevation: the ring cannot tell the level from
+/// the vertical gradient, and the recommended prior answers as the minimum-norm degree-2 SH
+/// fit does (`E(+z) = 3.579`, `E(+x) = 2.777`, computed here in f64), not as
+/// `Prior::SKY_ABOVE` (`E(+z) = 5.11`, `E(+x) = 2.35`): the tolerance is the SH fit's own
+/// error on this sky, 0.437 at +z and 0.365 at +x, plus 1 %.
+#[test]
+fn a_ring_without_a_zenith_sensor_sees_a_constant_sky_as_the_sh_fit_does() {
+    // The SH fit: the ring's 8 equal readings see the zonal coefficients through
+    // u = (g_l·Y_l0(sin 20°)), and the minimum-norm solution is c = u/|u|².
+    let z = 20f64.to_radians().sin();
+    let y0 = 0.5 / core::f64::consts::PI.sqrt();
+    let y1 = (3.0 / (4.0 * core::f64::consts::PI)).sqrt();
+    let y2 = (5.0 / (16.0 * core::f64::consts::PI)).sqrt();
+    let u = [y0, 2.0 / 3.0 * y1 * z, 0.25 * y2 * (3.0 * z * z - 1.0)];
+    let norm = u.iter().map(|v| v * v).sum::<f64>();
+    let pi = core::f64::consts::PI;
+    // E(n) = Σ_l c_l·A_l·Y_l0(n_z), A = (π, 2π/3, π/4).
+    let e = |nz: f64| {
+        let y = [y0, y1 * nz, y2 * (3.0 * nz * nz - 1.0)];
+        let a = [pi, 2.0 * pi / 3.0, pi / 4.0];
+        (0..3).map(|l| u[l] / norm * a[l] * y[l]).sum::<f64>()
+    };
+    let (sh_up, sh_side) = (e(1.0), e(0.0));
+    assert!((sh_up - 3.579).abs() < 1e-3 && (sh_side - 2.777).abs() < 1e-3, "{sh_up} {sh_side}");
+    let sensors = ring8();
+    let prior = Prior::for_layout(&sensors);
+    assert_eq!(prior, Prior::ONE_SIDED);
+    let answers = |prior: Prior| {
+        let mut probe = LayoutProbe::<8>::new(&sensors, prior, Noise::NONE).expect("ring");
+        probe.update(&[1.0; 8]).expect("readings");
+        let up = probe.irradiance(Vec3::Z).expect("up").value as f64;
+        let side = probe.irradiance(Vec3::X).expect("side").value as f64;
+        (up, side)
+    };
+    let tolerance = |sh: f64| (sh - pi).abs() + 0.01 * pi;
+    for prior in [Prior::for_layout(&sensors), Prior::smooth_for_layout(&sensors)] {
+        let (up, side) = answers(prior);
+        assert!((up - pi).abs() <= tolerance(sh_up), "E(+z) = {up}");
+        assert!((side - pi).abs() <= tolerance(sh_side), "E(+x) = {side}");
+    }
+    // The sky-above prior on the same readings: far outside.
+    let (up, side) = answers(Prior::SKY_ABOVE);
+    assert!((up - pi).abs() > 3.0 * tolerance(sh_up), "E(+z) = {up}");
+    assert!((side - pi).abs() > tolerance(sh_side), "E(+x) = {side}");
+}

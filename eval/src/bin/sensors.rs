@@ -40,8 +40,12 @@ struct Layout {
     dirs: Vec<[f64; 3]>,
     /// Cosine power of each sensor's response.
     power: Vec<u32>,
-    one_sided: bool,
+    /// Where a layout that does not cover the sphere looks (before its rotation about `z`):
+    /// it is queried at the normals of that hemisphere only.
+    look: Option<[f64; 3]>,
 }
+
+const UP: Option<[f64; 3]> = Some([0.0, 0.0, 1.0]);
 
 fn elevated(elevation_deg: f64, azimuth_deg: f64) -> [f64; 3] {
     let (e, a) = (elevation_deg.to_radians(), azimuth_deg.to_radians());
@@ -74,13 +78,46 @@ fn layouts() -> Vec<Layout> {
         let p = sphere_quadrature::probe::Probe::<16>::new();
         p.directions().iter().map(|d| [d.x as f64, d.y as f64, d.z as f64]).collect()
     };
+    let tetra: Vec<[f64; 3]> =
+        [[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]]
+            .into_iter()
+            .map(normalize)
+            .collect();
+    let corners: Vec<[f64; 3]> = (0..8)
+        .map(|k| {
+            let s = |b: usize| if k >> b & 1 == 1 { -1.0 } else { 1.0 };
+            normalize([s(0), s(1), s(2)])
+        })
+        .collect();
+    let ring: Vec<[f64; 3]> = (0..8).map(|k| elevated(20.0, 45.0 * k as f64)).collect();
+    let mut random = Rng::new(SEED ^ 0x0a4d_0010);
+    let rand10: Vec<[f64; 3]> = (0..10).map(|_| random.uniform_sphere()).collect();
+    // On a wall facing +x: one sensor along +x and five at 60° from it, 72° apart (the first
+    // straight above it).
+    let mut wall = vec![[1.0, 0.0, 0.0]];
+    wall.extend((0..5).map(|k| {
+        let (s, c) = (90.0 + 72.0 * k as f64).to_radians().sin_cos();
+        let (st, ct) = 60f64.to_radians().sin_cos();
+        [ct, st * c, st * s]
+    }));
     vec![
-        Layout { name: "cube6", dirs: cube.clone(), power: vec![1; 6], one_sided: false },
-        Layout { name: "dome5", dirs: dome, power: vec![1; 5], one_sided: true },
-        Layout { name: "hemi7", dirs: hemi, power: vec![1; 7], one_sided: true },
-        Layout { name: "ico12", dirs: ico, power: vec![1; 12], one_sided: false },
-        Layout { name: "sf16", dirs: sf, power: vec![1; 16], one_sided: false },
-        Layout { name: "cube6-cos2", dirs: cube, power: vec![2, 2, 2, 2, 1, 1], one_sided: false },
+        Layout { name: "cube6", dirs: cube.clone(), power: vec![1; 6], look: None },
+        Layout { name: "dome5", dirs: dome, power: vec![1; 5], look: UP },
+        Layout { name: "hemi7", dirs: hemi, power: vec![1; 7], look: UP },
+        Layout { name: "ico12", dirs: ico, power: vec![1; 12], look: None },
+        Layout { name: "sf16", dirs: sf, power: vec![1; 16], look: None },
+        Layout {
+            name: "cube6-cos2",
+            dirs: cube.clone(),
+            power: vec![2, 2, 2, 2, 1, 1],
+            look: None,
+        },
+        Layout { name: "tetra4", dirs: tetra, power: vec![1; 4], look: None },
+        Layout { name: "cube5", dirs: cube[..5].to_vec(), power: vec![1; 5], look: UP },
+        Layout { name: "ring8", dirs: ring, power: vec![1; 8], look: UP },
+        Layout { name: "corners8", dirs: corners, power: vec![1; 8], look: None },
+        Layout { name: "rand10", dirs: rand10, power: vec![1; 10], look: None },
+        Layout { name: "wall6", dirs: wall, power: vec![1; 6], look: Some([1.0, 0.0, 0.0]) },
     ]
 }
 
@@ -397,7 +434,7 @@ fn crate_fit_k<const K: usize>(
     relative: f64,
     y: &[f64],
     normals: &[[f64; 3]],
-) -> Option<(Vec<f64>, Vec<f64>)> {
+) -> Option<CrateFit> {
     let sensors: [Sensor; K] = std::array::from_fn(|i| {
         let d = geo.dirs[i];
         Sensor::new(
@@ -417,14 +454,23 @@ fn crate_fit_k<const K: usize>(
         }
     }
     let probe = probe?;
-    let mut values = Vec::new();
-    let mut variances = Vec::new();
+    let mut fit = CrateFit { values: Vec::new(), exact: Vec::new(), averaged: Vec::new() };
     for n in normals {
         let v = Vec3::new(n[0] as f32, n[1] as f32, n[2] as f32);
-        values.push(probe.irradiance(v).ok()?.value as f64);
-        variances.push(probe.irradiance_variance(v).ok()? as f64);
+        let e = probe.irradiance(v).ok()?;
+        fit.values.push(e.value as f64);
+        fit.averaged.push(e.variance as f64);
+        fit.exact.push(probe.irradiance_variance(v).ok()? as f64);
     }
-    Some((values, variances))
+    Some(fit)
+}
+
+/// The crate probe's values at the normals, with the exact variance at each
+/// (`irradiance_variance`) and the direction-averaged one that `irradiance` returns.
+struct CrateFit {
+    values: Vec<f64>,
+    exact: Vec<f64>,
+    averaged: Vec<f64>,
 }
 
 fn crate_fit(
@@ -434,14 +480,52 @@ fn crate_fit(
     relative: f64,
     y: &[f64],
     normals: &[[f64; 3]],
-) -> Option<(Vec<f64>, Vec<f64>)> {
+) -> Option<CrateFit> {
     match y.len() {
+        4 => crate_fit_k::<4>(geo, powers, prior, relative, y, normals),
         5 => crate_fit_k::<5>(geo, powers, prior, relative, y, normals),
         6 => crate_fit_k::<6>(geo, powers, prior, relative, y, normals),
         7 => crate_fit_k::<7>(geo, powers, prior, relative, y, normals),
+        8 => crate_fit_k::<8>(geo, powers, prior, relative, y, normals),
+        10 => crate_fit_k::<10>(geo, powers, prior, relative, y, normals),
         12 => crate_fit_k::<12>(geo, powers, prior, relative, y, normals),
         16 => crate_fit_k::<16>(geo, powers, prior, relative, y, normals),
         _ => None,
+    }
+}
+
+/// The prior the crate recommends for this layout and tier (from its directions).
+fn recommended(tier: usize, lay: &Layout) -> Prior {
+    let sensors: Vec<Sensor> = lay
+        .dirs
+        .iter()
+        .map(|d| Sensor::cosine(Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32)))
+        .collect();
+    if tier == 0 {
+        Prior::for_layout(&sensors)
+    } else {
+        Prior::smooth_for_layout(&sensors)
+    }
+}
+
+/// The alternatives to the recommended prior (of the tier's kind of light): name and prior.
+const ALTERNATIVES: [&str; 4] = ["ENVIRONMENT", "constant mean", "SKY_ABOVE", "ONE_SIDED"];
+
+fn alternatives(tier: usize) -> [Prior; 4] {
+    if tier == 0 {
+        [
+            Prior::ENVIRONMENT,
+            Prior::ENVIRONMENT.with_mean(CrateMean::Constant),
+            Prior::SKY_ABOVE,
+            Prior::ONE_SIDED,
+        ]
+    } else {
+        [
+            Prior::SMOOTH_ENVIRONMENT,
+            Prior::SMOOTH_ENVIRONMENT.with_mean(CrateMean::Constant),
+            Prior::SMOOTH_SKY_ABOVE,
+            Prior::SMOOTH_ONE_SIDED,
+        ]
     }
 }
 
@@ -489,6 +573,7 @@ struct Args {
     #[command(flatten)]
     maps: cli::TrainingMaps,
     /// Also write rows sensors,<layout>,<noise>,<tier>,<estimator>,<map>,<rel_rmse>,<coverage2s>
+    /// (coverage: the share of queries within 2σ, σ² the variance that `irradiance` returns)
     #[arg(long, value_name = "FILE")]
     csv: Option<PathBuf>,
     /// Write DIR/sensors.md (`--out docs` regenerates the repository's docs)
@@ -499,7 +584,8 @@ struct Args {
     /// Rotations per map
     #[arg(long, default_value_t = 16)]
     rotations: usize,
-    /// Query normals per rotation
+    /// Query normals per layout (twice as many over the sphere for `wall6`, each scored where
+    /// the wall faces)
     #[arg(long, default_value_t = 48)]
     normals: usize,
     #[command(flatten)]
@@ -630,7 +716,8 @@ fn upward_errors(map: &EnvMap, prior: Prior, seed: u64) -> Vec<f64> {
         .collect();
     let c = cosine_factors();
     let mut out = Vec::new();
-    for lay in layouts().into_iter().filter(|l| l.one_sided) {
+    // The two upward layouts the sky priors were learned on (the later ones are held out).
+    for lay in layouts().into_iter().filter(|l| matches!(l.name, "dome5" | "hemi7")) {
         for r in 0..8 {
             let (sn, cs) = (2.0 * PI * (r as f64 + 0.3) / 8.0).sin_cos();
             let rot = [[cs, -sn, 0.0], [sn, cs, 0.0], [0.0, 0.0, 1.0]];
@@ -654,9 +741,9 @@ fn upward_errors(map: &EnvMap, prior: Prior, seed: u64) -> Vec<f64> {
                         v * (1.0 + eta * (-2.0 * u1.ln()).sqrt() * (2.0 * PI * u2).cos())
                     })
                     .collect();
-                if let Some((v, var)) = crate_fit(&geo, &lay.power, &[prior], eta, &y, &normals) {
+                if let Some(f) = crate_fit(&geo, &lay.power, &[prior], eta, &y, &normals) {
                     for q in 0..normals.len() {
-                        out.push((v[q] - truth[q]).abs() / var[q].max(1e-300).sqrt());
+                        out.push((f.values[q] - truth[q]).abs() / f.exact[q].max(1e-300).sqrt());
                     }
                 }
             }
@@ -730,31 +817,36 @@ fn learned_priors(threads: usize) -> Result<String, String> {
         // Its variance factor, leave one map out: the prior of the other three on the upward
         // layouts (rotations about z, normals above) at noise 0, 1 and 5 %, the smallest
         // power of 2^¼ for which 2σ holds for 95 % of the errors.
-        let mut ratios: Vec<f64> = Vec::new();
-        for m in 0..maps.len() {
-            let others: Vec<usize> = all.iter().copied().filter(|&o| o != m).collect();
-            let (sky, zonal) = sky_prior(&spectra, &moments, &others);
-            let prior = Prior {
-                spectrum: spectrum_f32(&sky),
-                zonal: [zonal[0] as f32, zonal[1] as f32, zonal[2] as f32],
-                mean: CrateMean::Zero,
-                variance_scale: 1.0,
-            };
-            ratios.extend(upward_errors(&maps[m][t], prior, m as u64));
-        }
-        ratios.sort_by(f64::total_cmp);
-        let q95 = ratios[(0.95 * ratios.len() as f64) as usize];
-        let mut k = -24i32;
-        while 2f64.powf(k as f64 / 4.0) < (q95 / 2.0).powi(2) {
-            k += 1;
-        }
-        let calibration = 2f64.powf(k as f64 / 4.0);
-        eprintln!(
-            "{} tier, light from above: 95 % of |error|/σ ≤ {q95:.3} over {} errors: variance \
-             factor 2^({k}/4) = {calibration:.4}",
-            TIERS[t],
-            ratios.len()
-        );
+        let calibrate = |name: &str, isotropic: bool| -> f64 {
+            let mut ratios: Vec<f64> = Vec::new();
+            for m in 0..maps.len() {
+                let others: Vec<usize> = all.iter().copied().filter(|&o| o != m).collect();
+                let (sky, zonal) = sky_prior(&spectra, &moments, &others);
+                let zonal = if isotropic { [0.0; 3] } else { zonal };
+                let prior = Prior {
+                    spectrum: spectrum_f32(&sky),
+                    zonal: [zonal[0] as f32, zonal[1] as f32, zonal[2] as f32],
+                    mean: CrateMean::Zero,
+                    variance_scale: 1.0,
+                };
+                ratios.extend(upward_errors(&maps[m][t], prior, m as u64));
+            }
+            ratios.sort_by(f64::total_cmp);
+            let q95 = ratios[(0.95 * ratios.len() as f64) as usize];
+            let mut k = -24i32;
+            while 2f64.powf(k as f64 / 4.0) < (q95 / 2.0).powi(2) {
+                k += 1;
+            }
+            let calibration = 2f64.powf(k as f64 / 4.0);
+            eprintln!(
+                "{} tier, {name}: 95 % of |error|/σ ≤ {q95:.3} over {} errors: variance \
+                 factor 2^({k}/4) = {calibration:.4}",
+                TIERS[t],
+                ratios.len()
+            );
+            calibration
+        };
+        let calibration = calibrate("light from above", false);
         let _ = writeln!(
             out,
             "/// Variance factor of light from above (leave one map out), {} tier.",
@@ -763,6 +855,18 @@ fn learned_priors(threads: usize) -> Result<String, String> {
         let _ = writeln!(
             out,
             "pub(super) const {tier}_SKY_CALIBRATION: f32 = {:?};",
+            calibration as f32
+        );
+        // The one-sided prior: the same spectrum, isotropic; its variance factor likewise.
+        let calibration = calibrate("one-sided", true);
+        let _ = writeln!(
+            out,
+            "/// Variance factor of the one-sided prior (leave one map out), {} tier.",
+            TIERS[t]
+        );
+        let _ = writeln!(
+            out,
+            "pub(super) const {tier}_ONE_SIDED_CALIBRATION: f32 = {:?};",
             calibration as f32
         );
     }
@@ -892,7 +996,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         .map(|lay| {
             let rotations = (0..args.rotations)
                 .map(|_| {
-                    if lay.one_sided {
+                    if lay.look.is_some() {
                         let a = 2.0 * PI * rng.next_f64();
                         let (s, c) = a.sin_cos();
                         [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
@@ -901,11 +1005,13 @@ fn main() -> Result<(), Box<dyn Error>> {
                     }
                 })
                 .collect();
-            let normals = (0..args.normals)
-                .map(
-                    |_| if lay.one_sided { rng.uniform_hemisphere() } else { rng.uniform_sphere() },
-                )
-                .collect();
+            // Looking up: normals above. Another look direction: twice as many normals over
+            // the sphere, each scored for the rotations that turn the look towards it.
+            let normals = match lay.look {
+                UP => (0..args.normals).map(|_| rng.uniform_hemisphere()).collect(),
+                Some(_) => (0..2 * args.normals).map(|_| rng.uniform_sphere()).collect(),
+                None => (0..args.normals).map(|_| rng.uniform_sphere()).collect(),
+            };
             Setup { rotations, normals }
         })
         .collect();
@@ -964,8 +1070,13 @@ fn main() -> Result<(), Box<dyn Error>> {
     }
     // The issue's estimators, then (report only) the per-probe choice among
     // squared-exponential kernels by REML likelihood, with the learned prior's mean.
-    let peers = ["nearest", "cos-avg", "sh1-ls", "sh2", "bmc", "bmc-se-reml"];
+    let mut peers: Vec<String> = ["nearest", "cos-avg", "sh1-ls", "sh2", "bmc", "bmc-se-reml"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
     let csv_estimators = 5;
+    let first_alternative = peers.len();
+    peers.extend(ALTERNATIVES.iter().map(|s| s.to_string()));
     // Evaluate: (layout, noise, tier, map) → per estimator (sum sq err, sum truth, covered, count).
     let count = scenes.len();
     let eval_jobs: Vec<(usize, usize, usize, usize)> = (0..layouts.len())
@@ -974,7 +1085,7 @@ fn main() -> Result<(), Box<dyn Error>> {
                 .flat_map(move |n| (0..2).flat_map(move |t| (0..count).map(move |m| (l, n, t, m))))
         })
         .collect();
-    let results: Vec<Vec<[f64; 4]>> =
+    let results: Vec<Vec<[f64; 5]>> =
         parallel::parallel_map(&eval_jobs, threads, |_, &(li, ni, ti, mi)| {
             let lay = &layouts[li];
             let map = &scenes[mi].tiers[ti];
@@ -986,7 +1097,7 @@ fn main() -> Result<(), Box<dyn Error>> {
                 .collect();
             let truth: Vec<f64> =
                 wt.normals.iter().map(|w| w.iter().zip(&lum).map(|(a, b)| a * b).sum()).collect();
-            let mut acc = vec![[0.0f64; 4]; peers.len() + variants.len()];
+            let mut acc = vec![[0.0f64; 5]; peers.len() + variants.len()];
             let mut rng = Rng::new(
                 SEED ^ (li as u64) << 40 ^ (ni as u64) << 32 ^ (ti as u64) << 24 ^ mi as u64,
             );
@@ -1007,14 +1118,24 @@ fn main() -> Result<(), Box<dyn Error>> {
                     c: c.clone(),
                 };
                 let normals = &setups[li].normals;
-                let mut record = |slot: usize, est: &[f64], var: Option<&[f64]>| {
-                    for q in 0..normals.len() {
+                // The normals this rotation looks towards.
+                let seen: Vec<bool> = match lay.look {
+                    Some(l) => normals.iter().map(|&n| dot(n, mat_mul_vec(*r, l)) > 0.0).collect(),
+                    None => vec![true; normals.len()],
+                };
+                // Per estimator: squared errors, |truth|, covered by 2σ of the exact variance,
+                // count, covered by 2σ of the averaged variance.
+                let mut record = |slot: usize, est: &[f64], var: Option<(&[f64], &[f64])>| {
+                    for q in (0..normals.len()).filter(|&q| seen[q]) {
                         let e = est[q] - truth[q];
                         acc[slot][0] += e * e;
                         acc[slot][1] += truth[q].abs();
-                        if let Some(v) = var {
-                            if e.abs() <= 2.0 * v[q].sqrt() {
+                        if let Some((exact, averaged)) = var {
+                            if e.abs() <= 2.0 * exact[q].sqrt() {
                                 acc[slot][2] += 1.0;
+                            }
+                            if e.abs() <= 2.0 * averaged[q].sqrt() {
+                                acc[slot][4] += 1.0;
                             }
                         }
                         acc[slot][3] += 1.0;
@@ -1027,26 +1148,23 @@ fn main() -> Result<(), Box<dyn Error>> {
                 record(3, &sh_fit(&geo, &y, 2, k < 9, normals), None);
                 // The crate's probe with its learned priors: for the tier's kind of light, and
                 // for layouts that look up, the sky-above form.
-                let chosen = match (lay.one_sided, ti) {
-                    (false, 0) => Prior::ENVIRONMENT,
-                    (false, _) => Prior::SMOOTH_ENVIRONMENT,
-                    (true, 0) => Prior::SKY_ABOVE,
-                    (true, _) => Prior::SMOOTH_SKY_ABOVE,
-                };
+                let chosen = recommended(ti, lay);
                 let family: Vec<Prior> = [1.0f32, 2.0, 4.0, 8.0, 16.0, 32.0]
                     .iter()
                     .filter_map(|&l| Prior::squared_exponential(l).ok())
                     .map(|p| p.with_mean(chosen.mean))
                     .collect();
-                if let Some((v, var)) =
-                    crate_fit(&geo, &lay.power, &family, NOISES[ni], &y, normals)
-                {
-                    record(5, &v, Some(&var));
+                if let Some(f) = crate_fit(&geo, &lay.power, &family, NOISES[ni], &y, normals) {
+                    record(5, &f.values, Some((&f.exact, &f.averaged)));
                 }
-                if let Some((v, var)) =
-                    crate_fit(&geo, &lay.power, &[chosen], NOISES[ni], &y, normals)
-                {
-                    record(4, &v, Some(&var));
+                if let Some(f) = crate_fit(&geo, &lay.power, &[chosen], NOISES[ni], &y, normals) {
+                    record(4, &f.values, Some((&f.exact, &f.averaged)));
+                }
+                for (j, prior) in alternatives(ti).into_iter().enumerate() {
+                    if let Some(f) = crate_fit(&geo, &lay.power, &[prior], NOISES[ni], &y, normals)
+                    {
+                        record(first_alternative + j, &f.values, Some((&f.exact, &f.averaged)));
+                    }
                 }
                 if !args.explore {
                     continue;
@@ -1098,11 +1216,11 @@ fn main() -> Result<(), Box<dyn Error>> {
                         .flatten()
                         .max_by(|a, b| a.log_lik.total_cmp(&b.log_lik));
                     if let Some(f) = best {
-                        record(base, &f.value, Some(&f.variance));
+                        record(base, &f.value, Some((&f.variance, &f.variance)));
                     }
                     for (j, f) in fits.iter().enumerate() {
                         if let Some(f) = f {
-                            record(base + 1 + j, &f.value, Some(&f.variance));
+                            record(base + 1 + j, &f.value, Some((&f.variance, &f.variance)));
                         }
                     }
                 }
@@ -1128,10 +1246,9 @@ fn main() -> Result<(), Box<dyn Error>> {
                     },
                 ];
                 for (j, prior) in priors.into_iter().enumerate() {
-                    if let Some((v, var)) =
-                        crate_fit(&geo, &lay.power, &[prior], NOISES[ni], &y, normals)
+                    if let Some(f) = crate_fit(&geo, &lay.power, &[prior], NOISES[ni], &y, normals)
                     {
-                        record(base + j, &v, Some(&var));
+                        record(base + j, &f.values, Some((&f.exact, &f.averaged)));
                     }
                 }
             }
@@ -1139,11 +1256,11 @@ fn main() -> Result<(), Box<dyn Error>> {
         });
     let names: Vec<String> =
         peers.iter().map(|s| s.to_string()).chain(variants.iter().cloned()).collect();
-    let rel = |a: &[f64; 4]| (a[0] / a[3]).sqrt() / (a[1] / a[3]);
+    let rel = |a: &[f64; 5]| (a[0] / a[3]).sqrt() / (a[1] / a[3]);
     // The best of the four standard estimators' errors on one map.
-    let best_standard = |r: &[[f64; 4]]| (0..4).map(|s| rel(&r[s])).fold(f64::INFINITY, f64::min);
+    let best_standard = |r: &[[f64; 5]]| (0..4).map(|s| rel(&r[s])).fold(f64::INFINITY, f64::min);
     // One layout, noise and tier: (map, accumulators) of every map.
-    let rows_of = |li: usize, ni: usize, ti: usize| -> Vec<(usize, &Vec<[f64; 4]>)> {
+    let rows_of = |li: usize, ni: usize, ti: usize| -> Vec<(usize, &Vec<[f64; 5]>)> {
         eval_jobs
             .iter()
             .zip(&results)
@@ -1167,7 +1284,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         let mut text = String::new();
         for (&(li, ni, ti, mi), r) in eval_jobs.iter().zip(&results) {
             for e in 0..csv_estimators {
-                let cov = if e == 4 { format!("{:.4}", r[e][2] / r[e][3]) } else { String::new() };
+                let cov = if e == 4 { format!("{:.4}", r[e][4] / r[e][3]) } else { String::new() };
                 let _ = writeln!(
                     text,
                     "sensors,{},{},{},{},{},{:.6},{}",
@@ -1187,21 +1304,46 @@ fn main() -> Result<(), Box<dyn Error>> {
         std::fs::write(csv, text)?;
     }
     let mut out = String::new();
-    let _ = writeln!(out, "| layout | noise | tier | best standard | bmc / best (mean of per-map ratios) | ratio of mean errors | worst map | bmc 2σ coverage |");
-    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|");
+    // Held-out maps: estimator `e` against `reference(r)` of each map: the mean of per-map
+    // ratios, the ratio of mean errors, the worst map, the 2σ coverage of the variance that
+    // `irradiance` returns and of the exact one.
+    let versus = |held: &[&Vec<[f64; 5]>], e: usize, reference: &dyn Fn(&[[f64; 5]]) -> f64| {
+        let n = held.len() as f64;
+        let (mut sum_ratio, mut worst, mut sum_e, mut sum_ref, mut averaged, mut exact) =
+            (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+        for r in held {
+            let ratio = rel(&r[e]) / reference(r);
+            sum_ratio += ratio;
+            worst = worst.max(ratio);
+            sum_e += rel(&r[e]);
+            sum_ref += reference(r);
+            averaged += r[e][4] / r[e][3];
+            exact += r[e][2] / r[e][3];
+        }
+        (sum_ratio / n, sum_e / sum_ref, worst, 100.0 * averaged / n, 100.0 * exact / n)
+    };
+    let held_out = |li: usize, ni: usize, ti: usize| -> Vec<&Vec<[f64; 5]>> {
+        rows_of(li, ni, ti)
+            .into_iter()
+            .filter(|(m, _)| !scenes[*m].training)
+            .map(|(_, r)| r)
+            .collect()
+    };
+    let _ = writeln!(out, "| layout | noise | tier | best standard | bmc / best (mean of per-map ratios) | ratio of mean errors | worst map | bmc 2σ coverage | exact variance's 2σ coverage |");
+    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|");
     for li in 0..layouts.len() {
         for ni in 0..NOISES.len() {
             for ti in 0..2 {
                 let rows = rows_of(li, ni, ti);
-                let held: Vec<&(usize, &Vec<[f64; 4]>)> =
+                let held: Vec<&(usize, &Vec<[f64; 5]>)> =
                     rows.iter().filter(|(m, _)| !scenes[*m].training).collect();
                 if held.is_empty() {
                     continue;
                 }
                 // The best standard estimator per map; the one best most often is named.
                 let mut wins = [0usize; 4];
-                let (mut sum_ratio, mut worst, mut sum_bmc, mut sum_best, mut cov) =
-                    (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+                let (mut sum_ratio, mut worst, mut sum_bmc, mut sum_best, mut cov, mut exact) =
+                    (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
                 for (_, r) in &held {
                     let (bi, best) = (0..4)
                         .map(|s| (s, rel(&r[s])))
@@ -1213,13 +1355,14 @@ fn main() -> Result<(), Box<dyn Error>> {
                     worst = worst.max(ratio);
                     sum_bmc += rel(&r[4]);
                     sum_best += best;
-                    cov += r[4][2] / r[4][3];
+                    cov += r[4][4] / r[4][3];
+                    exact += r[4][2] / r[4][3];
                 }
                 let n = held.len() as f64;
                 let top = (0..4).max_by_key(|&s| wins[s]).unwrap_or(0);
                 let _ = writeln!(
                     out,
-                    "| {} | {} | {} | {} | {:.3} | {:.3} | {:.3} | {:.1} % |",
+                    "| {} | {} | {} | {} | {:.3} | {:.3} | {:.3} | {:.1} % | {:.1} % |",
                     layouts[li].name,
                     noise_name(NOISES[ni]),
                     TIERS[ti],
@@ -1227,8 +1370,75 @@ fn main() -> Result<(), Box<dyn Error>> {
                     sum_ratio / n,
                     sum_bmc / sum_best,
                     worst,
-                    100.0 * cov / n
+                    100.0 * cov / n,
+                    100.0 * exact / n
                 );
+            }
+        }
+    }
+    // Against the degree-2 SH fit alone (minimum norm below 9 sensors).
+    let _ = writeln!(
+        out,
+        "\n## Against the degree-2 SH fit\n\n\
+         `bmc` over `sh2` (the degree-2 SH fit: minimum norm below 9 sensors, least squares \
+         from 9), held-out maps: the mean of per-map ratios of the errors, the ratio of mean \
+         errors, the worst map, and the share of queries within 2σ, σ² the variance that \
+         `irradiance` returns (the direction average) and the exact one at each normal \
+         (`irradiance_variance`).\n\n\
+         | layout | noise | tier | sh2 | bmc / sh2 (mean of per-map ratios) | ratio of mean errors | worst map | 2σ coverage | exact variance's 2σ coverage |\n\
+         |---|---|---|---|---|---|---|---|---|"
+    );
+    let sh2 = |r: &[[f64; 5]]| rel(&r[3]);
+    for li in 0..layouts.len() {
+        for ni in 0..NOISES.len() {
+            for ti in 0..2 {
+                let held = held_out(li, ni, ti);
+                if held.is_empty() {
+                    continue;
+                }
+                let (mean, of_means, worst, averaged, exact) = versus(&held, 4, &sh2);
+                let _ = writeln!(
+                    out,
+                    "| {} | {} | {} | {} | {mean:.3} | {of_means:.3} | {worst:.3} | {averaged:.1} % | {exact:.1} % |",
+                    layouts[li].name,
+                    noise_name(NOISES[ni]),
+                    TIERS[ti],
+                    estimator_name(li, 3),
+                );
+            }
+        }
+    }
+    // The alternatives, to show why the recommendation is what it is.
+    let _ = writeln!(
+        out,
+        "\n## The recommended prior against the alternatives\n\n\
+         Error over the degree-2 SH fit's, mean of per-map ratios (worst map), held-out maps: \
+         `bmc` the recommended prior (`Prior::for_layout`, `Prior::smooth_for_layout`), and \
+         the crate's other priors for the tier's kind of light: `ENVIRONMENT` \
+         (`SMOOTH_ENVIRONMENT`), the same with a constant mean, `SKY_ABOVE` \
+         (`SMOOTH_SKY_ABOVE`) and `ONE_SIDED` (`SMOOTH_ONE_SIDED`).\n\n\
+         | layout | noise | tier | bmc | {} |\n|---|---|---|---|---|---|---|---|",
+        ALTERNATIVES.map(|a| format!("`{a}`")).join(" | ")
+    );
+    for li in 0..layouts.len() {
+        for ni in 0..NOISES.len() {
+            for ti in 0..2 {
+                let held = held_out(li, ni, ti);
+                if held.is_empty() {
+                    continue;
+                }
+                let _ = write!(
+                    out,
+                    "| {} | {} | {} |",
+                    layouts[li].name,
+                    noise_name(NOISES[ni]),
+                    TIERS[ti]
+                );
+                for e in std::iter::once(4).chain(first_alternative..first_alternative + 4) {
+                    let (mean, _, worst, _, _) = versus(&held, e, &sh2);
+                    let _ = write!(out, " {mean:.3} ({worst:.2}) |");
+                }
+                let _ = writeln!(out);
             }
         }
     }
@@ -1245,7 +1455,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     for li in 0..layouts.len() {
         for ni in 0..NOISES.len() {
             for ti in 0..2 {
-                let held: Vec<&Vec<[f64; 4]>> = rows_of(li, ni, ti)
+                let held: Vec<&Vec<[f64; 5]>> = rows_of(li, ni, ti)
                     .into_iter()
                     .filter(|(m, _)| !scenes[*m].training)
                     .map(|(_, r)| r)
@@ -1256,7 +1466,7 @@ fn main() -> Result<(), Box<dyn Error>> {
                 let n = held.len() as f64;
                 let ratio =
                     |e: usize| held.iter().map(|r| rel(&r[e]) / best_standard(r)).sum::<f64>() / n;
-                let coverage = |e: usize| held.iter().map(|r| r[e][2] / r[e][3]).sum::<f64>() / n;
+                let coverage = |e: usize| held.iter().map(|r| r[e][4] / r[e][3]).sum::<f64>() / n;
                 let _ = writeln!(
                     out,
                     "| {} | {} | {} | {:.3} | {:.3} | {:.1} % | {:.1} % |",
@@ -1324,17 +1534,28 @@ fn main() -> Result<(), Box<dyn Error>> {
             - Layouts (cosine sensors unless noted): `cube6` the faces of a cube; `dome5` the \
             zenith and 4 at 45° elevation; `hemi7` the zenith and 6 at 30°; `ico12` the 12 \
             vertices of an icosahedron; `sf16` a spherical Fibonacci set of 16; `cube6-cos2` a \
-            cube whose side faces have a cos² response. Random rotations, about `z` only for \
-            the layouts that look up (`dome5`, `hemi7`), queried at normals in the upper \
-            hemisphere there and on the whole sphere elsewhere.\n\
+            cube whose side faces have a cos² response; `tetra4` the vertices of a regular \
+            tetrahedron; `cube5` a cube without its −z face (a device on a table); `ring8` 8 at \
+            20° elevation, 45° apart, no zenith sensor; `corners8` the 8 corners of a cube; \
+            `rand10` 10 uniform random directions (seeded); `wall6` on a wall facing +x, one \
+            along +x and 5 at 60° from it, 72° apart, the first above it.\n\
+            - Rotations: the layouts that see all round (`cube6`, `ico12`, `sf16`, `cube6-cos2`, \
+            `tetra4`, `corners8`, `rand10`) at uniform random rotations, queried at uniform \
+            normals on the sphere; the others about `z` only (up stays up), queried where they \
+            look: `dome5`, `hemi7`, `cube5` and `ring8` at uniform normals above the horizon, \
+            `wall6` at uniform normals over the sphere, each scored for the rotations that turn \
+            +x towards it (the hemisphere in front of the wall).\n\
             - Noise: each reading times `1 + η·ε`, `ε` standard normal; the probe is told `η`.\n\
             - Truth: the exact integral over every pixel of the map.\n\
-            - `bmc`: `LayoutProbe` with `Prior::ENVIRONMENT` (`clamp`) or \
-            `Prior::SMOOTH_ENVIRONMENT` (`smooth`), and for the layouts that look up \
-            `Prior::SKY_ABOVE` or `Prior::SMOOTH_SKY_ABOVE`. Its error over the best of the \
+            - `bmc`: `LayoutProbe` with the prior the crate recommends for the layout, \
+            `Prior::for_layout` (`clamp`) or `Prior::smooth_for_layout` (`smooth`): \
+            `ENVIRONMENT` (`SMOOTH_ENVIRONMENT`) for the layouts that see all round, \
+            `ONE_SIDED` (`SMOOTH_ONE_SIDED`) for the others. Its error over the best of the \
             nearest sensor, the cosine-weighted average of the readings and the SH fits of \
             degree 1 and 2 (least squares, or minimum norm below 9 sensors), deconvolved by the \
-            responses, on the same readings, per map.\n\n";
+            responses, on the same readings, per map. Coverage: the share of queries within 2σ, \
+            σ² the variance that `irradiance` returns (its direction average over the sphere) \
+            and the exact variance at the normal (`irradiance_variance`).\n\n";
         std::fs::write(dir.join("sensors.md"), format!("{header}{out}"))?;
     }
     Ok(())
