@@ -29,12 +29,13 @@ use sphere_quadrature::Vec3;
 /// product left f32 but the integral is within it; `TemporalProbe::irradiance` gave NaN after
 /// samples near `f32::MAX` (16).)
 /// 17. `layout::LayoutProbe` with a zonal
-/// mean profile whose non-zero coefficients span more than 2²⁰ gives NaN values with any noise
-/// (open; skipped in the `layout` target). 18. `LayoutProbe::new` refuses with
-/// `InvalidPrior` sensors that see only the level (degree ≥ 1 gains 0) under a prior whose
-/// level is a mean (open; allowed in the `layout` target). 19. `LayoutProbe` with a mean and
-/// an absolute noise gives NaN values for readings equal at every sensor far above the noise
-/// (open; skipped in the `layout` target).
+/// mean profile whose non-zero coefficients span more than 2²⁰ gives NaN values where the
+/// mean's basis underflows in the working units (partly fixed; skipped in the `layout`
+/// target). 18. `LayoutProbe::new` refuses with `InvalidPrior` sensors that see only the level
+/// (degree ≥ 1 gains 0) under a prior whose level is a mean (open; allowed in the `layout`
+/// target). 19. `LayoutProbe` with a mean and an absolute noise gave NaN values for readings
+/// equal at every sensor far above the noise (fixed; checked). 20. `LayoutProbe` whose fitted
+/// signal variance exceeds `f32::MAX` gives NaN values (open; skipped in the `layout` target).
 #[must_use]
 pub fn known_defect(n: u32) -> bool {
     // Defects 1–13 are fixed (tests/hardening/hardening.rs, `defect_NN_…`): their cases are

@@ -401,14 +401,15 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         } else {
             // The root of the REML score in u = ln s by the Illinois variant of regula falsi:
             // s·dℓ/ds = −½·s·Σ λ_j/d_j + ½·s·Q′-terms, no logarithms, O(K) per trial.
-            let score = |u: f32| -> f32 {
-                #[cfg(test)]
-                SCORES.with(|c| c.set(c.get() + 1));
-                let s = math::exp_accurate(u);
+            // The REML score, with every `1/d_j` taken as `c/d_j` (`c` the least `d_j`, or 1
+            // where the plain sums stay finite): `s·g·c²` has the sign of `s·dℓ/ds`, and
+            // readings far above a tiny noise (`1/d` near `1/ν`) no longer overflow its sums
+            // to `∞ − ∞`.
+            let score_at = |s: f32, c: f32| -> f32 {
                 let (mut tr, mut zz1, mut a, mut b, mut a1, mut b1) =
                     (0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32);
                 for j in 0..K {
-                    let inv = 1.0 / (s * lam[j] + nu);
+                    let inv = c / (s * lam[j] + nu);
                     let l_inv = lam[j] * inv;
                     tr += l_inv;
                     zz1 += z[j] * z[j] * l_inv * inv;
@@ -420,12 +421,29 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                     }
                 }
                 // dℓ/ds = −½·(Σ λ/d − A′/A·(−1)… ): with A′ = −a1, b′ = −b1,
-                // Q = Σ z²/d − b²/A, Q′ = −zz1 + (2b·b1·A − b²·a1)/A².
-                let mut g = -tr + zz1;
+                // Q = Σ z²/d − b²/A, Q′ = −zz1 + (2b·b1·A − b²·a1)/A², taken through the GLS
+                // mean t = b/A (A and b reach 1/ν where the mean's direction has no prior
+                // variance: A² and b² would overflow for readings far above the noise).
+                // With the factor c: g·c² = (−tr + a1/a)·c + zz1 − 2t·b1 + t²·a1.
+                let mut linear = -tr;
+                let mut square = zz1;
                 if p == 1 && a > 0.0 {
-                    g += a1 / a - (2.0 * b * b1 * a - b * b * a1) / (a * a);
+                    let t = b / a;
+                    linear += a1 / a;
+                    square += t * t * a1 - 2.0 * t * b1;
                 }
-                0.5 * s * g
+                0.5 * s * (linear * c + square)
+            };
+            let score = |u: f32| -> f32 {
+                #[cfg(test)]
+                SCORES.with(|c| c.set(c.get() + 1));
+                let s = math::exp_accurate(u);
+                let plain = score_at(s, 1.0);
+                if plain.is_finite() {
+                    return plain;
+                }
+                let least = lam.iter().fold(f32::INFINITY, |c, &l| c.min(s * l + nu));
+                score_at(s, least)
             };
             // Noise only lowers the scale: a bracket just below the noiseless one first, and
             // the wide one about the readings' spread where that fails.
