@@ -191,8 +191,8 @@ export interface ChangeEvidence {
 }
 
 /**
- * An RGB temporal probe (`TemporalProbe<N − S, [f32; 3], F, S>` of the Rust crate): `pool()`
- * is called again and again, each time with radiance in the N − S directions of a freshly rotated
+ * An RGB temporal probe (`TemporalProbe<N − S, [f32; 3], F, S>` of the Rust crate):
+ * `pool()` takes, again and again, radiance in the N − S directions of a freshly rotated
  * spherical Fibonacci set and in S fixed sentinel directions. It pools the evidence of every
  * update (the running sum of the samples' spherical-harmonic projections, shrunk per degree
  * against the measured aliasing noise), so its error keeps falling with the updates, and
