@@ -433,7 +433,7 @@ async function temporalRun(lights, counts, n, seed, picture) {
           const i = pixelOf(map, all[3 * j], all[3 * j + 1], all[3 * j + 2]);
           for (let ch = 0; ch < 3; ch++) ys[3 * j + ch] = map.rgb[i + ch] * scale;
         }
-        out.change.push(probe.update(ys.subarray(0, 3 * (n - S)), ys.subarray(3 * (n - S))));
+        out.change.push(probe.pool(ys.subarray(0, 3 * (n - S)), ys.subarray(3 * (n - S))));
         out.probability.push(probe.lastChangeProbability);
         // The cosine-weighted average of the N rays about each normal (irradiance units).
         const cos = live.map((c) => {

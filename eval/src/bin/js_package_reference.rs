@@ -4,13 +4,13 @@
 //! bad queries, as `key n seed index value` lines (values as f32 bits, errors by name); then,
 //! for every size, a stream of temporal updates (static light, then a switch of light) of a
 //! point and of a footprint temporal probe, as `t_key n stream.update index value` lines: the
-//! directions, samples and sentinel readings of each update, what it did with the old
-//! evidence, the state (updates, degree, effective updates, change probability, log Bayes
+//! directions, samples and sentinel readings of each update, what its `pool` did with the old
+//! evidence, the state (updates, degree, pooled updates, change probability, log Bayes
 //! factors), irradiance with variance at fixed normals, and the SH coefficients and variances
 //! at the end of each light; then layout probes (a cube of six sensors of two responses, a
 //! dome of five with the sky-above prior, the cube under the other priors), as
 //! `l_key layout.step index value` lines: the sensors, the readings of each step, what each
-//! accumulation did, the state (sensor count, updated, pooled updates, change probability,
+//! `pool` did, the state (sensor count, updated, pooled updates, change probability,
 //! signal variance), irradiance with its averaged and its exact variance at fixed normals,
 //! Phong averages with variances and SH coefficients, and the errors. The package's Node test
 //! (`examples/wasm/package/test/test.mjs`) feeds the same samples and readings to the
@@ -262,7 +262,7 @@ const LAYOUT_PHONG: [([f32; 3], f32); 4] = [
     ([-0.25, -1.0, 0.5], 1.0),
     ([0.0, 0.0, -1.0], 0.0),
 ];
-/// Accumulations of a layout stream: of the first light, then of the second (a switch).
+/// `pool` calls of a layout stream: of the first light, then of the second (a switch).
 const LAYOUT_STREAM: [usize; 2] = [6, 4];
 
 /// A deterministic noise in [−1, 1) from its indices.
@@ -294,7 +294,7 @@ fn layout_readings<const K: usize>(
     })
 }
 
-/// A layout probe's lines: its sensors and directions, an update, a stream of accumulations
+/// A layout probe's lines: its sensors and directions, an update, a stream of `pool` calls
 /// ([`LAYOUT_STREAM`]; `stream` false: the update only), then its errors. `noise_amount`:
 /// the readings' noise.
 fn layout_case<const K: usize>(
@@ -364,7 +364,7 @@ fn layout_case<const K: usize>(
     state(0, &probe);
     queries(0, &probe);
     out("sh", 0, &mut probe.radiance_sh().coefficients.into_iter().flatten());
-    // An update, then (`stream`) accumulations: of the first light, then of the second.
+    // An update, then (`stream`) `pool` calls: of the first light, then of the second.
     let dirs = *probe.directions();
     let readings = layout_readings(&dirs, 0, 0, noise_amount);
     out("reading", 1, &mut readings.iter().flatten().copied());
@@ -392,7 +392,7 @@ fn layout_case<const K: usize>(
             }
         }
     }
-    // Errors: a refused update or accumulation keeps the state.
+    // Errors: a refused `update` or `pool` keeps the state.
     let mut bad = layout_readings(&dirs, 0, step + 1, noise_amount);
     bad[K / 2][1] = f32::NAN;
     println!("l_err {name}.{step} 0 {:?}", probe.update(&bad).err());

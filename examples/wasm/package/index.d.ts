@@ -140,7 +140,7 @@ export declare class Probe {
 /** The samples' footprint of a `TemporalProbe`. */
 export type Footprint = "point" | "gaussian";
 
-/** What `TemporalProbe.update` did with the old evidence. */
+/** What `pool` (`TemporalProbe.pool`, `LayoutProbe.pool`) did with the old evidence. */
 export type Change =
   /** The first update: the state is this update. */
   | "first"
@@ -191,8 +191,8 @@ export interface ChangeEvidence {
 }
 
 /**
- * An RGB temporal probe (`TemporalProbe<N − S, [f32; 3], F, S>` of the Rust crate): updated
- * again and again, each time with radiance in the N − S directions of a freshly rotated
+ * An RGB temporal probe (`TemporalProbe<N − S, [f32; 3], F, S>` of the Rust crate):
+ * `pool()` takes, again and again, radiance in the N − S directions of a freshly rotated
  * spherical Fibonacci set and in S fixed sentinel directions. It pools the evidence of every
  * update (the running sum of the samples' spherical-harmonic projections, shrunk per degree
  * against the measured aliasing noise), so its error keeps falling with the updates, and
@@ -206,7 +206,7 @@ export interface ChangeEvidence {
  * const sentinels = probe.sentinels(); // 3S floats, fixed
  * for (;;) { // every frame
  *   const dirs = probe.directions(); // 3(N − S) floats, new every update
- *   probe.update(trace(dirs), trace(sentinels)); // r, g, b per direction
+ *   probe.pool(trace(dirs), trace(sentinels)); // r, g, b per direction
  *   const { value, variance } = probe.irradiance([0, 0, 1]);
  * }
  * ```
@@ -244,7 +244,7 @@ export declare class TemporalProbe {
    * The weight of the pooled evidence in updates: the updates since the last full reset
    * when nothing was forgotten in between, less after partial resets.
    */
-  readonly effectiveUpdates: number;
+  readonly pooledUpdates: number;
   /** The posterior probability of a change at the last update (0 for the first). */
   readonly lastChangeProbability: number;
   /** The log Bayes factors of a change at the last update (0 for the first). */
@@ -252,7 +252,7 @@ export declare class TemporalProbe {
 
   /**
    * This update's N − S unit directions, x, y, z each (3(N − S) floats), in the order
-   * `update` expects; a new rotation after every successful update.
+   * `pool` expects; a new rotation after every successful `pool`.
    */
   directions(): Float32Array;
 
@@ -260,13 +260,14 @@ export declare class TemporalProbe {
   sentinels(): Float32Array;
 
   /**
-   * Takes this update's RGB samples in `directions()` (3(N − S) numbers) and RGB readings
+   * Pools this update's RGB samples in `directions()` (3(N − S) numbers) and RGB readings
    * in `sentinels()` (3S numbers), taken the same way (for a single channel repeat it three
-   * times), weighs the evidence of a change, pools the samples and rotates the directions.
+   * times), with the earlier evidence: weighs the evidence of a change, forgets old evidence
+   * by its posterior probability, pools the samples and rotates the directions.
    * @throws {ProbeError} `LengthMismatch` for other lengths, `InvalidRadiance` for a NaN or
    *   infinite value; the probe then keeps its state and its directions.
    */
-  update(samples: ArrayLike<number>, sentinels: ArrayLike<number>): Change;
+  pool(samples: ArrayLike<number>, sentinels: ArrayLike<number>): Change;
 
   /**
    * Accumulated irradiance E(n) = ∫ L(x)·max(0, n·x) dx about `normal` with its variance (the
@@ -337,7 +338,7 @@ export interface LayoutProbeOptions {
   noise?: LayoutNoise;
   /** The prior of the light; default `"environment"`. */
   prior?: LayoutPrior;
-  /** Prior probability that the light changes at an `accumulate`, in (0, 1); default 1/64. */
+  /** Prior probability that the light changes at a `pool`, in (0, 1); default 1/64. */
   hazard?: number;
   /** The layout module, when it is not at the default `wasm/layout.wasm` beside index.js. */
   wasm?: WasmSource;
@@ -346,8 +347,8 @@ export interface LayoutProbeOptions {
 /**
  * An RGB probe over the K sensors of a user's layout (`LayoutProbe<K, [f32; 3]>` of the Rust
  * crate): photodiodes on the faces of a cube, a dome of five, a ring on a fixture, each with
- * its own direction, angular response and noise. `update()` (or `accumulate()` for a stream
- * of readings) with the readings, then query irradiance for any normal with an error bar,
+ * its own direction, angular response and noise. `update()` (or `pool()` for a stream of
+ * readings) with the readings, then query irradiance for any normal with an error bar,
  * Phong averages and SH coefficients. Lives in WebAssembly memory: `dispose()` frees it.
  * Errors throw `ProbeError`.
  *
@@ -355,7 +356,7 @@ export interface LayoutProbeOptions {
  * import { LayoutProbe } from "sphere-quadrature";
  * const cube = [1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1];
  * const probe = await LayoutProbe.create({ directions: cube, noise: { absolute: 0.01 } });
- * probe.accumulate(readings); // r, g, b per sensor, 18 numbers
+ * probe.pool(readings); // r, g, b per sensor, 18 numbers
  * const { value, variance } = probe.irradiance([0, 0, 1]);
  * ```
  */
@@ -376,16 +377,16 @@ export declare class LayoutProbe {
   readonly k: LayoutSize;
   /** The prior. */
   readonly prior: LayoutPrior;
-  /** The prior probability of a change per `accumulate`. */
+  /** The prior probability of a change per `pool`. */
   readonly hazard: number;
-  /** Whether the probe has had an update or an accumulation. */
+  /** Whether the probe has had an `update` or a `pool`. */
   readonly updated: boolean;
   /**
-   * The effective number of readings pooled by `accumulate` (1 after `update`, 0 before any):
+   * The effective number of readings pooled by `pool` (1 after `update`, 0 before any):
    * the updates since the last full reset when nothing was forgotten in between.
    */
   readonly pooledUpdates: number;
-  /** The posterior probability of a change at the last `accumulate` (1 at the first, 0 after `update`). */
+  /** The posterior probability of a change at the last `pool` (1 at the first, 0 after `update`). */
   readonly lastChangeProbability: number;
   /** The scale σ_f² of the prior covariance chosen at the last fit, RGB (0 before the first). */
   readonly signalVariance: Float32Array;
@@ -407,7 +408,7 @@ export declare class LayoutProbe {
    * pooled means (on static light the noise's share of the error falls like 1/√updates).
    * @throws {ProbeError} as `update`; the probe then keeps its state.
    */
-  accumulate(readings: ArrayLike<number>): Change;
+  pool(readings: ArrayLike<number>): Change;
 
   /**
    * Irradiance E(n) = ∫ L(x)·max(0, n·x) dx about `normal` with the posterior variance

@@ -45,7 +45,7 @@ const EXPORTS = [
   "memory", "probe_size", "io_ptr", "io_len", "probe_new", "probe_free", "probe_directions",
   "probe_update", "probe_irradiance", "probe_glossy", "probe_radiance_sh", "probe_radiance_sh_variance",
   "temporal_sentinel_count", "temporal_sharpness", "temporal_new", "temporal_free", "temporal_directions",
-  "temporal_sentinels", "temporal_update", "temporal_irradiance", "temporal_radiance_sh",
+  "temporal_sentinels", "temporal_pool", "temporal_irradiance", "temporal_radiance_sh",
   "temporal_radiance_sh_variance", "temporal_state",
 ];
 
@@ -273,7 +273,7 @@ export class Probe {
 /** The footprints of `TemporalProbe`: the module's code for each. */
 const FOOTPRINTS = { point: 0, gaussian: 1 };
 
-/** What `TemporalProbe.update` did with the old evidence, by the module's code. */
+/** What `pool` (`TemporalProbe`, `LayoutProbe`) did with the old evidence, by the module's code. */
 const CHANGES = { 1: "first", 2: "blended", 3: "reset" };
 
 /**
@@ -393,27 +393,27 @@ export class TemporalProbe {
   }
 
   /**
-   * Takes this update's RGB samples in `directions()` (3(N − S) numbers) and RGB sentinel
-   * readings in `sentinels()` (3S numbers), weighs the evidence of a change and pools the
-   * samples. Returns what it did with the old evidence: `"first"`, `"blended"` or `"reset"`.
-   * On error the probe keeps its state and its directions.
+   * Pools this update's RGB samples in `directions()` (3(N − S) numbers) and RGB sentinel
+   * readings in `sentinels()` (3S numbers) with the earlier evidence, after weighing the
+   * evidence of a change. Returns what it did with the old evidence: `"first"`, `"blended"`
+   * or `"reset"`. On error the probe keeps its state and its directions.
    * @param {ArrayLike<number>} samples
    * @param {ArrayLike<number>} sentinels
    * @returns {"first" | "blended" | "reset"}
    */
-  update(samples, sentinels) {
-    const h = this.#live("update");
+  pool(samples, sentinels) {
+    const h = this.#live("pool");
     const m = this.sampleCount, s = this.#sentinels;
     if (samples == null || samples.length !== 3 * m) {
-      throw new ProbeError("LengthMismatch", `update: expected ${3 * m} sample floats (r, g, b for each of ${m} directions), got ${samples?.length}`);
+      throw new ProbeError("LengthMismatch", `pool: expected ${3 * m} sample floats (r, g, b for each of ${m} directions), got ${samples?.length}`);
     }
     if (sentinels == null || sentinels.length !== 3 * s) {
-      throw new ProbeError("LengthMismatch", `update: expected ${3 * s} sentinel floats (r, g, b for each of ${s} sentinels), got ${sentinels?.length}`);
+      throw new ProbeError("LengthMismatch", `pool: expected ${3 * s} sentinel floats (r, g, b for each of ${s} sentinels), got ${sentinels?.length}`);
     }
     const io = this.#io(3 * this.#n);
     io.set(samples);
     io.set(sentinels, 3 * m);
-    check(this.#exports.temporal_update(h), "update");
+    check(this.#exports.temporal_pool(h), "pool");
     return CHANGES[new Uint32Array(this.#exports.memory.buffer, this.#exports.io_ptr(), 1)[0]];
   }
 
@@ -466,8 +466,8 @@ export class TemporalProbe {
   }
 
   /** The weight of the pooled evidence in updates (less than the count after a reset). */
-  get effectiveUpdates() {
-    return this.#state("effectiveUpdates").floats[0];
+  get pooledUpdates() {
+    return this.#state("pooledUpdates").floats[0];
   }
 
   /** The posterior probability of a change at the last update (0 for the first). */
@@ -501,7 +501,7 @@ export const LAYOUT_SIZES = Object.freeze([4, 5, 6, 7, 8, 12, 16]);
 /** The exports of the layout module (and all it has, with `memory`). */
 const LAYOUT_EXPORTS = [
   "memory", "io_ptr", "io_len", "layout_capacities", "layout_new", "layout_free", "layout_directions",
-  "layout_update", "layout_accumulate", "layout_irradiance", "layout_irradiance_variance", "layout_phong",
+  "layout_update", "layout_pool", "layout_irradiance", "layout_irradiance_variance", "layout_phong",
   "layout_radiance_sh", "layout_state",
 ];
 
@@ -559,8 +559,8 @@ function perSensor(values, k, fallback, what) {
 /**
  * An RGB probe over the K sensors of a user's layout (`LayoutProbe<K, [f32; 3]>` of the Rust
  * crate): sensors at arbitrary directions, each with a cosine-power angular response and a
- * noise scale, a Gaussian-process prior of the light, read noise; `update` (or `accumulate`,
- * for a stream) with the sensors' readings, then ask for irradiance, its variance, Phong
+ * noise scale, a Gaussian-process prior of the light, read noise; `update` (or `pool`, for a
+ * stream) with the sensors' readings, then ask for irradiance, its variance, Phong
  * averages and SH coefficients.
  */
 export class LayoutProbe {
@@ -586,7 +586,7 @@ export class LayoutProbe {
    * `LAYOUT_SIZES`), their cosine powers `powers` (K numbers, default 1: bare photodiodes),
    * their noise scales `noiseScales` (K numbers, default 1), the read noise
    * `noise = { absolute, relative }`, a prior (a learned one by name, or
-   * `{ squaredExponential: λ }`) and the hazard of `accumulate`.
+   * `{ squaredExponential: λ }`) and the hazard of `pool`.
    * @param {{ directions: ArrayLike<number>, powers?: ArrayLike<number>, noiseScales?: ArrayLike<number>,
    *   noise?: { absolute?: number, relative?: number }, prior?: string | { squaredExponential: number },
    *   hazard?: number, wasm?: any }} options
@@ -639,7 +639,7 @@ export class LayoutProbe {
     return this.#prior;
   }
 
-  /** The prior probability of a change per `accumulate`. */
+  /** The prior probability of a change per `pool`. */
   get hazard() {
     return this.#hazard;
   }
@@ -689,8 +689,8 @@ export class LayoutProbe {
    * @param {ArrayLike<number>} readings
    * @returns {"first" | "blended" | "reset"}
    */
-  accumulate(readings) {
-    check(this.#exports.layout_accumulate(this.#readings(readings, "accumulate")), "accumulate");
+  pool(readings) {
+    check(this.#exports.layout_pool(this.#readings(readings, "pool")), "pool");
     return CHANGES[new Uint32Array(this.#exports.memory.buffer, this.#exports.io_ptr(), 1)[0]];
   }
 
@@ -757,12 +757,12 @@ export class LayoutProbe {
     return this.#state("updated").words[1] === 1;
   }
 
-  /** The effective number of readings pooled by `accumulate` (1 after `update`, 0 before). */
+  /** The effective number of readings pooled by `pool` (1 after `update`, 0 before). */
   get pooledUpdates() {
     return this.#state("pooledUpdates").floats[0];
   }
 
-  /** The posterior probability of a change at the last `accumulate` (0 after `update`). */
+  /** The posterior probability of a change at the last `pool` (0 after `update`). */
   get lastChangeProbability() {
     return this.#state("lastChangeProbability").floats[1];
   }

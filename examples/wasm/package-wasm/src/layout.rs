@@ -127,11 +127,11 @@ fn directions<const K: usize>(p: &LayoutProbe<K, [f32; 3]>) -> Result<(), Error>
     Ok(())
 }
 
-/// Updates (`accumulate` false) or accumulates the readings in [`IO`]; writes what an
-/// accumulation did (1 first, 2 blended, 3 reset; 0 for an update) to `IO[0]` as u32.
-fn take<const K: usize>(p: &mut LayoutProbe<K, [f32; 3]>, accumulate: bool) -> Result<(), Error> {
+/// Updates with (`pool` false) or pools the readings in [`IO`]; writes what pooling did
+/// (1 first, 2 blended, 3 reset; 0 for an update) to `IO[0]` as u32.
+fn take<const K: usize>(p: &mut LayoutProbe<K, [f32; 3]>, pool: bool) -> Result<(), Error> {
     let ys = readings::<K>();
-    let change = if accumulate {
+    let change = if pool {
         match p.pool(&ys)? {
             Change::First => 1,
             Change::Blended => 2,
@@ -184,7 +184,7 @@ mod exports {
     /// floats; 1: the layout's absolute noise) are in the exchange buffer, in that order;
     /// prior 0 environment, 1 smooth environment, 2 sky above (`+z` up), 3 smooth sky above,
     /// 4 the squared exponential of `lambda`; read noise `absolute` (σ) and `relative` (η);
-    /// prior probability `hazard` of a change per `layout_accumulate`. Its handle (≥ 0), or
+    /// prior probability `hazard` of a change per `layout_pool`. Its handle (≥ 0), or
     /// a negated error code (4: `k` is not a supported count; 1: a zero or non-finite
     /// direction; 5: a bad power, noise scale, noise, prior, λ or hazard, or more than four
     /// distinct powers).
@@ -226,7 +226,7 @@ mod exports {
     /// the first word (u32: 1 first, 2 blended, 3 reset); 0, or an error code (7: a NaN or
     /// infinite reading; the probe keeps its state).
     #[no_mangle]
-    pub extern "C" fn layout_accumulate(handle: u32) -> i32 {
+    pub extern "C" fn layout_pool(handle: u32) -> i32 {
         with_layout(handle, |l| each!(l, p => super::take(p, true)))
     }
 

@@ -186,10 +186,10 @@ fn temporal_directions<F: Footprint>(
     Ok(())
 }
 
-/// Updates the temporal probe with the `3·(N − S)` samples and then `3·S` sentinel readings
-/// at the start of [`IO`]; writes what it did with the old evidence (1 first, 2 blended,
+/// Pools the `3·(N − S)` samples and then `3·S` sentinel readings at the start of [`IO`]
+/// into the temporal probe; writes what it did with the old evidence (1 first, 2 blended,
 /// 3 reset, as u32) to `IO[0]`.
-fn temporal_update<F: Footprint>(
+fn temporal_pool<F: Footprint>(
     p: &mut TemporalProbe<ROTATED, [f32; 3], F, SENTINELS>,
 ) -> Result<(), Error> {
     let load = |i: usize| IO.get(i).map_or(0.0, |a| f32::from_bits(a.load(Relaxed)));
@@ -228,7 +228,7 @@ fn temporal_sh<F: Footprint>(
     Ok(())
 }
 
-/// The temporal probe's state into [`IO`]: updates and degree (u32 bits), then the effective
+/// The temporal probe's state into [`IO`]: updates and degree (u32 bits), then the pooled
 /// updates, the last change probability and its two log Bayes factors (f32).
 fn temporal_state<F: Footprint>(
     p: &TemporalProbe<ROTATED, [f32; 3], F, SENTINELS>,
@@ -367,14 +367,13 @@ mod exports {
         with_temporal(handle, |t| either!(t, p => super::temporal_sentinels(p)))
     }
 
-    /// Updates the temporal probe with the `N − S` RGB samples (in the order of the
-    /// directions) followed by the `S` RGB sentinel readings in the exchange buffer and
-    /// writes what it did with the old evidence to its first word (u32: 1 first, 2 blended,
+    /// Pools the `N − S` RGB samples (in the order of the directions) followed by the `S`
+    /// RGB sentinel readings in the exchange buffer into the temporal probe and writes what it did with the old evidence to its first word (u32: 1 first, 2 blended,
     /// 3 reset); 0, or an error code (7: a NaN or infinite value; the probe keeps its state
     /// and its directions).
     #[no_mangle]
-    pub extern "C" fn temporal_update(handle: u32) -> i32 {
-        with_temporal(handle, |t| either!(t, p => super::temporal_update(p)))
+    pub extern "C" fn temporal_pool(handle: u32) -> i32 {
+        with_temporal(handle, |t| either!(t, p => super::temporal_pool(p)))
     }
 
     /// Writes `[r, g, b, var_r, var_g, var_b]`, the accumulated irradiance about
@@ -401,7 +400,7 @@ mod exports {
     }
 
     /// Writes the temporal probe's state to the exchange buffer: updates and SH degree
-    /// (u32), then effective updates, the last change probability and the last log Bayes
+    /// (u32), then pooled updates, the last change probability and the last log Bayes
     /// factors of a change from the rotated samples and from the sentinels (f32); 0, or an
     /// error code.
     #[no_mangle]

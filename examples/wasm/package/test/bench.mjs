@@ -22,10 +22,10 @@ for (const n of [16, 64, 256]) {
       return Float32Array.from({ length: d.length }, (_, k) => 1 + 0.5 * d[k - (k % 3) + 2] + (k % 3));
     };
     const time = (f, reps) => { f(); const s = performance.now(); for (let i = 0; i < reps; i++) f(); return (1000 * (performance.now() - s)) / reps; };
-    const u = time(() => t.update(ys(), ss), n === 256 ? 100 : 500);
+    const u = time(() => t.pool(ys(), ss), n === 256 ? 100 : 500);
     const i = time(() => t.irradiance([0.2, 0.3, 1]), 5000);
     const s = time(() => t.radianceSh(), 5000);
-    console.log(`N=${n} temporal ${footprint}: update ${u.toFixed(1)} µs (directions included), irradiance ${i.toFixed(2)} µs, radianceSh ${s.toFixed(2)} µs`);
+    console.log(`N=${n} temporal ${footprint}: pool ${u.toFixed(1)} µs (directions included), irradiance ${i.toFixed(2)} µs, radianceSh ${s.toFixed(2)} µs`);
     t.dispose();
   }
 }
@@ -46,11 +46,11 @@ for (const k of [5, 6, 16]) {
   const ys = Float32Array.from({ length: 3 * k }, (_, j) => 1 + 0.5 * dirs[j - (j % 3) + 2] + (j % 3));
   const noisy = () => ys.map((v, j) => v * (1 + 0.01 * Math.sin(7 * j + performance.now())));
   const u = time(() => p.update(ys), 500);
-  const a = time(() => p.accumulate(noisy()), 500);
+  const a = time(() => p.pool(noisy()), 500);
   const i = time(() => p.irradiance([0.2, 0.3, 1]), 5000);
   const v = time(() => p.irradianceVariance([0.2, 0.3, 1]), 5000);
   const g = time(() => p.phong([0.2, 0.3, 1], 20), 2000);
   const s = time(() => p.radianceSh(), 5000);
-  console.log(`K=${k} layout: create ${created.toFixed(0)} µs, update ${u.toFixed(1)} µs, accumulate ${a.toFixed(1)} µs, irradiance ${i.toFixed(2)} µs, irradianceVariance ${v.toFixed(2)} µs, phong ${g.toFixed(1)} µs, radianceSh ${s.toFixed(2)} µs`);
+  console.log(`K=${k} layout: create ${created.toFixed(0)} µs, update ${u.toFixed(1)} µs, pool ${a.toFixed(1)} µs, irradiance ${i.toFixed(2)} µs, irradianceVariance ${v.toFixed(2)} µs, phong ${g.toFixed(1)} µs, radianceSh ${s.toFixed(2)} µs`);
   p.dispose();
 }

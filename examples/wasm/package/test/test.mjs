@@ -7,10 +7,10 @@
 //    directions, irradiance and glossy with variances, SH coefficients and variances, for
 //    every size and two rotations, and the errors of bad queries by name; and, for every size,
 //    a stream of temporal updates (static light, a switch, a slight brightening) of a point
-//    and of a footprint TemporalProbe: directions, what each update did, the state (effective
+//    and of a footprint TemporalProbe: directions, what each `pool` did, the state (pooled
 //    updates, change probability, evidence), irradiance with variance, SH and SH variances;
 //    and layout probes (a cube of six sensors, a dome of five under the sky-above prior, the
-//    cube under the other priors): an update and streams of accumulations (static light,
+//    cube under the other priors): an update and streams of pooled readings (static light,
 //    then a switch), what each did, the state, irradiance with its averaged and exact
 //    variances, Phong averages, SH coefficients, and the errors of refused layouts and
 //    readings;
@@ -19,7 +19,8 @@
 //    the temporal probe's irradiance of a constant and a linear field, point and footprint;
 //    the layout probe's answers for a constant field;
 // 4. the JS side: exceptions (type, code, message) for every kind of bad input, kept data
-//    after a refused update, independent probes, dispose, the `wasm` option.
+//    after a refused update, independent probes, dispose, the `wasm` option, the method names
+//    of the crate's vocabulary (`update` replaces, `pool` pools, `pooledUpdates`).
 //
 //   node test.mjs REFERENCE
 import { readFileSync, statSync } from "node:fs";
@@ -35,12 +36,14 @@ function ok(cond, what) {
     console.log(`FAIL: ${what}`);
   }
 }
-function throws(fn, code, what) {
+/** `fn` throws ProbeError `code`; its message starts with `prefix` (the method) if given. */
+function throws(fn, code, what, prefix) {
   try {
     fn();
   } catch (e) {
-    ok(e instanceof ProbeError && e instanceof Error && e.code === code && e.name === "ProbeError" && e.message.length > 0,
-      `${what}: expected ProbeError ${code}, got ${e?.name} ${e?.code}: ${e?.message}`);
+    ok(e instanceof ProbeError && e instanceof Error && e.code === code && e.name === "ProbeError" && e.message.length > 0 &&
+      (prefix === undefined || e.message.startsWith(`${prefix}: `)),
+      `${what}: expected ProbeError ${code}${prefix === undefined ? "" : ` from ${prefix}`}, got ${e?.name} ${e?.code}: ${e?.message}`);
     return;
   }
   ok(false, `${what}: expected ProbeError ${code}, nothing thrown`);
@@ -64,8 +67,9 @@ ok(JSON.stringify(SIZES) === "[16,32,64,128,256]", `SIZES ${SIZES}`);
 const EXPORTS = [
   "io_len", "io_ptr", "memory", "probe_directions", "probe_free", "probe_glossy", "probe_irradiance", "probe_new",
   "probe_radiance_sh", "probe_radiance_sh_variance", "probe_size", "probe_update", "temporal_directions",
-  "temporal_free", "temporal_irradiance", "temporal_new", "temporal_radiance_sh", "temporal_radiance_sh_variance",
-  "temporal_sentinel_count", "temporal_sentinels", "temporal_sharpness", "temporal_state", "temporal_update",
+  "temporal_free", "temporal_irradiance", "temporal_new", "temporal_pool", "temporal_radiance_sh",
+  "temporal_radiance_sh_variance", "temporal_sentinel_count", "temporal_sentinels", "temporal_sharpness",
+  "temporal_state",
 ];
 const bytesOf = {};
 for (const n of SIZES) {
@@ -84,9 +88,9 @@ for (const n of SIZES) {
 ok(bytesOf[64].length <= 100 * 1024, `probe-64.wasm is ${bytesOf[64].length} bytes, above the 100 KB target`);
 ok(JSON.stringify(LAYOUT_SIZES) === "[4,5,6,7,8,12,16]", `LAYOUT_SIZES ${LAYOUT_SIZES}`);
 const LAYOUT_EXPORTS = [
-  "io_len", "io_ptr", "layout_accumulate", "layout_capacities", "layout_directions", "layout_free", "layout_irradiance",
-  "layout_irradiance_variance", "layout_new", "layout_phong", "layout_radiance_sh", "layout_state", "layout_update",
-  "memory",
+  "io_len", "io_ptr", "layout_capacities", "layout_directions", "layout_free", "layout_irradiance",
+  "layout_irradiance_variance", "layout_new", "layout_phong", "layout_pool", "layout_radiance_sh", "layout_state",
+  "layout_update", "memory",
 ];
 const layoutFile = resolve("sphere-quadrature/wasm/layout.wasm");
 const layoutBytes = readFileSync(layoutFile);
@@ -206,11 +210,11 @@ for (const n of SIZES) {
       const e = t.irradiance(q);
       values(`irr${i}`, u, [...e.value, ...e.variance]);
     });
-    // Updates and degree as integers, then effective updates, change probability, evidence.
+    // Updates and degree as integers, then pooled updates, change probability, evidence.
     const state = (key, u) => {
       lines.push(`t_${key} ${at(u)} 0 ${t.updates}`, `t_${key} ${at(u)} 1 ${t.degree}`);
       const { rotated, sentinels } = t.lastEvidence;
-      [t.effectiveUpdates, t.lastChangeProbability, rotated, sentinels]
+      [t.pooledUpdates, t.lastChangeProbability, rotated, sentinels]
         .forEach((v, i) => lines.push(`t_${key} ${at(u)} ${i + 2} ${bits(v)}`));
     };
     const refused = (f) => {
@@ -236,7 +240,7 @@ for (const n of SIZES) {
         values("reading", u, ss);
         let change;
         try {
-          change = t.update(ys, ss);
+          change = t.pool(ys, ss);
         } catch (e) {
           if (!(e instanceof ProbeError)) throw e;
           change = e.code;
@@ -257,10 +261,10 @@ for (const n of SIZES) {
     const ss = Float32Array.from(inputs.get(`t_reading ${at(u)}`) ?? []);
     const bad = ys.slice();
     bad[3 * Math.floor(t.sampleCount / 2) + 1] = NaN;
-    lines.push(`t_err ${at(u)} 0 ${refused(() => t.update(bad, ss))}`);
+    lines.push(`t_err ${at(u)} 0 ${refused(() => t.pool(bad, ss))}`);
     const badSentinels = ss.slice();
     badSentinels[3 * (t.sentinelCount - 1) + 2] = Infinity;
-    lines.push(`t_err ${at(u)} 1 ${refused(() => t.update(ys, badSentinels))}`);
+    lines.push(`t_err ${at(u)} 1 ${refused(() => t.pool(ys, badSentinels))}`);
     const after = t.directions();
     lines.push(`t_err ${at(u)} 2 ${before.every((v, i) => v === after[i])}`);
     state("state_after_err", u);
@@ -378,7 +382,7 @@ for (const { name, prior, noise, hazard, stream } of LAYOUT_CASES) {
         out("reading", step, readings);
         let change;
         try {
-          change = p.accumulate(readings);
+          change = p.pool(readings);
         } catch (e) {
           if (!(e instanceof ProbeError)) throw e;
           change = e.code;
@@ -396,7 +400,7 @@ for (const { name, prior, noise, hazard, stream } of LAYOUT_CASES) {
   bad[3 * Math.floor(p.k / 2) + 1] = NaN;
   lines.push(`l_err ${name}.${step} 0 ${refusal(() => p.update(bad))}`);
   bad[3 * Math.floor(p.k / 2) + 1] = Infinity;
-  lines.push(`l_err ${name}.${step} 1 ${refusal(() => p.accumulate(bad))}`);
+  lines.push(`l_err ${name}.${step} 1 ${refusal(() => p.pool(bad))}`);
   state(step + 1);
   queries(step + 1);
   lines.push(`l_err ${name}.${step} 2 ${refusal(() => p.irradiance([0, 0, 0]))}`);
@@ -426,9 +430,9 @@ for (const { name, prior, noise, hazard, stream } of LAYOUT_CASES) {
 }
 // The streams must hold what they are meant to compare: blended static light, a reset at
 // the switch.
-ok(layoutChanges.length === 2 * LAYOUT_STREAM.reduce((a, b) => a + b, 0), `${layoutChanges.length} layout accumulations`);
+ok(layoutChanges.length === 2 * LAYOUT_STREAM.reduce((a, b) => a + b, 0), `${layoutChanges.length} layout pool calls`);
 ok(reference.filter((l) => l.startsWith("l_change ")).length === layoutChanges.length,
-  `the reference has ${reference.filter((l) => l.startsWith("l_change ")).length} layout accumulations, the package ${layoutChanges.length}`);
+  `the reference has ${reference.filter((l) => l.startsWith("l_change ")).length} layout pool calls, the package ${layoutChanges.length}`);
 for (const name of ["cube6", "dome5"]) {
   const c = layoutChanges.filter((x) => x.name === name).map((x) => x.change);
   const [a, b] = LAYOUT_STREAM;
@@ -451,7 +455,7 @@ ok(reference.length > 8000 && temporalLines > 100000 && layoutLines > LAYOUT_MIN
 if (differing === 0) {
   console.log(`${lines.length} lines (every size, seeds ${SEEDS.join(" and ")}; ${temporalLines} of them from ` +
     `${changes.length} temporal updates, point and footprint; ${layoutLines} from ${LAYOUT_CASES.length} layout probes ` +
-    `and ${layoutChanges.length} accumulations) identical to the host reference`);
+    `and ${layoutChanges.length} pool calls) identical to the host reference`);
 }
 
 // 3. Fields with known answers.
@@ -497,7 +501,7 @@ for (const n of SIZES) {
     const t = await TemporalProbe.create({ n, seed: 2, footprint });
     const L = [0.5, 2, 7];
     const constant = (count) => Float32Array.from({ length: 3 * count }, (_, k) => L[k % 3]);
-    for (let k = 0; k < 3; k++) t.update(constant(t.sampleCount), constant(t.sentinelCount));
+    for (let k = 0; k < 3; k++) t.pool(constant(t.sampleCount), constant(t.sentinelCount));
     const normal = [0.3, -0.4, 0.5];
     const irr = t.irradiance(normal);
     const sh = t.radianceSh();
@@ -506,14 +510,14 @@ for (const n of SIZES) {
       ok(rel(sh[c], Math.sqrt(4 * Math.PI) * L[c]) < 1e-5, `temporal N = ${n} ${footprint}, constant: c00 ${sh[c]}`);
       ok(irr.variance[c] >= 0 && irr.variance[c] < 1e-6 * L[c] ** 2, `temporal N = ${n} ${footprint}, constant: variance ${irr.variance[c]}`);
     }
-    ok(t.updates === 3 && t.effectiveUpdates === 3, `temporal N = ${n} ${footprint}: ${t.updates} updates, ${t.effectiveUpdates} effective`);
+    ok(t.updates === 3 && t.pooledUpdates === 3, `temporal N = ${n} ${footprint}: ${t.updates} updates, ${t.pooledUpdates} pooled`);
     const s = t.sharpness;
     const g1 = s === 0 ? 1 : 1 / Math.tanh(s) - 1 / s;
     const a = [1, 2, 0.5], b = [0.5, -1, 0.25];
     const linear = (dirs) => Float32Array.from({ length: dirs.length }, (_, k) => a[k % 3] + g1 * b[k % 3] * dirs[3 * Math.floor(k / 3) + 2]);
     const fresh = await TemporalProbe.create({ n, seed: 3, footprint });
     const sentinelReadings = linear(fresh.sentinels());
-    for (let k = 0; k < 4; k++) ok(fresh.update(linear(fresh.directions()), sentinelReadings) !== "reset", `temporal N = ${n} ${footprint}: no reset on static light`);
+    for (let k = 0; k < 4; k++) ok(fresh.pool(linear(fresh.directions()), sentinelReadings) !== "reset", `temporal N = ${n} ${footprint}: no reset on static light`);
     const u = Math.hypot(...normal);
     const lin = fresh.irradiance(normal);
     // Aliasing is left after 4 updates (0.2 % at N = 16 point, below 0.4 % from N = 32).
@@ -605,44 +609,47 @@ await rejects(TemporalProbe.create({ n: 16, wasm: bytesOf[64] }), "InvalidSize",
   const fresh = t.irradiance([0, 0, 1]);
   ok([...fresh.value, ...fresh.variance].every((v) => v === 0) && t.updates === 0 && t.lastChangeProbability === 0,
     "a fresh temporal probe answers zero");
+  // The crate's vocabulary: a temporal probe pools (0.1's `update` and `effectiveUpdates` are gone).
+  ok(typeof t.pool === "function" && !("update" in t) && !("effectiveUpdates" in t) && t.pooledUpdates === 0,
+    "TemporalProbe has pool and pooledUpdates, not update or effectiveUpdates");
   const dirs = t.directions();
   const sentinels = t.sentinels();
   ok(dirs.length === 3 * 62 && sentinels.length === 6, `temporal directions ${dirs.length}, sentinels ${sentinels.length}`);
   const ys = Float32Array.from({ length: 3 * 62 }, (_, k) => 1 + (k % 5) / 8);
   const ss = Float32Array.from({ length: 6 }, () => 1.25);
-  throws(() => t.update(ys.subarray(1), ss), "LengthMismatch", "temporal update with 3(N − S) − 1 samples");
-  throws(() => t.update(new Float32Array(3 * 64), ss), "LengthMismatch", "temporal update with 3N samples");
-  throws(() => t.update(ys, ss.subarray(3)), "LengthMismatch", "temporal update with one sentinel reading short");
-  throws(() => t.update(ys), "LengthMismatch", "temporal update without sentinel readings");
-  ok(t.update(ys, Array.from(ss)) === "first", "the first temporal update");
+  throws(() => t.pool(ys.subarray(1), ss), "LengthMismatch", "temporal pool with 3(N − S) − 1 samples", "pool");
+  throws(() => t.pool(new Float32Array(3 * 64), ss), "LengthMismatch", "temporal pool with 3N samples", "pool");
+  throws(() => t.pool(ys, ss.subarray(3)), "LengthMismatch", "temporal pool with one sentinel reading short", "pool");
+  throws(() => t.pool(ys), "LengthMismatch", "temporal pool without sentinel readings", "pool");
+  ok(t.pool(ys, Array.from(ss)) === "first", "the first temporal pool");
   const next = t.directions();
   ok(next.some((v, i) => v !== dirs[i]), "a temporal update rotates the directions");
   ok(t.sentinels().every((v, i) => v === sentinels[i]), "the sentinels stay");
   const before = t.irradiance([0, 1, 0]);
   const bad = ys.slice();
   bad[4] = Infinity;
-  throws(() => t.update(bad, ss), "InvalidRadiance", "temporal: infinite sample");
-  throws(() => t.update(ys, Float32Array.from([1, 1, NaN, 1, 1, 1])), "InvalidRadiance", "temporal: NaN sentinel reading");
+  throws(() => t.pool(bad, ss), "InvalidRadiance", "temporal: infinite sample", "pool");
+  throws(() => t.pool(ys, Float32Array.from([1, 1, NaN, 1, 1, 1])), "InvalidRadiance", "temporal: NaN sentinel reading", "pool");
   const after = t.irradiance([0, 1, 0]);
   ok(t.updates === 1 && before.value.every((v, c) => v === after.value[c]) && t.directions().every((v, i) => v === next[i]),
-    "a refused temporal update keeps the state and the directions");
+    "a refused temporal pool keeps the state and the directions");
   throws(() => t.irradiance([0, 1]), "LengthMismatch", "temporal: a normal of 2 components");
   throws(() => t.irradiance([0, 0, 0]), "InvalidDirection", "temporal: zero normal");
   // Probes and temporal probes of one module are independent; the `wasm` option's module
   // answers as the default one.
   const p = await Probe.create({ n: 64 });
   const own = await TemporalProbe.create({ n: 64, seed: 4, wasm: new WebAssembly.Module(bytesOf[64]) });
-  own.update(ys, ss);
+  own.pool(ys, ss);
   ok(own.irradiance([0, 1, 0]).value.every((v, c) => v === before.value[c]), "the `wasm` option's temporal probe answers as the default one");
   p.dispose();
   ok(t.irradiance([0, 1, 0]).value.every((v, c) => v === before.value[c]), "freeing a Probe leaves the temporal probes alone");
   t.dispose();
   t.dispose();
   throws(() => t.directions(), "InvalidHandle", "temporal directions after dispose");
-  throws(() => t.update(ys, ss), "InvalidHandle", "temporal update after dispose");
-  throws(() => t.effectiveUpdates, "InvalidHandle", "temporal state after dispose");
+  throws(() => t.pool(ys, ss), "InvalidHandle", "temporal pool after dispose", "pool");
+  throws(() => t.pooledUpdates, "InvalidHandle", "temporal state after dispose", "pooledUpdates");
   const r = await TemporalProbe.create({ n: 64, seed: 4 });
-  r.update(ys, ss);
+  r.pool(ys, ss);
   ok(r.irradiance([0, 1, 0]).value.every((v, c) => v === before.value[c]), "a new temporal probe in a freed slot starts afresh");
   for (const x of [r, own]) x.dispose();
   try {
@@ -661,10 +668,13 @@ await rejects(TemporalProbe.create({ n: 16, wasm: bytesOf[64] }), "InvalidSize",
   const L = [0.5, 2, 7];
   const p = await LayoutProbe.create({ directions: faces, prior: { squaredExponential: 2 } });
   ok(p.k === 6 && !p.updated && p.pooledUpdates === 0, `a fresh layout probe: k ${p.k}, updated ${p.updated}`);
+  // The crate's vocabulary: `update` replaces, `pool` pools (0.1's `accumulate` is gone).
+  ok(typeof p.update === "function" && typeof p.pool === "function" && !("accumulate" in p),
+    "LayoutProbe has update and pool, not accumulate");
   const zero = p.irradiance([0, 0, 1]);
   ok([...zero.value, ...zero.variance].every((v) => v === 0), "a layout probe answers zero before the first update");
-  ok(p.accumulate(Float32Array.from({ length: 18 }, (_, k) => L[k % 3])) === "first", "the first accumulation");
-  ok(p.updated && p.pooledUpdates === 1, `after the first accumulation: pooled ${p.pooledUpdates}`);
+  ok(p.pool(Float32Array.from({ length: 18 }, (_, k) => L[k % 3])) === "first", "the first pool");
+  ok(p.updated && p.pooledUpdates === 1, `after the first pool: pooled ${p.pooledUpdates}`);
   const irr = p.irradiance([0.3, -0.4, 0.5]);
   const phong = p.phong([0.2, 0.3, 0.9], 20);
   const sh = p.radianceSh();
@@ -677,10 +687,10 @@ await rejects(TemporalProbe.create({ n: 16, wasm: bytesOf[64] }), "InvalidSize",
       `layout, constant: variances ${exact[c]}, ${phong.variance[c]}`);
   }
   ok(sh.slice(3).every((v, i) => Math.abs(v) < 1e-4 * L[i % 3]), `layout, constant: higher SH ${sh.slice(3)}`);
-  // An update and a first accumulation of the same readings fit the same.
+  // An update and a first pool of the same readings fit the same.
   const q = await LayoutProbe.create({ directions: faces, prior: { squaredExponential: 2 } });
   q.update(Float32Array.from({ length: 18 }, (_, k) => L[k % 3]));
-  ok(q.irradiance([0.3, -0.4, 0.5]).value.every((v, c) => v === irr.value[c]), "update and a first accumulation agree");
+  ok(q.irradiance([0.3, -0.4, 0.5]).value.every((v, c) => v === irr.value[c]), "update and a first pool agree");
   ok(q.lastChangeProbability === 0 && p.lastChangeProbability === 1, `change probabilities ${q.lastChangeProbability}, ${p.lastChangeProbability}`);
 
   // Every sensor count of the module builds and answers (spherical Fibonacci layouts).
@@ -729,13 +739,13 @@ await rejects(TemporalProbe.create({ n: 16, wasm: bytesOf[64] }), "InvalidSize",
   await rejects(LayoutProbe.create({ directions: nan }), "InvalidDirection", "layout NaN direction");
   // Readings: lengths, NaN, kept state.
   const before = p.irradiance([0, 1, 0]);
-  throws(() => p.update(new Float32Array(17)), "LengthMismatch", "layout update with 3K − 1 readings");
-  throws(() => p.accumulate([1, 2, 3]), "LengthMismatch", "layout accumulate with 3 readings");
-  throws(() => p.update(null), "LengthMismatch", "layout update without readings");
+  throws(() => p.update(new Float32Array(17)), "LengthMismatch", "layout update with 3K − 1 readings", "update");
+  throws(() => p.pool([1, 2, 3]), "LengthMismatch", "layout pool with 3 readings", "pool");
+  throws(() => p.update(null), "LengthMismatch", "layout update without readings", "update");
   const bad = Float32Array.from({ length: 18 }, (_, k) => L[k % 3]);
   bad[7] = NaN;
-  throws(() => p.update(bad), "InvalidRadiance", "layout: NaN reading (update)");
-  throws(() => p.accumulate(bad), "InvalidRadiance", "layout: NaN reading (accumulate)");
+  throws(() => p.update(bad), "InvalidRadiance", "layout: NaN reading (update)", "update");
+  throws(() => p.pool(bad), "InvalidRadiance", "layout: NaN reading (pool)", "pool");
   const after = p.irradiance([0, 1, 0]);
   ok(p.pooledUpdates === 1 && before.value.every((v, c) => v === after.value[c]), "a refused layout update keeps the state");
   throws(() => p.irradiance([0, 1]), "LengthMismatch", "layout: a normal of 2 components");
@@ -756,7 +766,8 @@ await rejects(TemporalProbe.create({ n: 16, wasm: bytesOf[64] }), "InvalidSize",
   p.dispose();
   throws(() => p.directions(), "InvalidHandle", "layout directions after dispose");
   throws(() => p.update(bad), "InvalidHandle", "layout update after dispose");
-  throws(() => p.pooledUpdates, "InvalidHandle", "layout state after dispose");
+  throws(() => p.pool(bad), "InvalidHandle", "layout pool after dispose", "pool");
+  throws(() => p.pooledUpdates, "InvalidHandle", "layout state after dispose", "pooledUpdates");
   own.dispose();
   try {
     new LayoutProbe();

@@ -27,19 +27,19 @@ export async function shade(radiance: (x: number, y: number, z: number) => [numb
   return e.value[0] + e.variance[0] + g.value[1] + sh[0] + shVar[0] + first + (code === "InvalidDirection" ? 1 : 0);
 }
 
-export async function accumulate(trace: (dirs: Float32Array) => Float32Array): Promise<number> {
+export async function pool(trace: (dirs: Float32Array) => Float32Array): Promise<number> {
   const probe: TemporalProbe = await TemporalProbe.create({ n: 64, seed: 1, footprint: "gaussian", hazard: 0.01 });
   const sentinels: Float32Array = probe.sentinels();
   let resets = 0;
   for (let frame = 0; frame < 8; frame++) {
-    const change: Change = probe.update(trace(probe.directions()), trace(sentinels));
+    const change: Change = probe.pool(trace(probe.directions()), trace(sentinels));
     if (change === "reset") resets++;
   }
   const e: Estimate = probe.irradiance([0, 0, 1]);
   const evidence: ChangeEvidence = probe.lastEvidence;
   const footprint: Footprint = probe.footprint;
   const counts: number = probe.sampleCount + probe.sentinelCount + probe.degree + probe.sharpness + probe.hazard;
-  const state: number = probe.updates + probe.effectiveUpdates + probe.lastChangeProbability;
+  const state: number = probe.updates + probe.pooledUpdates + probe.lastChangeProbability;
   const sh: Float32Array = probe.radianceSh();
   const shVar: Float32Array = probe.radianceShVariance();
   const n: ProbeSize = probe.n;
@@ -57,7 +57,7 @@ export async function sensors(read: () => Float32Array): Promise<number> {
   });
   const dome = await LayoutProbe.create({ directions: new Float32Array(15), prior: "sky-above" });
   probe.update(read());
-  const change: Change = probe.accumulate(read());
+  const change: Change = probe.pool(read());
   const e: Estimate = probe.irradiance([0, 0, 1]);
   const exact: Float32Array = probe.irradianceVariance([0, 0, 1]);
   const glossy: Estimate = probe.phong([0, 1, 0], 20);
@@ -95,13 +95,17 @@ export async function misuse(): Promise<void> {
   // @ts-expect-error: the constructor is private; use TemporalProbe.create
   new TemporalProbe();
   const t = await TemporalProbe.create();
-  // @ts-expect-error: update needs the sentinel readings
-  t.update(new Float32Array(3 * t.sampleCount));
-  // @ts-expect-error: an update's answer is a Change, not a boolean
-  const reset: boolean = t.update(new Float32Array(186), new Float32Array(6));
+  // @ts-expect-error: pool needs the sentinel readings
+  t.pool(new Float32Array(3 * t.sampleCount));
+  // @ts-expect-error: pool's answer is a Change, not a boolean
+  const reset: boolean = t.pool(new Float32Array(186), new Float32Array(6));
   void reset;
-  // @ts-expect-error: effectiveUpdates is read-only
-  t.effectiveUpdates = 4;
+  // @ts-expect-error: pooledUpdates is read-only
+  t.pooledUpdates = 4;
+  // @ts-expect-error: a temporal probe pools; 0.1's update is pool
+  t.update(new Float32Array(186), new Float32Array(6));
+  // @ts-expect-error: 0.1's effectiveUpdates is pooledUpdates
+  void t.effectiveUpdates;
   // @ts-expect-error: a layout probe needs its directions
   await LayoutProbe.create({ prior: "environment" });
   // @ts-expect-error: no such prior
@@ -111,9 +115,14 @@ export async function misuse(): Promise<void> {
   const l = await LayoutProbe.create({ directions: new Float32Array(12) });
   // @ts-expect-error: phong needs an exponent
   l.phong([0, 0, 1]);
-  // @ts-expect-error: an accumulation's answer is a Change, not a boolean
-  const blended: boolean = l.accumulate(new Float32Array(12));
+  // @ts-expect-error: pool's answer is a Change, not a boolean
+  const blended: boolean = l.pool(new Float32Array(12));
   void blended;
+  // @ts-expect-error: update replaces and answers nothing
+  const replaced: Change = l.update(new Float32Array(12));
+  void replaced;
+  // @ts-expect-error: 0.1's accumulate is pool
+  l.accumulate(new Float32Array(12));
   // @ts-expect-error: pooledUpdates is read-only
   l.pooledUpdates = 2;
 }
