@@ -1765,4 +1765,54 @@ mod tests {
         assert!((drift[WARM + 9].light.scale - 1.1).abs() < 1e-6);
         assert!((drift[WARM + 9].brightness - 1.1).abs() < 1e-12);
     }
+
+    /// The bookkeeping of whole runs: every change counted once in its slot, detections
+    /// nested (within 1 ⊆ 2 ⊆ 4), the updates and queries each count covers.
+    #[test]
+    fn runs_count_every_change_update_and_query_once() {
+        let map = lobed();
+        let normals = [[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [0.0, -1.0, 0.0]];
+        let grids = [Grid::new(map.width, map.height, &normals)];
+        let w = &grids[0].weights;
+        let make = |m: &EnvMap| Scenes {
+            base: scene(m.clone(), w),
+            hue: scene(hue_turned(m), w),
+            rotate30: scene(turned(m), w),
+            grid: 0,
+        };
+        // The light before a switch to map 1 is map 0, 20× darker.
+        let scenes = [make(&scaled(&map, 0.05)), make(&map)];
+        let (q, sequences) = (normals.len(), 3);
+        for scenario in SCENARIOS {
+            let c = curve(16, "few", scenario, 1, &scenes, &grids, &normals, sequences, 1, 2);
+            assert!(c.count.iter().all(|&n| n == 3 * q * sequences), "{scenario}");
+            let slots = match scenario {
+                "two-changes" => 2,
+                s if QUIET.contains(&s) => 0,
+                _ => 1,
+            };
+            for (slot, d) in c.detections.iter().enumerate() {
+                assert_eq!(d.all, if slot < slots { sequences } else { 0 }, "{scenario}");
+                assert!(d.within[0] <= d.within[1] && d.within[1] <= d.within[2], "{scenario}");
+                assert!(d.within[2] + d.never <= d.all, "{scenario}");
+            }
+            // Coverage: k ≥ 4 after each change (13 of the 16 updates between the two
+            // changes of `two-changes`), else from the measured k = 4.
+            let covered = if scenario == "two-changes" { 13 + 61 } else { 61 };
+            assert_eq!(c.queries, 3 * q * covered * sequences, "{scenario}");
+            let (quiet, warm) = match scenario {
+                "static" => (UPDATES - 1, 0),
+                "drift" => (UPDATES, WARM - 1),
+                "flicker" | "fireflies" => (UPDATES, 0),
+                _ => (0, WARM - 1),
+            };
+            assert_eq!(c.quiet_updates, quiet * sequences, "{scenario}");
+            let static_light = if scenario == "static" { UPDATES - 1 } else { warm };
+            assert_eq!(c.static_updates, static_light * sequences, "{scenario}");
+            // A switch from a light 20× darker: every sentinel sees it at once.
+            if scenario == "switch" {
+                assert_eq!(c.detections[0].within[0], sequences);
+            }
+        }
+    }
 }
