@@ -147,7 +147,7 @@ fn query<T: Reading, const K: usize>(
     op: u8,
     state: State,
     ordinary: bool,
-    spread_profile: bool,
+    skip: Skip,
     b: &mut Bytes,
 ) {
     let before = format!("{probe:?}");
@@ -267,11 +267,13 @@ fn query<T: Reading, const K: usize>(
                 // and the noise default or smaller.
                 let small = channels(w).all(|x| x.abs() <= 1.0);
                 let cstate = match state {
-                    State::Moderate if small => State::Moderate,
                     State::Empty | State::Unchecked => state,
+                    // Known defect 21 (fuzz/README.md): NaN values of the combined probe.
+                    _ if skip.zonal_relative && known_defect(21) => State::Unchecked,
+                    State::Moderate if small => State::Moderate,
                     _ => State::Any,
                 };
-                query::<f32, K>(&c, b.u8() % 4, cstate, ordinary && small, spread_profile, b);
+                query::<f32, K>(&c, b.u8() % 4, cstate, ordinary && small, skip, b);
                 // An update of the combined probe takes one channel.
                 if b.bool() {
                     let mut c = c;
@@ -280,14 +282,18 @@ fn query<T: Reading, const K: usize>(
                     if y.iter().all(|v| v.is_finite()) {
                         assert_eq!(r, Ok(()), "combined probe's update({y:?})");
                         let m = ordinary && small && y.iter().all(|&v| moderate(v));
-                        // Known defect 17 (see `run`) on the combined probe.
+                        // Known defects 17 and 19 (see `run`) on the combined probe.
+                        let flat = y.iter().all(|&v| v == y[0]);
                         let s = match (state, m) {
                             (State::Unchecked, _) => State::Unchecked,
-                            _ if spread_profile && known_defect(17) => State::Unchecked,
+                            _ if skip.profile && known_defect(17) => State::Unchecked,
+                            _ if skip.absolute && flat && K > 0 && known_defect(19) => {
+                                State::Unchecked
+                            }
                             (_, true) => State::Moderate,
                             (_, false) => State::Any,
                         };
-                        query::<f32, K>(&c, b.u8() % 4, s, ordinary && small, spread_profile, b);
+                        query::<f32, K>(&c, b.u8() % 4, s, ordinary && small, skip, b);
                     } else {
                         assert_eq!(r, Err(Error::InvalidRadiance));
                     }
@@ -296,6 +302,15 @@ fn query<T: Reading, const K: usize>(
         }
     }
     assert_eq!(before, format!("{probe:?}"), "a query changed the probe");
+}
+
+/// Layout properties of known defects: a spread zonal profile (17), an absolute noise (19).
+#[derive(Clone, Copy)]
+struct Skip {
+    profile: bool,
+    absolute: bool,
+    /// Known defect 21: a zonal mean profile with a relative noise (the combined probe).
+    zonal_relative: bool,
 }
 
 /// A response from the reader: the default cosine, a cosine power or a Gaussian of any
@@ -372,6 +387,7 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
     let mut moderate_profile = true;
     let mut profile_bad = false;
     let mut spread_profile = false;
+    let mut zonal = false;
     match b.u8() % 5 {
         0 => prior = prior.with_mean(Mean::Zero),
         1 => prior = prior.with_mean(Mean::Constant),
@@ -379,10 +395,12 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
             let mut p = [0.0f32; 9];
             p[0] = 1.0;
             p[1] = factor(b);
+            zonal = true;
             prior = prior.with_mean(Mean::Zonal(p));
         }
         3 => {
             let p: [f32; 9] = core::array::from_fn(|_| if b.bool() { b.f32() } else { 0.0 });
+            zonal = true;
             profile_bad = p.iter().any(|x| !x.is_finite()) || p.iter().all(|&x| x == 0.0);
             moderate_profile = p.iter().all(|&x| x == 0.0 || (1e-15..=1e15).contains(&x.abs()));
             let nonzero = p.iter().map(|x| x.abs()).filter(|&x| x > 0.0);
@@ -484,16 +502,23 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
                 let m = ordinary && y.iter().all(|&v| moderate(v));
                 // `update` replaces the stream; `accumulate` pools with the old readings (even
                 // a reset keeps some of their weight).
+                // Known defect 19: readings equal at every sensor in some channel, far above
+                // an absolute noise (3·10¹¹ against 0.01), under a mean, give NaN values and
+                // scale.
+                let level =
+                    (0..T::CHANNELS).any(|c| y.iter().all(|v| v.channel(c) == y[0].channel(c)));
+                let flat_readings = K > 0 && level && noise.absolute > 0.0;
                 // Known defect 20: a fitted signal variance beyond f32::MAX (a prior far below
                 // the readings: a spectrum of 2⁻¹³¹ against readings of 10⁶) gives NaN values.
                 let beyond = channels(probe.signal_variance()).any(|x| x.is_infinite());
-                state = if (spread_profile || (op == 1 && state == State::Unchecked))
-                    && known_defect(17)
-                    || beyond && known_defect(20)
+                state = if (flat_readings || beyond || (op == 1 && state == State::Unchecked))
+                    && (known_defect(19) || known_defect(20))
                 {
+                    State::Unchecked
+                } else if spread_profile && known_defect(17) {
                     // Known defect 17: a zonal mean profile whose coefficients span more than
-                    // 2²⁰ can leave the mean's basis below f32's range in the working units
-                    // (readings far below the noise): NaN values and scale (fuzz/README.md).
+                    // 2²⁰ (one the sensors barely see beside one they cannot) with any noise
+                    // gives NaN values and scale (fuzz/README.md, "Known defects").
                     State::Unchecked
                 } else if m && (op == 0 || state != State::Any) {
                     State::Moderate
@@ -512,7 +537,14 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
                     assert_eq!(r.err(), Some(Error::InvalidHazard), "with_hazard({h})");
                 }
             }
-            op => query::<T, K>(&probe, (op - 3) % 5, state, ordinary, spread_profile, b),
+            op => {
+                let skip = Skip {
+                    profile: spread_profile,
+                    absolute: noise.absolute > 0.0,
+                    zonal_relative: zonal && noise.relative > 0.0,
+                };
+                query::<T, K>(&probe, (op - 3) % 5, state, ordinary, skip, b)
+            }
         }
     }
 }

@@ -34,8 +34,10 @@ use sphere_quadrature::Vec3;
 /// target). 18. `LayoutProbe::new` refuses with `InvalidPrior` sensors that see only the level
 /// (degree ≥ 1 gains 0) under a prior whose level is a mean (open; allowed in the `layout`
 /// target). 19. `LayoutProbe` with a mean and an absolute noise gave NaN values for readings
-/// equal at every sensor far above the noise (fixed; checked). 20. `LayoutProbe` whose fitted
-/// signal variance exceeds `f32::MAX` gives NaN values (open; skipped in the `layout` target).
+/// equal at every sensor far above the noise (fixed for the known cases; still skipped).
+/// 20. `LayoutProbe` whose fitted signal variance exceeds `f32::MAX` gives NaN values (open;
+/// skipped). 21. `LayoutProbe::combined_probe` under a zonal mean with a relative noise can give
+/// NaN values (open; skipped).
 #[must_use]
 pub fn known_defect(n: u32) -> bool {
     // Defects 1–13 are fixed (tests/hardening/hardening.rs, `defect_NN_…`): their cases are
