@@ -56,23 +56,35 @@
 //! of a change since the last update (prior [`DEFAULT_HAZARD`],
 //! [`TemporalProbe::with_hazard`]), and forgets old evidence accordingly: a soft, partial
 //! reset, `π ≈ 1` restarting from the new update.
-//! - **Sentinels**: `S` fixed directions (the const parameter, [`TemporalProbe::sentinels`])
-//!   read at every update and never rotated. On static light their readings repeat exactly,
-//!   so aliasing cannot fake a change there. A sentinel's evidence is the Bayes factor of its
-//!   change `r = y − ȳ` under "changed" (the new reading unrelated to the old: variance twice
-//!   its squared mean plus the samples' second moment) against "unchanged" (variance its own
-//!   repeat noise plus its reading times the state's relative irradiance error: a change too
-//!   small to matter to the estimate is not one). Only evidence *for* a change counts: a
-//!   light can change where no sentinel looks.
+//! - **Sentinels re-read**: `S` of the rays per update (the const parameter,
+//!   [`TemporalProbe::sentinels`]) look again where earlier updates looked, so that a change
+//!   shows as the difference of two readings of one direction, which aliasing cannot fake
+//!   (A-SVGF's re-shading of last frame's samples). Each sentinel tracks one direction for 4
+//!   updates or more (the sentinels in turn, so that some are verified at every update), then
+//!   moves to the brightest reading of the latest update's rotated samples: a global change
+//!   moves the bright readings most, a light that switches off was bright, and no direction
+//!   stays unwatched. A reading is
+//!   *verified* once its re-read repeats it; a new reading that its re-read does not repeat
+//!   is decided by a third (two of three agree; no evidence either way).
+//! - **A sentinel's evidence** is the Bayes factor of the change `r = y − y₀` from its
+//!   verified reading `y₀` under "changed" (the new reading unrelated to the old: variance
+//!   twice `y₀²` plus the samples' second moment) against "unchanged" (variance `y₀²` times
+//!   the state level's relative variance, clamped to `[0.05², 0.1²]`: a change of 10 % always
+//!   matters, one of 5 % never does, so that a slow drift between two readings is not a
+//!   change). Only evidence *for* a change counts. A change alone at one sentinel may be an
+//!   outlier (a firefly) or a flicker: the sentinel keeps its direction, and its next reading
+//!   confirms the change (it repeats the changed reading: the evidence counts, a reset after
+//!   two updates) or refutes it (back at the verified reading: no evidence). Changes seen
+//!   together in three octants of the sphere count at once, each capped at `ln 32`.
 //! - **Innovation**: the new update's projection of degrees `l ≤ 2` (every channel) against
 //!   the state's mean, `d = p − p̄`: variance `v·(1 + 1/k)` on static light, more by twice each
 //!   degree's power when the light is new, both multivariate Student t of 3 degrees of
 //!   freedom (an aliasing outlier inflates every coefficient of its update at once). Without
-//!   sentinels it is the change signal. With them it only adds to the evidence of a change a
-//!   sentinel sees: aliasing can fake it, and forgetting the old evidence for an outlier would
+//!   sentinels it is the change signal. With them only its evidence *against* a change
+//!   counts: aliasing can fake a change, and forgetting the old evidence for an outlier would
 //!   make the outlier weigh more.
-//! - **Forgetting**: for evidence of a change (a sentinel's, or without sentinels a positive
-//!   log Bayes factor of the innovation), the mixture of "changed" (the new update alone)
+//! - **Forgetting**: for a change (with sentinels `π ≥ ½`, without them a positive log Bayes
+//!   factor of the innovation), the mixture of "changed" (the new update alone)
 //!   and "unchanged" (pooled with the old evidence) is collapsed to one pooled state with the
 //!   same mean: the old evidence keeps the weight `w′ = (1 − π)·w/(1 + π·w)` of its `w`.
 //!   Otherwise it keeps `(1 − π)·w`, with `π` at most the hazard, so that static light pools
@@ -80,14 +92,6 @@
 //!   would cap the weight at `1/√π`). Without sentinels a static map with a sun or lamps
 //!   pools 28–49 updates on average at `N = 16` (513–754 on `city`), where collapsing at every
 //!   update pooled 15–21 (67–69) (`tests/sh/temporal.rs`).
-//! - **A flickering sentinel** (a source that changes while the rotated samples show no
-//!   change) learns its own repeat noise: when a sentinel's evidence alone would reset the
-//!   state but the innovation says the light is the same, the sentinel becomes suspect; if it
-//!   returns to its reading from before that change within 32 updates, again unseen by the
-//!   innovation, its noise variance becomes at least its latest squared change and that
-//!   update is not a reset. A flicker of one amplitude costs at most one reset; after that
-//!   the sentinel reports only larger changes. A change that stays (one only the sentinels
-//!   see) is never learned as flicker, so the changes after it stay visible.
 //! - **The price**: sentinels are rays that add nothing to the estimate. Measured
 //!   ([`eval/src/bin/temporal.rs`], [`docs/temporal.md`]), 1–4 sentinels of 16–256 rays detect
 //!   most changes of the light within an update, where the innovation alone misses most
@@ -99,7 +103,7 @@
 //! use sphere_quadrature::temporal::{Change, TemporalProbe};
 //! use sphere_quadrature::Vec3;
 //!
-//! // 60 rotated directions and 4 fixed sentinels: 64 rays per update.
+//! // 60 rotated directions and 4 sentinels: 64 rays per update.
 //! let mut probe = TemporalProbe::<60, f32, Point, 4>::new(7);
 //! let sky = |d: Vec3| 1.0 + 0.5 * d.z;
 //! for frame in 0..8 {
@@ -111,9 +115,14 @@
 //! let e = probe.irradiance(Vec3::Z)?;
 //! // π·(1 + 0.5·2/3) = 4.18879.
 //! assert!((e.value - 4.18879).abs() < 0.01);
-//! // The light switches off: the sentinels see it, the state restarts.
-//! assert_eq!(probe.pool(&[0.0; 60], &[0.0; 4])?, Change::Reset);
-//! assert!(probe.irradiance(Vec3::Z)?.value.abs() < 1e-6);
+//! // The light switches off: the sentinels see it, and the state restarts within two
+//! // updates (at once where three octants' sentinels see it together).
+//! let first = probe.pool(&[0.0; 60], &[0.0; 4])?;
+//! if first != Change::Reset {
+//!     assert_eq!(probe.pool(&[0.0; 60], &[0.0; 4])?, Change::Reset);
+//! }
+//! // What the old evidence keeps is below 1 % of the estimate.
+//! assert!(probe.irradiance(Vec3::Z)?.value.abs() < 0.04);
 //! # Ok::<(), sphere_quadrature::Error>(())
 //! ```
 //!
@@ -165,14 +174,15 @@ pub const MAX_DEGREE: usize = 8;
 
 /// The degrees of freedom of the Student t of the change test's innovation.
 const TAIL: f32 = 3.0;
-/// Updates within which a sentinel's return to its reading from before a change the rotated
-/// samples did not see counts as flicker.
-const FLICKER_WINDOW: u16 = 32;
 
 /// How far (in powers of two) a sample's magnitude may stray from the state's scale before
 /// the state is rescaled: within it every square and sum of squares of the state is a normal
 /// f32 number far from overflow.
 const SCALE_WINDOW: i32 = 20;
+
+/// The smallest and largest relative change of a re-read that the change test tolerates as
+/// within the state's error.
+const TOLERANCE: (f32, f32) = (0.05, 0.1);
 
 /// Coefficients of degrees `0..=MAX_DEGREE`.
 const COEFFICIENTS: usize = (MAX_DEGREE + 1) * (MAX_DEGREE + 1);
@@ -342,12 +352,12 @@ pub type RgbTemporalProbe<const N: usize, F = Point, const S: usize = 0> =
     TemporalProbe<N, [f32; 3], F, S>;
 
 /// A probe updated again and again under fresh rotations of `N` directions, pooling the
-/// evidence of every sample (see the module docs), with `S` fixed sentinel directions for the
-/// change signal. `T` is `f32` or RGB `[f32; C]`, `F` the samples' footprint
+/// evidence of every sample (see the module docs), with `S` sentinels that re-read earlier
+/// directions for the change signal. `T` is `f32` or RGB `[f32; C]`, `F` the samples' footprint
 /// ([`crate::footprint`]). Any `N ≥ 1` works: the probe needs no baked tables.
 ///
 /// It holds its directions and three sets of 81 coefficients per channel (the sums, their
-/// rounding errors and the queries'): 4 248 bytes for `N = 64`, RGB, `S = 4`; 1 920 for
+/// rounding errors and the queries'): 4 224 bytes for `N = 64`, RGB, `S = 4`; 1 920 for
 /// `N = 64`, one channel, no sentinels, on a 64-bit host (a unit test pins both).
 ///
 /// # Examples
@@ -396,14 +406,8 @@ pub struct TemporalProbe<
     /// `Σ w·v̄₁`, the conservative per-update noise estimates (mean top-degree mean square)
     /// of the change test.
     noise_prior_test: T,
-    /// The sentinels' weighted mean readings.
-    sentinel_mean: [T; S],
-    /// The sentinels' repeat noise variance (learned from flicker).
-    sentinel_noise: [T; S],
-    /// Each sentinel's mean before its last change the innovation did not see.
-    sentinel_before: [T; S],
-    /// Updates left in which a return to `sentinel_before` counts as flicker.
-    sentinel_suspect: [u16; S],
+    /// The re-read slots: what each slot's reading is compared with.
+    slots: [reread::Slot<T>; S],
     /// The state's scale: every statistic above is in units of `2^scale` (second moments in
     /// units of `4^scale`), so that none depends on the units of the samples.
     scale: i32,
@@ -488,10 +492,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             dof: 0.0,
             noise_prior: T::ZERO,
             noise_prior_test: T::ZERO,
-            sentinel_mean: [T::ZERO; S],
-            sentinel_noise: [T::ZERO; S],
-            sentinel_before: [T::ZERO; S],
-            sentinel_suspect: [0; S],
+            slots: [reread::Slot::EMPTY; S],
             scale: 0,
             irradiance_coefficients: [T::ZERO; COEFFICIENTS],
             irradiance_variance: T::ZERO,
@@ -537,8 +538,9 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         &self.directions
     }
 
-    /// The fixed sentinel directions, read at every update (the spherical Fibonacci set of
-    /// `S` points, never rotated).
+    /// The directions in which to take this update's sentinel readings: directions of earlier
+    /// updates, re-read (module docs; before the first update, the spherical Fibonacci set of
+    /// `S` points).
     #[must_use]
     pub const fn sentinels(&self) -> &[Vec3; S] {
         &self.sentinel_directions
@@ -625,7 +627,6 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         let w = self.weight;
         let mut innovation = [T::ZERO; COEFFICIENTS];
         let (mut log_bf_rotated, mut log_bf_sentinel) = (0.0f32, 0.0f32);
-        let mut sentinel_bf = [0.0f32; S];
         if !first {
             for (d, (&pi, &si)) in innovation.iter_mut().zip(p.iter().zip(&self.sum)).take(count) {
                 *d = pi.add(si.scale(-1.0 / w));
@@ -670,55 +671,9 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
                 -0.5 * log_det
                     - 0.5 * (TAIL + q) * (math::ln_1p(z1 / TAIL) - math::ln_1p(z0 / TAIL))
             };
-            // Sentinels: evidence for a change only. A change matters when it is large
-            // against what the state knows: the sentinel's repeat noise plus its reading
-            // times the state's relative irradiance error.
+            // Re-reads: evidence for a change only (module `reread`).
             let second_moment = sum_squares(samples).scale(1.0 / N as f32);
-            let mean_irradiance = self.sum[0].scale(PI / (w * math::sqrt(4.0 * PI)));
-            for (j, bf) in sentinel_bf.iter_mut().enumerate() {
-                *bf = self.sentinel_evidence(
-                    sentinels[j],
-                    self.sentinel_mean[j],
-                    self.sentinel_noise[j],
-                    second_moment,
-                    mean_irradiance,
-                );
-            }
-            // A sentinel that alone would reset while the innovation finds the light
-            // unchanged is suspect. If it comes back to its reading from before that change
-            // within FLICKER_WINDOW updates (again unseen by the innovation), it flickers:
-            // its repeat noise becomes at least its latest squared change, and this update's
-            // evidence is taken again with it. A change that stays is never learned as
-            // flicker, so later changes stay visible.
-            let unchanged = logistic(self.prior_log_odds + log_bf_rotated) < 0.5;
-            for j in 0..S {
-                let (y, mean) = (sentinels[j], self.sentinel_mean[j]);
-                if !unchanged || logistic(self.prior_log_odds + sentinel_bf[j]) < 0.5 {
-                    continue;
-                }
-                let r = y.add(mean.scale(-1.0));
-                let back = y.add(self.sentinel_before[j].scale(-1.0));
-                let total =
-                    |v: T| (0..T::CHANNELS).map(|c| v.channel(c) * v.channel(c)).sum::<f32>();
-                if self.sentinel_suspect[j] > 0 && 4.0 * total(back) < total(r) {
-                    self.sentinel_noise[j] = max_per_channel(self.sentinel_noise[j], r.mul(r));
-                    self.sentinel_suspect[j] = 0;
-                    sentinel_bf[j] = self.sentinel_evidence(
-                        y,
-                        mean,
-                        self.sentinel_noise[j],
-                        second_moment,
-                        mean_irradiance,
-                    );
-                } else {
-                    self.sentinel_before[j] = mean;
-                    self.sentinel_suspect[j] = FLICKER_WINDOW + 1;
-                }
-            }
-            log_bf_sentinel = sentinel_bf.iter().sum();
-        }
-        for count in &mut self.sentinel_suspect {
-            *count = count.saturating_sub(1);
+            log_bf_sentinel = self.weigh_rereads(sentinels, second_moment);
         }
         // With sentinels the innovation alone does not forget: aliasing can fake it, and an
         // outlier that made the old evidence weigh less would weigh more itself. It adds to
@@ -739,7 +694,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         // hazard): the old weight times 1 − π. (Collapsing at every update would cap the
         // weight at 1/√π: static light with weak evidence, such as a bright spot's aliasing,
         // would never pool.)
-        let confirmed = if S == 0 { log_bf_rotated > 0.0 } else { log_bf_sentinel > 0.0 };
+        let confirmed = if S == 0 { log_bf_rotated > 0.0 } else { probability >= 0.5 };
         let kept = if first {
             0.0
         } else if confirmed {
@@ -754,8 +709,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             self.restart_at(e);
             restart_samples = in_units(original_samples, e);
             restart_sentinels = in_units(original_sentinels, e);
-            sentinels = &restart_sentinels;
-            (p, v1, v1_test) = self.project_with_noise(&restart_samples);
+            (samples, sentinels) = (&restart_samples, &restart_sentinels);
+            (p, v1, v1_test) = self.project_with_noise(samples);
         }
         if kept > 0.0 {
             let innovation_squares = sum_squares(&innovation[..count]);
@@ -779,8 +734,22 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         self.noise_prior = self.noise_prior.scale(keep).add(v1);
         self.noise_prior_test = self.noise_prior_test.scale(keep).add(v1_test);
         self.weight = kept + 1.0;
-        for (mean, &y) in self.sentinel_mean.iter_mut().zip(sentinels) {
-            *mean = mean.add(y.add(mean.scale(-1.0)).scale(1.0 / self.weight));
+        if S > 0 {
+            if probability >= 0.5 {
+                // Every reading is of the new light: the slots start again from it.
+                for (slot, &y) in self.slots.iter_mut().zip(sentinels) {
+                    if slot.kind != reread::Kind::Empty && slot.kind != reread::Kind::Verified {
+                        *slot = reread::Slot {
+                            kind: reread::Kind::New,
+                            reference: y,
+                            other: y,
+                            evidence: 0.0,
+                            age: 0,
+                        };
+                    }
+                }
+            }
+            self.choose_rereads(samples);
         }
         self.last_change_probability = if first { 0.0 } else { probability };
         self.last_evidence = (log_bf_rotated, log_bf_sentinel);
@@ -796,30 +765,141 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         })
     }
 
-    /// The log Bayes factor (positive part) of a change at one sentinel reading `y` against
-    /// its mean and repeat noise.
-    fn sentinel_evidence(
-        &self,
-        y: T,
-        mean: T,
-        noise: T,
-        second_moment: T,
-        mean_irradiance: T,
-    ) -> f32 {
-        let w = self.weight;
-        let r = y.add(mean.scale(-1.0));
+    /// The log Bayes factor (positive part, summed over the channels) of a change from the
+    /// reading `before` to `y` of one direction: "changed" (`y` unrelated to `before`:
+    /// variance twice its square plus the samples' second moment) against "unchanged" (the
+    /// difference no larger than `before` times the relative error `relative` of the state's
+    /// level: a change too small to matter to the estimate is not one).
+    fn reread_evidence(&self, y: T, before: T, second_moment: T, relative: T) -> f32 {
+        let r = y.add(before.scale(-1.0));
         let mut bf = 0.0f32;
         for ch in 0..T::CHANNELS {
-            let (m, e) = (mean.channel(ch), mean_irradiance.channel(ch));
-            let error = self.irradiance_variance.channel(ch);
-            let tolerance = if e != 0.0 { error / (e * e) * m * m } else { error / (PI * PI) };
+            let m = before.channel(ch);
             // Rounding is not a change.
             let tiny = 1e-5 * m.abs();
-            let s0 = noise.channel(ch) * (1.0 + 1.0 / w) + tolerance + tiny * tiny;
+            // The state's relative error, but a change of 10 % always matters, and one of 5 %
+            // never does (a slow drift between two readings of a direction).
+            let tolerance =
+                relative.channel(ch).clamp(TOLERANCE.0 * TOLERANCE.0, TOLERANCE.1 * TOLERANCE.1);
+            let s0 = tolerance * m * m + tiny * tiny;
             let psi = 2.0 * (second_moment.channel(ch) + m * m);
             bf += gaussian_log_bf(r.channel(ch) * r.channel(ch), 1.0, s0, psi).max(0.0);
         }
         bf
+    }
+
+    /// The log Bayes factor of a change from the re-read slots' readings (module `reread`),
+    /// moving each slot to its next state.
+    fn weigh_rereads(&mut self, readings: &[T; S], second_moment: T) -> f32 {
+        use reread::{Kind, Slot};
+        // The relative variance of the state's level (its mean radiance), per channel.
+        let (v, w) = (self.noise(), self.weight);
+        let relative = v.map(|x| x / w);
+        let mut relative_level = T::ZERO;
+        for ch in 0..T::CHANNELS {
+            let level = self.sum[0].channel(ch) / w;
+            let x = if level != 0.0 { relative.channel(ch) / (level * level) } else { 0.0 };
+            relative_level = set_channel(relative_level, ch, x);
+        }
+        let evidence =
+            |y: T, before: T| self.reread_evidence(y, before, second_moment, relative_level);
+        let prior = self.prior_log_odds;
+        let agrees = |y: T, before: T| prior + evidence(y, before) < 0.0;
+        let (mut confirmed, mut fresh) = (0.0f32, 0.0f32);
+        // The regions of the alarms, as a bit set.
+        let mut alarms = 0u32;
+        let mut next = self.slots;
+        let slots = self.slots.iter().zip(&self.sentinel_directions);
+        for ((slot, &d), (next, &y)) in slots.zip(next.iter_mut().zip(readings)) {
+            let mut alarm = |b: f32| {
+                alarms |= 1 << reread::octant(d);
+                fresh += b.min(reread::CONTAMINATION);
+            };
+            let age = slot.age.saturating_add(1);
+            let to = |kind: Kind, reference: T, other: T, evidence: f32| Slot {
+                kind,
+                reference,
+                other,
+                evidence,
+                age,
+            };
+            *next = match slot.kind {
+                Kind::Empty => Slot::EMPTY,
+                Kind::New if agrees(y, slot.reference) => {
+                    to(Kind::Verified, slot.reference, y, 0.0)
+                }
+                Kind::New => {
+                    // A change, or an outlier in one of the two readings: an alarm that counts
+                    // only beside another.
+                    let b = evidence(y, slot.reference);
+                    if prior + b >= 0.0 {
+                        alarm(b);
+                    }
+                    to(Kind::Disputed, slot.reference, y, 0.0)
+                }
+                // Two readings of three agree: the odd one was an outlier (or the light
+                // changed once, unseen: no evidence either way).
+                Kind::Disputed if agrees(y, slot.reference) => {
+                    to(Kind::Verified, slot.reference, y, 0.0)
+                }
+                Kind::Disputed => to(Kind::Verified, y, y, 0.0),
+                Kind::Verified => {
+                    let b = evidence(y, slot.reference);
+                    if prior + b < 0.0 {
+                        to(Kind::Verified, slot.reference, y, 0.0)
+                    } else {
+                        alarm(b);
+                        to(Kind::Suspect, slot.reference, y, b)
+                    }
+                }
+                Kind::Suspect if agrees(y, slot.other) => {
+                    confirmed += slot.evidence;
+                    to(Kind::Verified, y, y, 0.0)
+                }
+                Kind::Suspect if agrees(y, slot.reference) => {
+                    to(Kind::Verified, slot.reference, y, 0.0)
+                }
+                Kind::Suspect => to(Kind::New, y, y, 0.0),
+            };
+        }
+        self.slots = next;
+        // One alarm alone may be an outlier, and alarms in one or two regions a flicker: they
+        // wait for their confirmation.
+        if alarms.count_ones() >= 3 {
+            confirmed + fresh
+        } else {
+            confirmed
+        }
+    }
+
+    /// After an update: the directions the free slots re-read next (an empty slot, or one
+    /// that has tracked its direction for [`reread::TRACK`] updates or more, the slots in
+    /// turn), the brightest of this update's rotated samples.
+    fn choose_rereads(&mut self, samples: &[T; N]) {
+        use reread::{brightness, Kind, Slot};
+        let mut key = samples.map(brightness);
+        for slot in 0..S {
+            let s = &self.slots[slot];
+            // The slots move in turn, so that some are verified at every update.
+            let turn = (slot as u16 * reread::TRACK / S as u16) % reread::TRACK;
+            let free = s.kind == Kind::Empty
+                || (s.kind == Kind::Verified && s.age >= reread::TRACK + turn);
+            if !free {
+                continue;
+            }
+            let mut best: Option<usize> = None;
+            for (j, &k) in key.iter().enumerate() {
+                if k >= 0.0 && best.is_none_or(|b| k > key[b]) {
+                    best = Some(j);
+                }
+            }
+            let Some(j) = best else { continue };
+            key[j] = -1.0;
+            self.sentinel_directions[slot] = self.directions[j];
+            let y = samples[j];
+            self.slots[slot] =
+                Slot { kind: Kind::New, reference: y, other: y, evidence: 0.0, age: 0 };
+        }
     }
 
     /// The projection of this update's samples and its per-update noise estimates `v₁`, the
@@ -855,10 +935,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         self.scatter = two(self.scatter);
         self.noise_prior = two(self.noise_prior);
         self.noise_prior_test = two(self.noise_prior_test);
-        for j in 0..S {
-            self.sentinel_mean[j] = one(self.sentinel_mean[j]);
-            self.sentinel_before[j] = one(self.sentinel_before[j]);
-            self.sentinel_noise[j] = two(self.sentinel_noise[j]);
+        for slot in &mut self.slots {
+            (slot.reference, slot.other) = (one(slot.reference), one(slot.other));
         }
         self.irradiance_variance = two(self.irradiance_variance);
         self.scale = e;
@@ -871,7 +949,6 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         self.sum = [T::ZERO; COEFFICIENTS];
         self.sum_error = [T::ZERO; COEFFICIENTS];
         (self.scatter, self.noise_prior, self.noise_prior_test) = (T::ZERO, T::ZERO, T::ZERO);
-        self.sentinel_mean = [T::ZERO; S];
         self.rescale(e);
     }
 
@@ -1104,6 +1181,7 @@ fn max_per_channel<T: Radiance>(a: T, b: T) -> T {
 }
 
 mod evidence;
+mod reread;
 mod scale;
 pub(crate) use evidence::{gaussian_log_bf, log_odds, logistic};
 

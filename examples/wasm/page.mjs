@@ -414,7 +414,6 @@ async function temporalRun(lights, counts, n, seed, picture) {
   const probe = await TemporalProbe.create({ n, seed });
   try {
     const live = cells.filter((c) => c);
-    const sentinels = probe.sentinels();
     const S = probe.sentinelCount;
     let ddgi = null;
     let mean = null;
@@ -427,7 +426,7 @@ async function temporalRun(lights, counts, n, seed, picture) {
         const dirs = probe.directions();
         const all = new Float32Array(3 * n);
         all.set(dirs);
-        all.set(sentinels, dirs.length);
+        all.set(probe.sentinels(), dirs.length);
         const ys = new Float32Array(3 * n);
         for (let j = 0; j < n; j++) {
           const i = pixelOf(map, all[3 * j], all[3 * j + 1], all[3 * j + 2]);

@@ -229,11 +229,13 @@ fn every_update_rotates_the_set_and_the_rotations_follow_the_seed() {
     let first = *a.directions();
     a.pool(&first.map(sky), &[]).unwrap();
     assert_ne!(a.directions(), &first);
-    // The sentinels never move.
+    // The sentinels re-read directions of the update before: they move with the set.
     let mut s = TemporalProbe::<32, f32, sphere_quadrature::footprint::Point, 4>::new(7);
     let sentinels = *s.sentinels();
-    s.pool(&s.directions().map(sky), &sentinels.map(sky)).unwrap();
-    assert_eq!(s.sentinels(), &sentinels);
+    let rotated = *s.directions();
+    s.pool(&rotated.map(sky), &sentinels.map(sky)).unwrap();
+    assert_ne!(s.sentinels(), &sentinels);
+    assert!(s.sentinels().iter().all(|d| rotated.contains(d)), "{:?}", s.sentinels());
 }
 
 /// Irradiance truth of `sky` by a fine Fibonacci quadrature.
@@ -293,18 +295,29 @@ fn a_footprint_probe_answers_for_the_unfiltered_light() {
     assert!((sh.coefficients[2] - 0.5 * (4.0 * std::f32::consts::PI / 3.0).sqrt()).abs() < 1e-3);
 }
 
+/// The updates after which `probe` first reports a reset under `light`, up to `limit`.
+fn updates_to_reset<const N: usize, const S: usize>(
+    p: &mut TemporalProbe<N, f32, sphere_quadrature::footprint::Point, S>,
+    light: &dyn Fn(Vec3) -> f32,
+    limit: usize,
+) -> Option<usize> {
+    (1..=limit).find(|_| {
+        let (s, t) = (p.directions().map(light), p.sentinels().map(light));
+        p.pool(&s, &t).unwrap() == Change::Reset
+    })
+}
+
 #[test]
-fn a_switch_seen_by_the_sentinels_resets_at_once() {
+fn a_switch_seen_by_the_sentinels_resets_within_two_updates() {
     let other = |d: Vec3| 2.0 - 0.8 * d.x + 3.0 * (10.0 * (d.z - 1.0)).exp();
-    let mut p = TemporalProbe::<60, f32, sphere_quadrature::footprint::Point, 4>::new(9);
-    for _ in 0..16 {
-        let (s, t) = (p.directions().map(sky), p.sentinels().map(sky));
-        assert_ne!(p.pool(&s, &t).unwrap(), Change::Reset);
+    for seed in 0..8 {
+        let mut p = TemporalProbe::<60, f32, sphere_quadrature::footprint::Point, 4>::new(seed);
+        assert_eq!(updates_to_reset(&mut p, &sky, 16), None, "seed {seed}");
+        let k = updates_to_reset(&mut p, &other, 2);
+        assert!(k.is_some(), "seed {seed}");
+        assert!(p.last_change_probability() > 0.99);
+        assert!(p.pooled_updates() < 1.01);
     }
-    let (s, t) = (p.directions().map(other), p.sentinels().map(other));
-    assert_eq!(p.pool(&s, &t).unwrap(), Change::Reset);
-    assert!(p.last_change_probability() > 0.99);
-    assert!(p.pooled_updates() < 1.01);
 }
 
 #[test]
@@ -350,44 +363,46 @@ fn bad_input_is_refused_and_keeps_the_state() {
 }
 
 #[test]
-fn a_real_switch_does_not_teach_the_sentinels_flicker() {
-    // Both the sentinels and the rotated samples see the switch: it is a change, not flicker,
-    // and the switch back is seen as clearly.
+fn a_switch_and_the_switch_back_are_each_seen_within_two_updates() {
+    // A change that reverts later is a change each time; only a return within one update is
+    // taken for an outlier.
     let other = |d: Vec3| 2.0 - 0.8 * d.x + 3.0 * (10.0 * (d.z - 1.0)).exp();
     let mut p = TemporalProbe::<60, f32, sphere_quadrature::footprint::Point, 4>::new(9);
-    let mut changes = Vec::new();
-    for (light, updates) in [(sky as fn(Vec3) -> f32, 16), (other, 16), (sky, 1)] {
-        for _ in 0..updates {
-            let (s, t) = (p.directions().map(light), p.sentinels().map(light));
-            changes.push(p.pool(&s, &t).unwrap());
-        }
-    }
-    assert_eq!(changes[16], Change::Reset);
-    assert_eq!(changes[32], Change::Reset, "{changes:?}");
+    assert_eq!(updates_to_reset(&mut p, &sky, 16), None);
+    assert!(updates_to_reset(&mut p, &other, 2).is_some());
+    assert_eq!(updates_to_reset(&mut p, &other, 14), None);
+    assert!(updates_to_reset(&mut p, &sky, 2).is_some());
     assert!(p.last_change_probability() > 0.99, "{}", p.last_change_probability());
 }
 
 #[test]
-fn a_persistent_change_only_the_sentinels_see_is_not_flicker() {
-    // The light gains small bright spots at the sentinels: the rotated samples' low degrees
-    // barely see it, the sentinels do, and it stays. A sentinel learns flicker only from a
-    // change that reverts, so a brightening of the whole light 16 updates later is seen.
-    let mut p = TemporalProbe::<60, f32, sphere_quadrature::footprint::Point, 4>::new(13);
-    let spots = *p.sentinels();
-    let spotted = move |d: Vec3| {
-        sky(d) + spots.iter().map(|s| 2.0 * (400.0 * (d.dot(*s) - 1.0)).exp()).sum::<f32>()
-    };
-    let brighter = move |d: Vec3| 1.3 * spotted(d);
-    let mut changes = Vec::new();
-    let lights: [(&dyn Fn(Vec3) -> f32, usize); 3] = [(&sky, 16), (&spotted, 16), (&brighter, 2)];
-    for (light, updates) in lights {
-        for _ in 0..updates {
-            let (s, t) = (p.directions().map(light), p.sentinels().map(light));
-            changes.push(p.pool(&s, &t).unwrap());
+fn a_brightening_by_a_third_is_seen_within_two_updates_at_one_sentinel() {
+    // The sentinel re-reads bright directions: a global ×1.3 moves them by far more than the
+    // state's error, and the rotated set never holds the state back.
+    let brighter = |d: Vec3| 1.3 * other(d);
+    let mut found = 0;
+    for seed in 0..16 {
+        let mut p = TemporalProbe::<15, f32, sphere_quadrature::footprint::Point, 1>::new(seed);
+        assert_eq!(updates_to_reset(&mut p, &other, 16), None, "seed {seed}");
+        found += usize::from(updates_to_reset(&mut p, &brighter, 2).is_some());
+    }
+    assert!(found >= 14, "{found} of 16");
+}
+
+#[test]
+fn one_outlier_at_a_sentinel_is_not_a_change() {
+    // A firefly: one reading 100 times its value, once per sequence, at the sentinel.
+    for seed in 0..16 {
+        let mut p = TemporalProbe::<15, f32, sphere_quadrature::footprint::Point, 1>::new(seed);
+        for k in 0..32 {
+            let s = p.directions().map(other);
+            let mut t = p.sentinels().map(other);
+            if k == 16 {
+                t[0] *= 100.0;
+            }
+            assert_ne!(p.pool(&s, &t).unwrap(), Change::Reset, "seed {seed}, update {k}");
         }
     }
-    assert_eq!(changes[16], Change::Reset, "{changes:?}");
-    assert_eq!(changes[32], Change::Reset, "{changes:?}");
 }
 
 #[test]
@@ -504,9 +519,9 @@ fn check_scaled(got: f32, want: f64, norm: f64, tol: f64, what: &str) -> f64 {
 /// relative (measured: 9.8·10⁻⁷ and 4.1·10⁻⁶), the same decisions and effective updates.
 fn scale_sweep<const N: usize, const S: usize>(seed: u64) {
     let base = scaled_run::<N, S>(1.0, seed);
-    // The light switches off at update 18: that is a reset at every scale.
+    // The light switches off at update 18: that is a reset within two updates at every scale.
     let changes: Vec<Change> = base.iter().map(|r| r.0).collect();
-    assert_eq!(changes[18], Change::Reset, "{changes:?}");
+    assert!(changes[18..20].contains(&Change::Reset), "{changes:?}");
     let mut scales = vec![1e-30, 1e-21, 1e-10, 1e-3, 3.7, 1e3, 1e10, 1e18, 1e30];
     scales.extend([-100, -60, 60, 100].map(|k| 2f64.powi(k)));
     let mut worst = (0.0f64, 0.0f64);
@@ -535,7 +550,7 @@ fn scale_sweep<const N: usize, const S: usize>(seed: u64) {
                 worst.1 = worst.1.max(check_scaled(g.1, v, v, 1e-4, &format!("{what}: variance")));
                 // An irradiance error bar is 0 only for an exact answer (the light switched
                 // off).
-                if i < 8 && !(18..21).contains(&k) {
+                if i < 8 && !(18..21).contains(&k) && want.2[i].0 != 0.0 {
                     assert!(w.1 > 0.0, "{what}: variance 0 at c = 1");
                 }
             }
@@ -554,7 +569,8 @@ fn any_scale_gives_scaled_answers_and_the_same_decisions() {
     scale_sweep::<64, 2>(23);
 }
 
-/// `k` updates of `sky` scaled by `c`, then the light switches off.
+/// `k` updates of `sky` scaled by `c`, then the light switches off: a reset within two
+/// updates, if any.
 fn switch_off_after<const S: usize>(c: f32, k: usize) -> (Change, f32) {
     let mut p = TemporalProbe::<16, f32, sphere_quadrature::footprint::Point, S>::new(5);
     for _ in 0..k {
@@ -562,6 +578,10 @@ fn switch_off_after<const S: usize>(c: f32, k: usize) -> (Change, f32) {
         p.pool(&s, &t).unwrap();
     }
     let weight = p.pooled_updates();
+    let first = p.pool(&[0.0; 16], &[0.0; S]).unwrap();
+    if first == Change::Reset {
+        return (first, weight);
+    }
     (p.pool(&[0.0; 16], &[0.0; S]).unwrap(), weight)
 }
 

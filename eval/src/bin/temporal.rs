@@ -14,7 +14,7 @@
 //! absolute); the error is the relative RMSE of RGB irradiance at seeded random normals
 //! against every-pixel ground truth, over sequences × normals × channels. Each sequence
 //! turns the scene by its own seeded uniformly random rotation (the light, its changes and
-//! the query normals together), so that the fixed sentinels fall anywhere relative to the
+//! the query normals together), so that the probe's regions fall anywhere relative to the
 //! light; the same sequence index gets the same rotation, lamp and region at every `N` and
 //! in both tiers.
 //!
@@ -47,7 +47,7 @@
 //! k ≥ 4 after each change, or every measured update without one).
 //!
 //! Methods:
-//! - `bmc-temporal`: the crate's `TemporalProbe`, with `S` of the `N` rays as fixed sentinels
+//! - `bmc-temporal`: the crate's `TemporalProbe`, with `S` of the `N` rays as sentinels (re-reads)
 //!   (`--sentinels`: by default `S` = 1, 2, 4 at `N` = 16, 64, 256) and `N − S` rotated;
 //! - `oracle`: the running mean of the per-update cosine-weighted average of the `N` samples,
 //!   restarted at each true change (unbiased, and it knows when the light changed; under
@@ -1208,7 +1208,8 @@ fn render(
          Maps: {}. Every table is over the {maps_label} (the crate's settings were chosen on {}); \
          relative RMSE of RGB irradiance, each map scaled to a mean irradiance of 1, the scene \
          turned by a random rotation per sequence. Ratios are means of per-map ratios unless \
-         said otherwise. `bmc-temporal` spends {} of its N rays on fixed sentinels; every method \
+         said otherwise. `bmc-temporal` spends {} of its N rays on sentinels (re-reads of earlier \
+         directions); every method \
          reads N rays per update. See the program's docs for the methods.\n",
         args.sequences,
         args.normals,
@@ -1469,7 +1470,7 @@ fn plot(
 
 /// The report's explanation of the scenarios.
 const SCENARIO_NOTES: &str = "Scenarios. Each sequence turns the whole scene (light, changes, query normals) by its own \
-seeded random rotation, so the fixed sentinels fall anywhere relative to the light. A scenario with a change \
+seeded random rotation, so that nothing of the probe's lies in a fixed place relative to the light. A scenario with a change \
 runs 16 updates of the light before it (the warm start), then 64 measured updates after it (k = 1 at the \
 first update of the new light); the oracles restart at every change.\n\n\
 - `static`: 64 updates of the map.\n\
@@ -1809,9 +1810,10 @@ mod tests {
             assert_eq!(c.quiet_updates, quiet * sequences, "{scenario}");
             let static_light = if scenario == "static" { UPDATES - 1 } else { warm };
             assert_eq!(c.static_updates, static_light * sequences, "{scenario}");
-            // A switch from a light 20× darker: every sentinel sees it at once.
+            // A switch from a light 20× darker: every sentinel sees it, and a change a
+            // sentinel sees is confirmed by its next reading.
             if scenario == "switch" {
-                assert_eq!(c.detections[0].within[0], sequences);
+                assert_eq!(c.detections[0].within[1], sequences);
             }
         }
     }

@@ -152,7 +152,7 @@ export type Change =
 export interface TemporalProbeOptions {
   /**
    * Rays per update: 16, 32, 64 (default), 128 or 256, of which `sentinelCount` (1, 1, 2,
-   * 3, 4) are fixed sentinels and the rest rotated samples. Anything else throws
+   * 3, 4) are sentinels (re-reads of earlier directions) and the rest rotated samples. Anything else throws
    * `InvalidSize`.
    */
   n?: number;
@@ -193,19 +193,19 @@ export interface ChangeEvidence {
 /**
  * An RGB temporal probe (`TemporalProbe<N − S, [f32; 3], F, S>` of the Rust crate):
  * `pool()` takes, again and again, radiance in the N − S directions of a freshly rotated
- * spherical Fibonacci set and in S fixed sentinel directions. It pools the evidence of every
+ * spherical Fibonacci set and in S sentinel directions (re-reads of earlier ones). It pools the evidence of every
  * update (the running sum of the samples' spherical-harmonic projections, shrunk per degree
  * against the measured aliasing noise), so its error keeps falling with the updates, and
- * forgets old evidence by the posterior probability that the light changed (the sentinels
- * repeat exactly on static light, so aliasing cannot fake a change there). Lives in
+ * forgets old evidence by the posterior probability that the light changed (a re-read
+ * repeats exactly on static light, so aliasing cannot fake a change there). Lives in
  * WebAssembly memory: `dispose()` frees it. Errors throw `ProbeError`.
  *
  * ```js
  * import { TemporalProbe } from "sphere-quadrature";
  * const probe = await TemporalProbe.create({ n: 64, seed: 1 });
- * const sentinels = probe.sentinels(); // 3S floats, fixed
  * for (;;) { // every frame
  *   const dirs = probe.directions(); // 3(N − S) floats, new every update
+ *   const sentinels = probe.sentinels(); // 3S floats, new every update
  *   probe.pool(trace(dirs), trace(sentinels)); // r, g, b per direction
  *   const { value, variance } = probe.irradiance([0, 0, 1]);
  * }
@@ -256,7 +256,7 @@ export declare class TemporalProbe {
    */
   directions(): Float32Array;
 
-  /** The S fixed sentinel directions, x, y, z each (3S floats), never rotated. */
+  /** This update's S sentinel directions, x, y, z each (3S floats): directions of earlier updates, re-read. */
   sentinels(): Float32Array;
 
   /**

@@ -279,7 +279,7 @@ const CHANGES = { 1: "first", 2: "blended", 3: "reset" };
 /**
  * An RGB temporal probe of N rays per update (`TemporalProbe<N − S, [f32; 3], F, S>` of the
  * Rust crate): every update takes radiance in N − S directions of a freshly rotated spherical
- * Fibonacci set and in S fixed sentinel directions, pools the evidence of all updates, and
+ * Fibonacci set and in S sentinel directions (re-reads of earlier ones), pools the evidence of all updates, and
  * forgets it by the posterior probability that the light changed. `F` is point samples or
  * the normalised spherical Gaussian of sharpness N/8 (`footprint: "gaussian"`).
  */
@@ -384,7 +384,8 @@ export class TemporalProbe {
   }
 
   /**
-   * The S fixed sentinel directions, x, y, z each (never rotated).
+   * This update's S sentinel directions, x, y, z each: directions of earlier updates,
+   * re-read.
    * @returns {Float32Array}
    */
   sentinels() {

@@ -360,7 +360,7 @@ mod exports {
         with_temporal(handle, |t| either!(t, p => super::temporal_directions(p)))
     }
 
-    /// Writes the `S` fixed sentinel directions (x, y, z each) to the exchange buffer; 0, or
+    /// Writes this update's `S` sentinel directions (x, y, z each) to the exchange buffer; 0, or
     /// an error code.
     #[no_mangle]
     pub extern "C" fn temporal_sentinels(handle: u32) -> i32 {
