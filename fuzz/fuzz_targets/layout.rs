@@ -268,8 +268,6 @@ fn query<T: Reading, const K: usize>(
                 let small = channels(w).all(|x| x.abs() <= 1.0);
                 let cstate = match state {
                     State::Empty | State::Unchecked => state,
-                    // Known defect 21 (fuzz/README.md): NaN values of the combined probe.
-                    _ if skip.zonal_relative && known_defect(21) => State::Unchecked,
                     State::Moderate if small => State::Moderate,
                     _ => State::Any,
                 };
@@ -282,14 +280,10 @@ fn query<T: Reading, const K: usize>(
                     if y.iter().all(|v| v.is_finite()) {
                         assert_eq!(r, Ok(()), "combined probe's update({y:?})");
                         let m = ordinary && small && y.iter().all(|&v| moderate(v));
-                        // Known defects 17 and 19 (see `run`) on the combined probe.
-                        let flat = y.iter().all(|&v| v == y[0]);
+                        // Known defect 22 (see `run`) on the combined probe.
                         let s = match (state, m) {
                             (State::Unchecked, _) => State::Unchecked,
-                            _ if skip.profile && known_defect(17) => State::Unchecked,
-                            _ if skip.absolute && flat && K > 0 && known_defect(19) => {
-                                State::Unchecked
-                            }
+                            _ if skip.unseen_mean && known_defect(22) => State::Unchecked,
                             (_, true) => State::Moderate,
                             (_, false) => State::Any,
                         };
@@ -304,13 +298,10 @@ fn query<T: Reading, const K: usize>(
     assert_eq!(before, format!("{probe:?}"), "a query changed the probe");
 }
 
-/// Layout properties of known defects: a spread zonal profile (17), an absolute noise (19).
+/// Layout properties of known defects: a zonal mean the sensors barely see (22).
 #[derive(Clone, Copy)]
 struct Skip {
-    profile: bool,
-    absolute: bool,
-    /// Known defect 21: a zonal mean profile with a relative noise (the combined probe).
-    zonal_relative: bool,
+    unseen_mean: bool,
 }
 
 /// A response from the reader: the default cosine, a cosine power or a Gaussian of any
@@ -386,8 +377,7 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
     }
     let mut moderate_profile = true;
     let mut profile_bad = false;
-    let mut spread_profile = false;
-    let mut zonal = false;
+    let mut profile = None;
     match b.u8() % 5 {
         0 => prior = prior.with_mean(Mean::Zero),
         1 => prior = prior.with_mean(Mean::Constant),
@@ -395,17 +385,14 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
             let mut p = [0.0f32; 9];
             p[0] = 1.0;
             p[1] = factor(b);
-            zonal = true;
+            profile = Some(p);
             prior = prior.with_mean(Mean::Zonal(p));
         }
         3 => {
             let p: [f32; 9] = core::array::from_fn(|_| if b.bool() { b.f32() } else { 0.0 });
-            zonal = true;
+            profile = Some(p);
             profile_bad = p.iter().any(|x| !x.is_finite()) || p.iter().all(|&x| x == 0.0);
             moderate_profile = p.iter().all(|&x| x == 0.0 || (1e-15..=1e15).contains(&x.abs()));
-            let nonzero = p.iter().map(|x| x.abs()).filter(|&x| x > 0.0);
-            let (lo, hi) = nonzero.fold((f32::INFINITY, 0.0f32), |(l, h), x| (l.min(x), h.max(x)));
-            spread_profile = hi > 1_048_576.0 * lo;
             prior = prior.with_mean(Mean::Zonal(p));
         }
         _ => {}
@@ -448,12 +435,16 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
     } else {
         Some(false)
     };
-    // Known defect 18: sensors whose responses see only the level (every gain of degree ≥ 1
-    // below 10⁻¹⁵: a Gaussian of sharpness 10⁻⁴⁰), under a prior whose level is a mean
-    // (`Mean::Constant`, or a level 2⁸ times the rest, taken in that limit), leave no
-    // covariance: `new` says `InvalidPrior` where the docs name no error.
-    let flat = used.iter().all(|r| r.gains().is_ok_and(|g| g[1..].iter().all(|x| x.abs() < 1e-15)));
-    let flat_layout = if flat && known_defect(18) { None } else { Some(false) };
+    // Known defect 22: a zonal mean whose basis at the sensors is below 2⁻⁶⁰ of its profile
+    // (responses that barely see its degrees) gives NaN values.
+    let unseen_mean = profile.is_some_and(|p| {
+        let top = p.iter().fold(0.0f64, |m, &x| m.max(f64::from(x).abs()));
+        let seen = (0..K).fold(0.0f64, |m, i| {
+            let g = responses[i].gains().unwrap_or([1.0; 33]);
+            m.max(zonal_sum(&p, &g, directions[i]).abs())
+        });
+        top > 0.0 && top.is_finite() && !(seen >= top * 2f64.powi(-60))
+    });
     let r = LayoutProbe::<K, T>::new(&sensors, prior, noise);
     if std::env::var_os("LAYOUT_DEBUG").is_some() {
         eprintln!("K = {K}, {sensors:?}, {prior:?}, {noise:?}: {:?}", r.as_ref().err());
@@ -466,7 +457,6 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
             (Some(noise_bad), Error::InvalidNoise),
             (noise_overflow, Error::InvalidNoise),
             (Some(profile_bad), Error::InvalidPrior),
-            (flat_layout, Error::InvalidPrior),
             (direction, Error::InvalidDirection),
             (Some(response_bad), Error::InvalidResponse),
         ],
@@ -502,23 +492,7 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
                 let m = ordinary && y.iter().all(|&v| moderate(v));
                 // `update` replaces the stream; `accumulate` pools with the old readings (even
                 // a reset keeps some of their weight).
-                // Known defect 19: readings equal at every sensor in some channel, far above
-                // an absolute noise (3·10¹¹ against 0.01), under a mean, give NaN values and
-                // scale.
-                let level =
-                    (0..T::CHANNELS).any(|c| y.iter().all(|v| v.channel(c) == y[0].channel(c)));
-                let flat_readings = K > 0 && level && noise.absolute > 0.0;
-                // Known defect 20: a fitted signal variance beyond f32::MAX (a prior far below
-                // the readings: a spectrum of 2⁻¹³¹ against readings of 10⁶) gives NaN values.
-                let beyond = channels(probe.signal_variance()).any(|x| x.is_infinite());
-                state = if (flat_readings || beyond || (op == 1 && state == State::Unchecked))
-                    && (known_defect(19) || known_defect(20))
-                {
-                    State::Unchecked
-                } else if spread_profile && known_defect(17) {
-                    // Known defect 17: a zonal mean profile whose coefficients span more than
-                    // 2²⁰ (one the sensors barely see beside one they cannot) with any noise
-                    // gives NaN values and scale (fuzz/README.md, "Known defects").
+                state = if unseen_mean && known_defect(22) {
                     State::Unchecked
                 } else if m && (op == 0 || state != State::Any) {
                     State::Moderate
@@ -538,15 +512,31 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
                 }
             }
             op => {
-                let skip = Skip {
-                    profile: spread_profile,
-                    absolute: noise.absolute > 0.0,
-                    zonal_relative: zonal && noise.relative > 0.0,
-                };
+                let skip = Skip { unseen_mean };
                 query::<T, K>(&probe, (op - 3) % 5, state, ordinary, skip, b)
             }
         }
     }
+}
+
+/// `Σ_l p_l·g_l·P_l(d·z)` in f64 for the unit direction of `d` (0 for a bad direction).
+fn zonal_sum(p: &[f32; 9], g: &[f32; 33], d: Vec3) -> f64 {
+    let (x, y, z) = (f64::from(d.x), f64::from(d.y), f64::from(d.z));
+    let norm = (x * x + y * y + z * z).sqrt();
+    if !(norm > 0.0 && norm.is_finite()) {
+        return 0.0;
+    }
+    let t = (z / norm).clamp(-1.0, 1.0);
+    let (mut p0, mut p1) = (1.0f64, t);
+    let mut sum = f64::from(p[0]) * f64::from(g[0]) + f64::from(p[1]) * f64::from(g[1]) * t;
+    for l in 2..9 {
+        let lf = l as f64;
+        let p2 = ((2.0 * lf - 1.0) * t * p1 - (lf - 1.0) * p0) / lf;
+        sum += f64::from(p[l]) * f64::from(g[l]) * p2;
+        p0 = p1;
+        p1 = p2;
+    }
+    sum
 }
 
 /// The six faces of a cube.
