@@ -961,7 +961,7 @@ fn a_mean_basis_far_below_its_profile_gives_finite_answers() {
         values.push((level, i.value));
     }
     // Far below the noise the readings are all noise: the values scale with them (measured
-    // within 10⁻⁶ from 10⁻⁵ to 10⁻³⁰).
+    // within 9.6·10⁻⁷ from 10⁻⁵ to 10⁻³⁰).
     let (l0, v0) = values[5];
     for &(level, v) in &values[6..] {
         let want = v0 * (level / l0);
@@ -997,7 +997,8 @@ fn sensors_that_see_only_the_level_take_the_prior_as_given() {
             for n in [Vec3::X, Vec3::Z, Vec3::new(0.3, -0.4, 0.5)] {
                 let e = p.irradiance(n).unwrap();
                 // With noise, readings far above it (a reading of 10⁻²⁰ is all noise).
-                let tolerance = if noise == Noise::NONE { 1e-6 } else { 1e-3 };
+                // Measured: 1.2·10⁻⁷ without noise, 4.7·10⁻⁶ (absolute), 2.2·10⁻⁵ (relative).
+                let tolerance = if noise == Noise::NONE { 1e-6 } else { 1e-4 };
                 if noise == Noise::NONE || c.abs() >= 1.0 {
                     let error = (e.value / (PI * c) - 1.0).abs();
                     assert!(error < tolerance, "{noise:?} {c:e}: {e:?}");
