@@ -14,7 +14,7 @@
 
 use core::fmt::Debug;
 
-use fuzz_support::{direction_rejected, known_defect, Bytes};
+use fuzz_support::{direction_rejected, Bytes};
 use libfuzzer_sys::fuzz_target;
 use sphere_quadrature::layout::{
     LayoutProbe, Mean, Noise, Prior, Response, Sensor, MAX_NOISE_SCALE_RATIO, MAX_RELATIVE_NOISE,
@@ -147,7 +147,6 @@ fn query<T: Reading, const K: usize>(
     op: u8,
     state: State,
     ordinary: bool,
-    skip: Skip,
     b: &mut Bytes,
 ) {
     let before = format!("{probe:?}");
@@ -249,6 +248,9 @@ fn query<T: Reading, const K: usize>(
         _ => {
             let w = T::read(b);
             let r = probe.combined_probe(w);
+            if std::env::var_os("LAYOUT_DEBUG").is_some() {
+                eprintln!("combined_probe({w:?}): {:?}", r.as_ref().err());
+            }
             let nonzero = channels(w).any(|x| x != 0.0);
             if !all_finite(w) || !nonzero {
                 assert_eq!(r.as_ref().err(), Some(&Error::InvalidWeights), "combined({w:?})");
@@ -271,7 +273,7 @@ fn query<T: Reading, const K: usize>(
                     State::Moderate if small => State::Moderate,
                     _ => State::Any,
                 };
-                query::<f32, K>(&c, b.u8() % 4, cstate, ordinary && small, skip, b);
+                query::<f32, K>(&c, b.u8() % 4, cstate, ordinary && small, b);
                 // An update of the combined probe takes one channel.
                 if b.bool() {
                     let mut c = c;
@@ -280,14 +282,12 @@ fn query<T: Reading, const K: usize>(
                     if y.iter().all(|v| v.is_finite()) {
                         assert_eq!(r, Ok(()), "combined probe's update({y:?})");
                         let m = ordinary && small && y.iter().all(|&v| moderate(v));
-                        // Known defect 22 (see `run`) on the combined probe.
                         let s = match (state, m) {
                             (State::Unchecked, _) => State::Unchecked,
-                            _ if skip.unseen_mean && known_defect(22) => State::Unchecked,
                             (_, true) => State::Moderate,
                             (_, false) => State::Any,
                         };
-                        query::<f32, K>(&c, b.u8() % 4, s, ordinary && small, skip, b);
+                        query::<f32, K>(&c, b.u8() % 4, s, ordinary && small, b);
                     } else {
                         assert_eq!(r, Err(Error::InvalidRadiance));
                     }
@@ -296,12 +296,6 @@ fn query<T: Reading, const K: usize>(
         }
     }
     assert_eq!(before, format!("{probe:?}"), "a query changed the probe");
-}
-
-/// Layout properties of known defects: a zonal mean the sensors barely see (22).
-#[derive(Clone, Copy)]
-struct Skip {
-    unseen_mean: bool,
 }
 
 /// A response from the reader: the default cosine, a cosine power or a Gaussian of any
@@ -435,16 +429,25 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
     } else {
         Some(false)
     };
-    // Known defect 22: a zonal mean whose basis at the sensors is below 2⁻⁶⁰ of its profile
-    // (responses that barely see its degrees) gives NaN values.
-    let unseen_mean = profile.is_some_and(|p| {
-        let top = p.iter().fold(0.0f64, |m, &x| m.max(f64::from(x).abs()));
-        let seen = (0..K).fold(0.0f64, |m, i| {
-            let g = responses[i].gains().unwrap_or([1.0; 33]);
-            m.max(zonal_sum(&p, &g, directions[i]).abs())
-        });
-        top > 0.0 && top.is_finite() && !(seen >= top * 2f64.powi(-60))
-    });
+    // A zonal mean the sensors do not see (its basis below 2⁻⁸⁹ of the profile's largest
+    // coefficient at every sensor, in f32) is `InvalidPrior`; one they see at 2⁻⁸⁵ or more,
+    // less what f32 may lose of the sum (its cancellation, subnormal products), is not.
+    let unseen_mean = match profile {
+        Some(p) if !profile_bad => {
+            let top = p.iter().fold(0.0f64, |m, &x| m.max(f64::from(x).abs()));
+            let seen = (0..K).fold(0.0f64, |m, i| {
+                let g = responses[i].gains().unwrap_or([1.0; 33]);
+                let (sum, size) = zonal_sum(&p, &g, directions[i]);
+                m.max(sum.abs() - size * 2f64.powi(-16) - top * 2f64.powi(-100))
+            });
+            if seen >= top * 2f64.powi(-85) {
+                Some(false)
+            } else {
+                None
+            }
+        }
+        _ => Some(false),
+    };
     let r = LayoutProbe::<K, T>::new(&sensors, prior, noise);
     if std::env::var_os("LAYOUT_DEBUG").is_some() {
         eprintln!("K = {K}, {sensors:?}, {prior:?}, {noise:?}: {:?}", r.as_ref().err());
@@ -457,6 +460,7 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
             (Some(noise_bad), Error::InvalidNoise),
             (noise_overflow, Error::InvalidNoise),
             (Some(profile_bad), Error::InvalidPrior),
+            (unseen_mean, Error::InvalidPrior),
             (direction, Error::InvalidDirection),
             (Some(response_bad), Error::InvalidResponse),
         ],
@@ -492,9 +496,7 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
                 let m = ordinary && y.iter().all(|&v| moderate(v));
                 // `update` replaces the stream; `accumulate` pools with the old readings (even
                 // a reset keeps some of their weight).
-                state = if unseen_mean && known_defect(22) {
-                    State::Unchecked
-                } else if m && (op == 0 || state != State::Any) {
+                state = if m && (op == 0 || state != State::Any) {
                     State::Moderate
                 } else {
                     State::Any
@@ -511,21 +513,20 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
                     assert_eq!(r.err(), Some(Error::InvalidHazard), "with_hazard({h})");
                 }
             }
-            op => {
-                let skip = Skip { unseen_mean };
-                query::<T, K>(&probe, (op - 3) % 5, state, ordinary, skip, b)
-            }
+            op => query::<T, K>(&probe, (op - 3) % 5, state, ordinary, b),
         }
     }
 }
 
-/// `Σ_l p_l·g_l·P_l(d·z)` in f64 for the unit direction of `d` (0 for a bad direction).
-fn zonal_sum(p: &[f32; 9], g: &[f32; 33], d: Vec3) -> f64 {
+/// `Σ_l p_l·g_l·P_l(d·z)` in f64 for the unit direction of `d`, and `Σ_l |p_l·g_l|` (0 for a
+/// bad direction).
+fn zonal_sum(p: &[f32; 9], g: &[f32; 33], d: Vec3) -> (f64, f64) {
     let (x, y, z) = (f64::from(d.x), f64::from(d.y), f64::from(d.z));
     let norm = (x * x + y * y + z * z).sqrt();
     if !(norm > 0.0 && norm.is_finite()) {
-        return 0.0;
+        return (0.0, 0.0);
     }
+    let size = (0..9).map(|l| (f64::from(p[l]) * f64::from(g[l])).abs()).sum::<f64>();
     let t = (z / norm).clamp(-1.0, 1.0);
     let (mut p0, mut p1) = (1.0f64, t);
     let mut sum = f64::from(p[0]) * f64::from(g[0]) + f64::from(p[1]) * f64::from(g[1]) * t;
@@ -536,7 +537,7 @@ fn zonal_sum(p: &[f32; 9], g: &[f32; 33], d: Vec3) -> f64 {
         p0 = p1;
         p1 = p2;
     }
-    sum
+    (sum, size)
 }
 
 /// The six faces of a cube.

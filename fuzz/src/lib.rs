@@ -37,11 +37,12 @@ use sphere_quadrature::Vec3;
 /// (fixed). 20. `LayoutProbe` whose fitted signal variance exceeded `f32::MAX` gave NaN values
 /// (fixed: a covariance the sensors barely see is `InvalidPrior`). 21.
 /// `LayoutProbe::combined_probe` under a zonal mean with a relative noise gave NaN values
-/// (fixed with 17). 22. `LayoutProbe` with a zonal mean whose basis at the sensors is below
-/// 2⁻⁶⁰ of its profile gives NaN values (open; skipped in the `layout` target).
+/// (fixed with 17). 22. `LayoutProbe` with a zonal mean whose basis at the sensors is far
+/// below its profile gave NaN values (fixed: such a mean is `InvalidPrior`). (23, NaN from a
+/// combined probe of channels that cancel, was fixed at once, never skipped.)
 #[must_use]
 pub fn known_defect(n: u32) -> bool {
-    // Defects 1–13 are fixed (tests/hardening/hardening.rs, `defect_NN_…`), and 17–21 (the
+    // Defects 1–13 are fixed (tests/hardening/hardening.rs, `defect_NN_…`), and 17–22 (the
     // `layout::contracts` tests fuzz/README.md names): their cases are checked in every build
     // (14–16 were never skipped). A defect found later takes the next number and is skipped
     // here until its fix lands.

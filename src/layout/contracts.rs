@@ -1020,11 +1020,11 @@ fn sensors_that_see_only_the_level_take_the_prior_as_given() {
 }
 
 /// The combined probe of six cube faces of nearly flat responses (Gaussians of sharpness
-/// 4.1·10⁻³³ to 10⁻³: covariance rank 1) under a zonal mean `[0, 27.1, 73.3, 824 468.6, 73.3,
+/// 10⁻³⁸ to 10⁻³: covariance rank 1) under a zonal mean `[0, 27.1, 73.3, 824 468.6, 73.3,
 /// 0, …]` with a relative noise of 1 %: the mean's basis at the sensors is as small as the
 /// gains of degree ≥ 1 (`S/3`), and from `S = 10⁻²¹` the combined probe's values, SH and
-/// scale were NaN (fuzz defect 21). With the basis brought near 1 in `new`, none. (Below
-/// about 2⁻¹⁰⁰ of the profile, `S = 10⁻³⁵` here, the basis still underflows: fuzz defect 22.)
+/// scale were NaN (fuzz defect 21). With the basis brought near 1 in `new`, none; below 2⁻⁸⁹
+/// of the profile (`S` from 3.7·10⁻²⁴) the mean is one the sensors do not see, `InvalidPrior`.
 #[test]
 fn a_combined_probe_under_a_mean_the_sensors_barely_see_is_finite() {
     let profile = [0.0, 27.1, 73.3, 824_468.6, 73.3, 0.0, 0.0, 0.0, 0.0];
@@ -1039,11 +1039,15 @@ fn a_combined_probe_under_a_mean_the_sensors_barely_see_is_finite() {
         [0.5, 2.0, 3.0],
         [1.0, 0.2, 3.0],
     ];
-    for sharpness in [1e-3f32, 1e-9, 1e-15, 1e-21, 3.7e-24, 1e-27, 1e-30, 4.1e-33] {
+    for sharpness in [1e-3f32, 1e-9, 1e-15, 1e-21, 3.7e-24, 1e-27, 4.1e-33, 1e-38] {
         let sensors = dirs.map(|d| Sensor::new(d, Response::Gaussian(sharpness)));
-        let Ok(mut p) = LayoutProbe::<6, [f32; 3]>::new(&sensors, prior, noise) else {
-            panic!("S = {sharpness:e} refused");
-        };
+        let r = LayoutProbe::<6, [f32; 3]>::new(&sensors, prior, noise);
+        // From 3.7·10⁻²⁴ the basis (about 27·S/3) is below 2⁻⁸⁹ of the profile's 824 468.6.
+        if sharpness < 1e-23 {
+            assert_eq!(r.err(), Some(Error::InvalidPrior), "S = {sharpness:e}");
+            continue;
+        }
+        let Ok(mut p) = r else { panic!("S = {sharpness:e} refused") };
         for level in [1e-20f32, 1e-3, 1.0, 1e6, 1e15] {
             p.update(&pattern.map(|v| v.map(|x| x * level))).unwrap();
             for w in [[0.2f32, 0.7, 0.1], [1.0, 0.0, 0.0], [-1.0, 1.0, 0.5]] {
@@ -1093,5 +1097,95 @@ fn a_scale_beyond_f32_gives_no_nan() {
             let sh = p.radiance_sh().coefficients;
             assert!(sh.iter().all(|c| c.is_finite()), "{what}: {sh:?}");
         }
+    }
+}
+
+/// Four cosine sensors on the equator see a zonal profile `[0, 0, 0, 9.1·10⁻⁶, 10⁻⁴⁰,
+/// −0.0024, 0, 0, 0]` only through `a₄ = 10⁻⁴⁰` (odd degrees from 3 have no cosine gain, and
+/// `P₃(0) = P₅(0) = 0`): the basis at the sensors is 10⁻³⁸ of the profile, and after these
+/// readings the values were NaN (fuzz defect 22, `--features strict`). A mean the sensors do
+/// not see (its basis below 2⁻⁸⁹ of the profile, or 0) leaves its multiple undetermined:
+/// `InvalidPrior`, as documented. At 2⁻⁸³ it is accepted, with finite answers.
+#[test]
+fn a_mean_the_sensors_do_not_see_is_refused() {
+    let equator = cosine([Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y]);
+    let noise = Noise { absolute: 206_116.9, relative: 1.250_147_6e-37 };
+    let zonal = |p: [f32; 9]| Prior::ENVIRONMENT.with_mean(Mean::Zonal(p));
+    let fuzzed = zonal([0.0, 0.0, 0.0, 9.095_296e-6, 1e-40, -0.002_427_965_4, 0.0, 0.0, 0.0]);
+    let r = LayoutProbe::<4, [f32; 3]>::new(&equator, fuzzed, noise);
+    assert_eq!(r.err(), Some(Error::InvalidPrior));
+    // Not at all: degree 3 alone.
+    let mut odd = [0.0f32; 9];
+    odd[3] = 1.0;
+    assert_eq!(LayoutProbe::<4>::new(&equator, zonal(odd), noise).err(), Some(Error::InvalidPrior));
+    // Seen at 2⁻⁸³ of the profile (a₂·g₂·P₂(0) = 2⁻⁸⁰·¼·(−½)): accepted, finite answers.
+    let mut faint = odd;
+    faint[2] = 2f32.powi(-80);
+    for noise in [Noise::NONE, noise, Noise { absolute: 0.0, relative: 0.01 }] {
+        let mut p = LayoutProbe::<4, [f32; 3]>::new(&equator, zonal(faint), noise).unwrap();
+        let y = [
+            [0.0, 0.0, 2.142_178_9e8],
+            [-50_088.0, -3.6e21, -3.6e21],
+            [-2.863_492e28, 2.302_701_5e28, -8.089_164_6e-20],
+            [3.204_983_2e28, 3.207_945e28, -1.0],
+        ];
+        for y in [y, [[1.0, 2.0, 3.0], [1.5, 2.0, 0.5], [0.7, 2.2, 3.0], [1.0, 1.0, 1.0]]] {
+            p.update(&y).unwrap();
+            let e = p.irradiance(Vec3::new(0.3, 0.2, 0.9)).unwrap();
+            let f = p.phong(Vec3::Z, 20.0).unwrap();
+            let sh = p.radiance_sh().coefficients;
+            let all = [e.value, e.variance, f.value, f.variance, p.signal_variance()];
+            let what = std::format!("{noise:?}: {all:?} {sh:?}");
+            assert!(all.iter().flatten().chain(sh.iter().flatten()).all(|x| !x.is_nan()), "{what}");
+        }
+    }
+}
+
+/// The combined probe of channels that cancel: a reading of −1.38·10¹⁹ in every channel
+/// of one sensor and weights `(−w, w, ·)` combine to 0 there, but its relative noise
+/// `η·|(w_c·Y_c)_c|` is 10³⁶; the working unit followed the combined readings (10⁻⁹), the noise
+/// overflowed in it, and the values and SH were NaN; without noise, `0·∞` did the same
+/// (found by the `layout` fuzz target). The unit now covers the noise, `η` is applied before
+/// the unit, and a combination whose noise exceeds `f32::MAX` is `InvalidWeights`, as
+/// documented.
+#[test]
+fn a_combined_probe_whose_noise_dwarfs_its_readings_has_no_nan() {
+    let sensors = [
+        Sensor::cosine(Vec3::new(58_639_553_000_000.0, -91_493.0, 101.394_53)),
+        Sensor::cosine(Vec3::new(101.394_53, 101.394_53, 101.394_53)),
+    ];
+    let noise = Noise { absolute: 0.0, relative: 0.01 };
+    let mut p = LayoutProbe::<2, [f32; 3]>::new(&sensors, Prior::ENVIRONMENT, noise).unwrap();
+    let big = -1.381_690_3e19;
+    p.update(&[[0.0, -2.502_557e-28, 63.519_53], [big; 3]]).unwrap();
+    for w in [[big, -big, 8.766_791e-20], [1.0, -1.0, 0.0], [-3.0, 3.0, 1e-30]] {
+        let c = p.combined_probe(w).unwrap();
+        let e = c.irradiance(Vec3::Z).unwrap();
+        let f = c.phong(Vec3::X, 20.0).unwrap();
+        let sh = c.radiance_sh().coefficients;
+        let s = c.signal_variance();
+        let what = std::format!("{w:?}: {e:?} {f:?} {sh:?} {s:e}");
+        assert!([e.value, f.value, s].iter().chain(&sh).all(|x| !x.is_nan()), "{what}");
+        assert!(e.variance >= 0.0 && f.variance >= 0.0 && s >= 0.0, "{what}");
+    }
+    // Weights whose relative noise leaves f32 (η·|w|·|Y| ≈ 10³⁵·√2·10¹⁹ = 10⁵⁴).
+    let w = [1e35, -1e35, 0.0];
+    assert_eq!(p.combined_probe(w).err(), Some(Error::InvalidWeights));
+    // Without noise the magnitudes (10²¹ here, beyond the unit of readings of 10⁻³⁸) gave
+    // `0·∞`: NaN. The combined probe is the one-channel probe of the combined readings.
+    let cube = cosine([Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y]);
+    let prior = Prior::squared_exponential(2.0).unwrap().with_mean(Mean::Zero);
+    let mut rgb = LayoutProbe::<4, [f32; 3]>::new(&cube, prior, Noise::NONE).unwrap();
+    let tiny = [-1e-45, 3e-45, -1e-45];
+    rgb.update(&[tiny, tiny, tiny, [2.367_701_2e14, 2.367_701_2e14, -1e-45]]).unwrap();
+    let w = [-11_250_560.0, 11_250_560.0, 2.758_65e-40];
+    let c = rgb.combined_probe(w).unwrap();
+    let y: [f32; 4] =
+        core::array::from_fn(|i| (0..3).map(|ch| w[ch] * rgb.stream_mean[i][ch]).sum::<f32>());
+    let mut one = LayoutProbe::<4>::new(&cube, prior, Noise::NONE).unwrap();
+    one.update(&y).unwrap();
+    for n in [Vec3::Z, Vec3::X, Vec3::new(0.3, -0.5, 0.2)] {
+        let (a, b) = (c.irradiance(n).unwrap(), one.irradiance(n).unwrap());
+        assert!(!a.value.is_nan() && a.value == b.value, "{y:?}: {a:?} against {b:?}");
     }
 }

@@ -23,7 +23,11 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     ///   barely see: the largest eigenvalue of their covariance (divided by the squared
     ///   noise scales, relative to the least) below 2⁻¹⁰⁰ of the spectrum's largest `K_l`
     ///   (a spectrum of degrees ≥ 1 alone for responses that see little but the level: a
-    ///   `Gaussian` of sharpness below about 10⁻¹⁵).
+    ///   `Gaussian` of sharpness below about 10⁻¹⁵), or a zonal mean the sensors do not see:
+    ///   its basis `Σ_l a_l·g_l·P_l(dᵢ·z)` below 2⁻⁸⁹ of the profile's largest `|a_l|` at
+    ///   every sensor, zero included (degrees their responses do not see: odd degrees from 3
+    ///   for cosine sensors, or sensors where those degrees' `P_l` vanish), which leaves its
+    ///   multiple undetermined.
     ///
     /// Sensors that see (almost) only the level under a prior whose level dwarfs the rest are
     /// accepted: where the level taken in its limit (module docs) would leave them a
@@ -458,7 +462,9 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             // 2⁶¹ (the squares of the query's basis within f32), and computed again.
             let mut pass = 0;
             loop {
+                // The largest |h_i|, whitened and not.
                 let mut top = 0.0f32;
+                let mut seen = 0.0f32;
                 let mut i = 0;
                 while i < K {
                     let g = &distinct[class[i] as usize % MAX_RESPONSES];
@@ -471,7 +477,11 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                         b[l] = profile[l] * c[l] * spectrum[l] * g[l] * c[l] / FOUR_PI;
                         l += 1;
                     }
-                    h[i] = whitening[i] * legendre_sum(&a, directions[i].z);
+                    let v = legendre_sum(&a, directions[i].z);
+                    if super::absolute(v) > seen {
+                        seen = super::absolute(v);
+                    }
+                    h[i] = whitening[i] * v;
                     if super::absolute(h[i]) > top {
                         top = super::absolute(h[i]);
                     }
@@ -486,9 +496,6 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                     hz[i] = whitening[i] * (legendre_sum(&b, directions[i].z) + zonal);
                     i += 1;
                 }
-                if pass > 0 || !(top > 0.0 && top < 1.0 / 1_048_576.0) {
-                    break;
-                }
                 let mut largest = 0.0f32;
                 let mut l = 0;
                 while l < 9 {
@@ -496,6 +503,14 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                         largest = super::absolute(profile[l]);
                     }
                     l += 1;
+                }
+                // A mean the sensors do not see (below 2⁻⁸⁹ of its profile, or not at all):
+                // its multiple is not determined by the readings.
+                if seen < times_power_of_two(largest, -89) {
+                    return Err(Error::InvalidPrior);
+                }
+                if pass > 0 || !(top > 0.0 && top < 1.0 / 1_048_576.0) {
+                    break;
                 }
                 let up = -exponent_of(top);
                 let room = 60 - exponent_of(largest);
