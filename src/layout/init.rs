@@ -44,12 +44,16 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// noise, sixteen sensors that are eight copies each of two give the answers and the
     /// error bars of the two (their copies add no degrees of freedom to the scale's fit).
     pub const fn new(sensors: &[Sensor; K], prior: Prior, noise: Noise) -> Result<Self, Error> {
-        match Self::build(sensors, prior, noise, true) {
-            // The level taken in its limit left a covariance the sensors barely see
-            // (responses that see little but the level): the prior as given, the level a
-            // random effect.
-            Err(Error::InvalidPrior) => Self::build(sensors, prior, noise, false),
-            result => result,
+        // One call site (no second copy of the code in flash).
+        let mut limit = true;
+        loop {
+            match Self::build(sensors, prior, noise, limit) {
+                // The level taken in its limit left a covariance the sensors barely see
+                // (responses that see little but the level): the prior as given, the level a
+                // random effect.
+                Err(Error::InvalidPrior) if limit => limit = false,
+                result => return result,
+            }
         }
     }
 
