@@ -29,7 +29,7 @@
 //! fitted by generalised least squares: f32 could not hold the rest of the covariance beside
 //! a level of 10⁶ times its variance, and the limit is within 8.3·10⁻⁶ of the largest value
 //! from 2⁸ on (measured on a cube against the f64 reference, `K₀` from 10² to 10³⁰). Sensors
-//! that see little but the level (gains of degree ≥ 1 below about 10⁻¹⁶) keep the prior as
+//! that see little but the level (gains of degree ≥ 1 below about 10⁻⁹) keep the prior as
 //! given: the limit would leave them a covariance they barely see.
 //!
 //! # Units

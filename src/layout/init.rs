@@ -21,9 +21,9 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// - [`Error::InvalidPrior`]: a spectrum (finite, non-negative, not all zero), variance
     ///   scale, zonal covariance or mean profile out of range, or a covariance the sensors
     ///   barely see: the largest eigenvalue of their covariance (divided by the squared
-    ///   noise scales, relative to the least) below 2⁻¹⁰⁰ of the spectrum's largest `K_l`
+    ///   noise scales, relative to the least) below 2⁻⁶⁰ of the spectrum's largest `K_l`
     ///   (a spectrum of degrees ≥ 1 alone for responses that see little but the level: a
-    ///   `Gaussian` of sharpness below about 10⁻¹⁵), or a zonal mean the sensors do not see:
+    ///   `Gaussian` of sharpness below about 10⁻⁸), or a zonal mean the sensors do not see:
     ///   its basis `Σ_l a_l·g_l·P_l(dᵢ·z)` below 2⁻⁸⁹ of the profile's largest `|a_l|` at
     ///   every sensor, zero included (degrees their responses do not see: odd degrees from 3
     ///   for cosine sensors, or sensors where those degrees' `P_l` vanish), which leaves its
@@ -381,10 +381,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             }
             j += 1;
         }
-        // A covariance the sensors see at less than 2⁻¹⁰⁰ of the spectrum's largest K_l (or
-        // not at all): its floored eigenvalues would be subnormal or 0, and the fit's `1/λ`
-        // beyond f32.
-        if !(top.is_finite() && top >= times_power_of_two(largest, -100 - spectrum_exponent)) {
+        // A covariance the sensors see at less than 2⁻⁶⁰ of the spectrum's largest K_l (or
+        // not at all): its floored eigenvalues would be near or below the normal range, and
+        // the fit's `Σ z²/λ` beyond f32.
+        if !(top.is_finite() && top >= times_power_of_two(largest, -60 - spectrum_exponent)) {
             return Err(Error::InvalidPrior);
         }
         // The model's least noise: eigenvalues floored at 10⁻⁶ of the largest, so that
