@@ -28,7 +28,9 @@
 //! mean and no zonal covariance of the level) is taken in its limit, an unknown constant
 //! fitted by generalised least squares: f32 could not hold the rest of the covariance beside
 //! a level of 10⁶ times its variance, and the limit is within 8.3·10⁻⁶ of the largest value
-//! from 2⁸ on (measured on a cube against the f64 reference, `K₀` from 10² to 10³⁰).
+//! from 2⁸ on (measured on a cube against the f64 reference, `K₀` from 10² to 10³⁰). Sensors
+//! that see little but the level (gains of degree ≥ 1 below about 10⁻⁹) keep the prior as
+//! given: the limit would leave them a covariance they barely see.
 //!
 //! # Units
 //! Every statistic is computed relative to a power of two near the largest reading (or the

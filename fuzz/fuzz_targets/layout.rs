@@ -14,7 +14,7 @@
 
 use core::fmt::Debug;
 
-use fuzz_support::{direction_rejected, known_defect, Bytes};
+use fuzz_support::{direction_rejected, Bytes};
 use libfuzzer_sys::fuzz_target;
 use sphere_quadrature::layout::{
     LayoutProbe, Mean, Noise, Prior, Response, Sensor, MAX_NOISE_SCALE_RATIO, MAX_RELATIVE_NOISE,
@@ -147,7 +147,6 @@ fn query<T: Reading, const K: usize>(
     op: u8,
     state: State,
     ordinary: bool,
-    skip: Skip,
     b: &mut Bytes,
 ) {
     let before = format!("{probe:?}");
@@ -249,6 +248,9 @@ fn query<T: Reading, const K: usize>(
         _ => {
             let w = T::read(b);
             let r = probe.combined_probe(w);
+            if std::env::var_os("LAYOUT_DEBUG").is_some() {
+                eprintln!("combined_probe({w:?}): {:?}", r.as_ref().err());
+            }
             let nonzero = channels(w).any(|x| x != 0.0);
             if !all_finite(w) || !nonzero {
                 assert_eq!(r.as_ref().err(), Some(&Error::InvalidWeights), "combined({w:?})");
@@ -268,12 +270,10 @@ fn query<T: Reading, const K: usize>(
                 let small = channels(w).all(|x| x.abs() <= 1.0);
                 let cstate = match state {
                     State::Empty | State::Unchecked => state,
-                    // Known defect 21 (fuzz/README.md): NaN values of the combined probe.
-                    _ if skip.zonal_relative && known_defect(21) => State::Unchecked,
                     State::Moderate if small => State::Moderate,
                     _ => State::Any,
                 };
-                query::<f32, K>(&c, b.u8() % 4, cstate, ordinary && small, skip, b);
+                query::<f32, K>(&c, b.u8() % 4, cstate, ordinary && small, b);
                 // An update of the combined probe takes one channel.
                 if b.bool() {
                     let mut c = c;
@@ -282,18 +282,12 @@ fn query<T: Reading, const K: usize>(
                     if y.iter().all(|v| v.is_finite()) {
                         assert_eq!(r, Ok(()), "combined probe's update({y:?})");
                         let m = ordinary && small && y.iter().all(|&v| moderate(v));
-                        // Known defects 17 and 19 (see `run`) on the combined probe.
-                        let flat = y.iter().all(|&v| v == y[0]);
                         let s = match (state, m) {
                             (State::Unchecked, _) => State::Unchecked,
-                            _ if skip.profile && known_defect(17) => State::Unchecked,
-                            _ if skip.absolute && flat && K > 0 && known_defect(19) => {
-                                State::Unchecked
-                            }
                             (_, true) => State::Moderate,
                             (_, false) => State::Any,
                         };
-                        query::<f32, K>(&c, b.u8() % 4, s, ordinary && small, skip, b);
+                        query::<f32, K>(&c, b.u8() % 4, s, ordinary && small, b);
                     } else {
                         assert_eq!(r, Err(Error::InvalidRadiance));
                     }
@@ -302,15 +296,6 @@ fn query<T: Reading, const K: usize>(
         }
     }
     assert_eq!(before, format!("{probe:?}"), "a query changed the probe");
-}
-
-/// Layout properties of known defects: a spread zonal profile (17), an absolute noise (19).
-#[derive(Clone, Copy)]
-struct Skip {
-    profile: bool,
-    absolute: bool,
-    /// Known defect 21: a zonal mean profile with a relative noise (the combined probe).
-    zonal_relative: bool,
 }
 
 /// A response from the reader: the default cosine, a cosine power or a Gaussian of any
@@ -386,8 +371,7 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
     }
     let mut moderate_profile = true;
     let mut profile_bad = false;
-    let mut spread_profile = false;
-    let mut zonal = false;
+    let mut profile = None;
     match b.u8() % 5 {
         0 => prior = prior.with_mean(Mean::Zero),
         1 => prior = prior.with_mean(Mean::Constant),
@@ -395,17 +379,14 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
             let mut p = [0.0f32; 9];
             p[0] = 1.0;
             p[1] = factor(b);
-            zonal = true;
+            profile = Some(p);
             prior = prior.with_mean(Mean::Zonal(p));
         }
         3 => {
             let p: [f32; 9] = core::array::from_fn(|_| if b.bool() { b.f32() } else { 0.0 });
-            zonal = true;
+            profile = Some(p);
             profile_bad = p.iter().any(|x| !x.is_finite()) || p.iter().all(|&x| x == 0.0);
             moderate_profile = p.iter().all(|&x| x == 0.0 || (1e-15..=1e15).contains(&x.abs()));
-            let nonzero = p.iter().map(|x| x.abs()).filter(|&x| x > 0.0);
-            let (lo, hi) = nonzero.fold((f32::INFINITY, 0.0f32), |(l, h), x| (l.min(x), h.max(x)));
-            spread_profile = hi > 1_048_576.0 * lo;
             prior = prior.with_mean(Mean::Zonal(p));
         }
         _ => {}
@@ -448,12 +429,25 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
     } else {
         Some(false)
     };
-    // Known defect 18: sensors whose responses see only the level (every gain of degree ≥ 1
-    // below 10⁻¹⁵: a Gaussian of sharpness 10⁻⁴⁰), under a prior whose level is a mean
-    // (`Mean::Constant`, or a level 2⁸ times the rest, taken in that limit), leave no
-    // covariance: `new` says `InvalidPrior` where the docs name no error.
-    let flat = used.iter().all(|r| r.gains().is_ok_and(|g| g[1..].iter().all(|x| x.abs() < 1e-15)));
-    let flat_layout = if flat && known_defect(18) { None } else { Some(false) };
+    // A zonal mean the sensors do not see (its basis below 2⁻⁸⁹ of the profile's largest
+    // coefficient at every sensor, in f32) is `InvalidPrior`; one they see at 2⁻⁸⁵ or more,
+    // less what f32 may lose of the sum (its cancellation, subnormal products), is not.
+    let unseen_mean = match profile {
+        Some(p) if !profile_bad => {
+            let top = p.iter().fold(0.0f64, |m, &x| m.max(f64::from(x).abs()));
+            let seen = (0..K).fold(0.0f64, |m, i| {
+                let g = responses[i].gains().unwrap_or([1.0; 33]);
+                let (sum, size) = zonal_sum(&p, &g, directions[i]);
+                m.max(sum.abs() - size * 2f64.powi(-16) - top * 2f64.powi(-100))
+            });
+            if seen >= top * 2f64.powi(-85) {
+                Some(false)
+            } else {
+                None
+            }
+        }
+        _ => Some(false),
+    };
     let r = LayoutProbe::<K, T>::new(&sensors, prior, noise);
     if std::env::var_os("LAYOUT_DEBUG").is_some() {
         eprintln!("K = {K}, {sensors:?}, {prior:?}, {noise:?}: {:?}", r.as_ref().err());
@@ -466,7 +460,7 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
             (Some(noise_bad), Error::InvalidNoise),
             (noise_overflow, Error::InvalidNoise),
             (Some(profile_bad), Error::InvalidPrior),
-            (flat_layout, Error::InvalidPrior),
+            (unseen_mean, Error::InvalidPrior),
             (direction, Error::InvalidDirection),
             (Some(response_bad), Error::InvalidResponse),
         ],
@@ -502,25 +496,7 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
                 let m = ordinary && y.iter().all(|&v| moderate(v));
                 // `update` replaces the stream; `accumulate` pools with the old readings (even
                 // a reset keeps some of their weight).
-                // Known defect 19: readings equal at every sensor in some channel, far above
-                // an absolute noise (3·10¹¹ against 0.01), under a mean, give NaN values and
-                // scale.
-                let level =
-                    (0..T::CHANNELS).any(|c| y.iter().all(|v| v.channel(c) == y[0].channel(c)));
-                let flat_readings = K > 0 && level && noise.absolute > 0.0;
-                // Known defect 20: a fitted signal variance beyond f32::MAX (a prior far below
-                // the readings: a spectrum of 2⁻¹³¹ against readings of 10⁶) gives NaN values.
-                let beyond = channels(probe.signal_variance()).any(|x| x.is_infinite());
-                state = if (flat_readings || beyond || (op == 1 && state == State::Unchecked))
-                    && (known_defect(19) || known_defect(20))
-                {
-                    State::Unchecked
-                } else if spread_profile && known_defect(17) {
-                    // Known defect 17: a zonal mean profile whose coefficients span more than
-                    // 2²⁰ (one the sensors barely see beside one they cannot) with any noise
-                    // gives NaN values and scale (fuzz/README.md, "Known defects").
-                    State::Unchecked
-                } else if m && (op == 0 || state != State::Any) {
+                state = if m && (op == 0 || state != State::Any) {
                     State::Moderate
                 } else {
                     State::Any
@@ -537,16 +513,31 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
                     assert_eq!(r.err(), Some(Error::InvalidHazard), "with_hazard({h})");
                 }
             }
-            op => {
-                let skip = Skip {
-                    profile: spread_profile,
-                    absolute: noise.absolute > 0.0,
-                    zonal_relative: zonal && noise.relative > 0.0,
-                };
-                query::<T, K>(&probe, (op - 3) % 5, state, ordinary, skip, b)
-            }
+            op => query::<T, K>(&probe, (op - 3) % 5, state, ordinary, b),
         }
     }
+}
+
+/// `Σ_l p_l·g_l·P_l(d·z)` in f64 for the unit direction of `d`, and `Σ_l |p_l·g_l|` (0 for a
+/// bad direction).
+fn zonal_sum(p: &[f32; 9], g: &[f32; 33], d: Vec3) -> (f64, f64) {
+    let (x, y, z) = (f64::from(d.x), f64::from(d.y), f64::from(d.z));
+    let norm = (x * x + y * y + z * z).sqrt();
+    if !(norm > 0.0 && norm.is_finite()) {
+        return (0.0, 0.0);
+    }
+    let size = (0..9).map(|l| (f64::from(p[l]) * f64::from(g[l])).abs()).sum::<f64>();
+    let t = (z / norm).clamp(-1.0, 1.0);
+    let (mut p0, mut p1) = (1.0f64, t);
+    let mut sum = f64::from(p[0]) * f64::from(g[0]) + f64::from(p[1]) * f64::from(g[1]) * t;
+    for l in 2..9 {
+        let lf = l as f64;
+        let p2 = ((2.0 * lf - 1.0) * t * p1 - (lf - 1.0) * p0) / lf;
+        sum += f64::from(p[l]) * f64::from(g[l]) * p2;
+        p0 = p1;
+        p1 = p2;
+    }
+    (sum, size)
 }
 
 /// The six faces of a cube.

@@ -29,20 +29,23 @@ use sphere_quadrature::Vec3;
 /// product left f32 but the integral is within it; `TemporalProbe::irradiance` gave NaN after
 /// samples near `f32::MAX` (16).)
 /// 17. `layout::LayoutProbe` with a zonal
-/// mean profile whose non-zero coefficients span more than 2²⁰ gives NaN values where the
-/// mean's basis underflows in the working units (partly fixed; skipped in the `layout`
-/// target). 18. `LayoutProbe::new` refuses with `InvalidPrior` sensors that see only the level
-/// (degree ≥ 1 gains 0) under a prior whose level is a mean (open; allowed in the `layout`
-/// target). 19. `LayoutProbe` with a mean and an absolute noise gave NaN values for readings
-/// equal at every sensor far above the noise (fixed for the known cases; still skipped).
-/// 20. `LayoutProbe` whose fitted signal variance exceeds `f32::MAX` gives NaN values (open;
-/// skipped). 21. `LayoutProbe::combined_probe` under a zonal mean with a relative noise can give
-/// NaN values (open; skipped).
+/// mean profile whose non-zero coefficients span more than 2²⁰ gave NaN values where the
+/// mean's basis underflowed in the working units (fixed). 18. `LayoutProbe::new` refused with
+/// `InvalidPrior` sensors that see only the level (degree ≥ 1 gains 0) under a prior whose
+/// level is a mean (fixed: the prior kept as given). 19. `LayoutProbe` with a mean and an
+/// absolute noise gave NaN values for readings equal at every sensor far above the noise
+/// (fixed). 20. `LayoutProbe` whose fitted signal variance exceeded `f32::MAX` gave NaN values
+/// (fixed: a covariance the sensors barely see is `InvalidPrior`). 21.
+/// `LayoutProbe::combined_probe` under a zonal mean with a relative noise gave NaN values
+/// (fixed with 17). 22. `LayoutProbe` with a zonal mean whose basis at the sensors is far
+/// below its profile gave NaN values (fixed: such a mean is `InvalidPrior`). (23, NaN from a
+/// combined probe of channels that cancel, was fixed at once, never skipped.)
 #[must_use]
 pub fn known_defect(n: u32) -> bool {
-    // Defects 1–13 are fixed (tests/hardening/hardening.rs, `defect_NN_…`): their cases are
-    // checked in every build (14–16 were never skipped). A defect found later takes the next
-    // number and is skipped here until its fix lands.
+    // Defects 1–13 are fixed (tests/hardening/hardening.rs, `defect_NN_…`), and 17–22 (the
+    // `layout::contracts` tests fuzz/README.md names): their cases are checked in every build
+    // (14–16 were never skipped). A defect found later takes the next number and is skipped
+    // here until its fix lands.
     n > 16 && !cfg!(feature = "strict")
 }
 

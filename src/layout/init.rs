@@ -19,7 +19,20 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     ///   scale exceeds `f32::MAX` (to within a factor 2: that scale rounded down to a power of
     ///   two);
     /// - [`Error::InvalidPrior`]: a spectrum (finite, non-negative, not all zero), variance
-    ///   scale, zonal covariance or mean profile out of range.
+    ///   scale, zonal covariance or mean profile out of range, or a covariance the sensors
+    ///   barely see: the largest eigenvalue of their covariance (divided by the squared
+    ///   noise scales, relative to the least) below 2⁻⁶⁰ of the spectrum's largest `K_l`
+    ///   (a spectrum of degrees ≥ 1 alone for responses that see little but the level: a
+    ///   `Gaussian` of sharpness below about 10⁻⁸), or a zonal mean the sensors do not see:
+    ///   its basis `Σ_l a_l·g_l·P_l(dᵢ·z)` below 2⁻⁸⁹ of the profile's largest `|a_l|` at
+    ///   every sensor, zero included (degrees their responses do not see: odd degrees from 3
+    ///   for cosine sensors, or sensors where those degrees' `P_l` vanish), which leaves its
+    ///   multiple undetermined.
+    ///
+    /// Sensors that see (almost) only the level under a prior whose level dwarfs the rest are
+    /// accepted: where the level taken in its limit (module docs) would leave them a
+    /// covariance they barely see, the prior is kept as given, the level a random effect of
+    /// variance `s·K₀`.
     ///
     /// A radiance type of more than [`MAX_CHANNELS`] channels
     /// does not compile.
@@ -31,6 +44,26 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// noise, sixteen sensors that are eight copies each of two give the answers and the
     /// error bars of the two (their copies add no degrees of freedom to the scale's fit).
     pub const fn new(sensors: &[Sensor; K], prior: Prior, noise: Noise) -> Result<Self, Error> {
+        // One call site (no second copy of the code in flash).
+        let mut limit = true;
+        loop {
+            match Self::build(sensors, prior, noise, limit) {
+                // The level taken in its limit left a covariance the sensors barely see
+                // (responses that see little but the level): the prior as given, the level a
+                // random effect.
+                Err(Error::InvalidPrior) if limit => limit = false,
+                result => return result,
+            }
+        }
+    }
+
+    /// [`LayoutProbe::new`], a dominant level taken in its limit where `limit` allows.
+    const fn build(
+        sensors: &[Sensor; K],
+        prior: Prior,
+        noise: Noise,
+        limit: bool,
+    ) -> Result<Self, Error> {
         let mut mean_terms = match prior.mean {
             Mean::Zero => 0,
             _ => 1,
@@ -72,7 +105,8 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             }
             l += 1;
         }
-        if matches!(mean, Mean::Zero)
+        if limit
+            && matches!(mean, Mean::Zero)
             && K >= 2
             && prior.zonal[0] == 0.0
             && prior.zonal[2] == 0.0
@@ -347,7 +381,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             }
             j += 1;
         }
-        if !(top > 0.0 && top.is_finite()) {
+        // A covariance the sensors see at less than 2⁻⁶⁰ of the spectrum's largest K_l (or
+        // not at all): its floored eigenvalues would be near or below the normal range, and
+        // the fit's `Σ z²/λ` beyond f32.
+        if !(top.is_finite() && top >= times_power_of_two(largest, -60 - spectrum_exponent)) {
             return Err(Error::InvalidPrior);
         }
         // The model's least noise: eigenvalues floored at 10⁻⁶ of the largest, so that
@@ -422,29 +459,75 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         if mean_terms == 1 {
             let mut h = [0.0f32; K];
             let mut hz = [0.0f32; K];
-            let mut i = 0;
-            while i < K {
-                let g = &distinct[class[i] as usize % MAX_RESPONSES];
-                let mut a = [0.0f32; 9];
-                let mut b = [0.0f32; 9];
+            // The basis at the sensors may be far below the profile (coefficients of degrees
+            // the responses barely see): its squares and the GLS mean would leave f32 in the
+            // fit. Below 2⁻²⁰ it is brought near 1 by a power of two on the profile (exact: β
+            // takes it back), by at most what keeps the profile's largest coefficient below
+            // 2⁶¹ (the squares of the query's basis within f32), and computed again.
+            let mut pass = 0;
+            loop {
+                // The largest |h_i|, whitened and not.
+                let mut top = 0.0f32;
+                let mut seen = 0.0f32;
+                let mut i = 0;
+                while i < K {
+                    let g = &distinct[class[i] as usize % MAX_RESPONSES];
+                    let mut a = [0.0f32; 9];
+                    let mut b = [0.0f32; 9];
+                    let mut l = 0;
+                    while l < 9 {
+                        a[l] = profile[l] * g[l];
+                        // avg[h(n)·z_i(n)] = (1/4π)·Σ_l Q_l·K_l g_l c_l·P_l(d_i·z), Q_l = a_l c_l.
+                        b[l] = profile[l] * c[l] * spectrum[l] * g[l] * c[l] / FOUR_PI;
+                        l += 1;
+                    }
+                    let v = legendre_sum(&a, directions[i].z);
+                    if super::absolute(v) > seen {
+                        seen = super::absolute(v);
+                    }
+                    h[i] = whitening[i] * v;
+                    if super::absolute(h[i]) > top {
+                        top = super::absolute(h[i]);
+                    }
+                    // The zonal part: (1/4π)·Σ_l (Ruᵢ)_l c_l Q_l √(4π/(2l + 1)), Q_l = a_l c_l.
+                    let mut zonal = 0.0f32;
+                    let mut l = 0;
+                    while l < 3 {
+                        let norm = square_root(FOUR_PI / (2 * l + 1) as f32);
+                        zonal += ru[i][l] * c[l] * profile[l] * c[l] * norm / FOUR_PI;
+                        l += 1;
+                    }
+                    hz[i] = whitening[i] * (legendre_sum(&b, directions[i].z) + zonal);
+                    i += 1;
+                }
+                let mut largest = 0.0f32;
                 let mut l = 0;
                 while l < 9 {
-                    a[l] = profile[l] * g[l];
-                    // avg[h(n)·z_i(n)] = (1/4π)·Σ_l Q_l·K_l g_l c_l·P_l(d_i·z), Q_l = a_l c_l.
-                    b[l] = profile[l] * c[l] * spectrum[l] * g[l] * c[l] / FOUR_PI;
+                    if super::absolute(profile[l]) > largest {
+                        largest = super::absolute(profile[l]);
+                    }
                     l += 1;
                 }
-                h[i] = whitening[i] * legendre_sum(&a, directions[i].z);
-                // The zonal part: (1/4π)·Σ_l (Ruᵢ)_l c_l Q_l √(4π/(2l + 1)), Q_l = a_l c_l.
-                let mut zonal = 0.0f32;
+                // A mean the sensors do not see (below 2⁻⁸⁹ of its profile, or not at all):
+                // its multiple is not determined by the readings.
+                if seen < times_power_of_two(largest, -89) {
+                    return Err(Error::InvalidPrior);
+                }
+                if pass > 0 || !(top > 0.0 && top < 1.0 / 1_048_576.0) {
+                    break;
+                }
+                let up = -exponent_of(top);
+                let room = 60 - exponent_of(largest);
+                let up = if up < room { up } else { room };
+                if up <= 0 {
+                    break;
+                }
                 let mut l = 0;
-                while l < 3 {
-                    let norm = square_root(FOUR_PI / (2 * l + 1) as f32);
-                    zonal += ru[i][l] * c[l] * profile[l] * c[l] * norm / FOUR_PI;
+                while l < 9 {
+                    profile[l] = times_power_of_two(profile[l], up);
                     l += 1;
                 }
-                hz[i] = whitening[i] * (legendre_sum(&b, directions[i].z) + zonal);
-                i += 1;
+                pass += 1;
             }
             basis[0] = project(&vectors, &h);
             basis_sensor = h;

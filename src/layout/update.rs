@@ -211,6 +211,9 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             }
             magnitude(&v)
         });
+        if magnitudes.iter().any(|m| !(self.noise.relative * m).is_finite()) {
+            return Err(Error::InvalidWeights);
+        }
         let mut probe = LayoutProbe::<K, f32> {
             directions: self.directions,
             whitening: self.whitening,
@@ -314,6 +317,13 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         for i in 0..K {
             top = top.max(y[i].abs() * self.whitening[i]);
         }
+        // A combination's relative noise may dwarf its readings (channels that cancel): the
+        // unit covers it too, so that the noise stays within f32 in working units.
+        if let Some(m) = magnitude {
+            for i in 0..K {
+                top = top.max((self.noise.relative * m[i] * self.whitening[i]).min(f32::MAX));
+            }
+        }
         if top == 0.0 {
             // Every reading 0 without noise: an exact fit of zero.
             return Fit {
@@ -347,7 +357,8 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let nus: [f32; K] = match magnitude {
             None => core::array::from_fn(|i| absolute + eta2 * yw[i] * yw[i]),
             Some(m) => core::array::from_fn(|i| {
-                let r = eta * to_working(m[i] * self.whitening[i]);
+                // η first: η·mᵢ is within the unit, mᵢ alone may not be (or η = 0, ∞·0).
+                let r = to_working(eta * (m[i] * self.whitening[i]));
                 absolute + r * r / pooled
             }),
         };
