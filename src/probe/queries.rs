@@ -15,12 +15,12 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_irradiance N=16`: 836 instructions
-    /// - `m4:probe_irradiance N=32`: 1 563 instructions
+    /// - `m4:probe_irradiance N=16`: 842 instructions
+    /// - `m4:probe_irradiance N=32`: 1 565 instructions
     /// - `m4:probe_irradiance N=64`: 2 921 instructions
-    /// - `m4:probe_irradiance N=256`: 11 645 instructions
-    /// - `m4:gaussian8_probe_irradiance N=64`: 2 959 instructions (`Gaussian<8>` footprint)
-    /// - `m4:photodiode_probe_irradiance N=16`: 837 instructions (`CosinePower<1>`)
+    /// - `m4:probe_irradiance N=256`: 11 644 instructions
+    /// - `m4:gaussian8_probe_irradiance N=64`: 2 958 instructions (`Gaussian<8>` footprint)
+    /// - `m4:photodiode_probe_irradiance N=16`: 839 instructions (`CosinePower<1>`)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
@@ -134,8 +134,8 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_masked_irradiance_variance_M16_m0 N=64`: 261 760 instructions (none missing)
-    /// - `m4:probe_masked_irradiance_variance_M8_m8 N=64`: 518 500 instructions (8 missing)
+    /// - `m4:probe_masked_irradiance_variance_M16_m0 N=64`: 261 780 instructions (none missing)
+    /// - `m4:probe_masked_irradiance_variance_M8_m8 N=64`: 518 490 instructions (8 missing)
     /// - `m4:probe_masked_irradiance_variance_M16_m16 N=64`: 547 410 instructions (16 missing)
     ///
     /// `M8`, `M16` in the names: the probe's capacity `M` for missing samples.
@@ -202,12 +202,12 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_glossy N=16`: 2 694 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=16`: 2 701 instructions (SG lobe of Phong e = 20)
     /// - `m4:probe_glossy N=32`: 4 908 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=64`: 9 278 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=64`: 9 282 instructions (SG lobe of Phong e = 20)
     /// - `m4:probe_glossy N=256`: 38 188 instructions (SG lobe of Phong e = 20)
-    /// - `m4:gaussian8_probe_glossy N=64`: 9 336 instructions (`Gaussian<8>`)
-    /// - `m4:photodiode_probe_glossy N=16`: 11 593 instructions (photodiodes)
+    /// - `m4:gaussian8_probe_glossy N=64`: 9 334 instructions (`Gaussian<8>`)
+    /// - `m4:photodiode_probe_glossy N=16`: 11 525 instructions (photodiodes)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
@@ -287,9 +287,9 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_glossy_variance N=16`: 773 910 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=32`: 894 092 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=32`: 894 088 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=64`: 1 217 250 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=256`: 5 495 240 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=256`: 5 495 200 instructions (soft f64 quadrature)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
@@ -372,10 +372,10 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_phong N=16`: 9 450 instructions (e = 20)
-    /// - `m4:probe_phong N=32`: 13 507 instructions (e = 20)
-    /// - `m4:probe_phong N=64`: 21 390 instructions (e = 20)
-    /// - `m4:probe_phong N=256`: 66 525 instructions (e = 20)
+    /// - `m4:probe_phong N=16`: 9 453 instructions (e = 20)
+    /// - `m4:probe_phong N=32`: 13 422 instructions (e = 20)
+    /// - `m4:probe_phong N=64`: 21 383 instructions (e = 20)
+    /// - `m4:probe_phong N=256`: 66 524 instructions (e = 20)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
@@ -435,7 +435,7 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_phong_variance N=16`: 422 790 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=32`: 778 148 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=32`: 778 144 instructions (e = 20)
     /// - `m4:probe_phong_variance N=64`: 1 568 750 instructions (e = 20)
     /// - `m4:probe_phong_variance N=256`: 8 657 160 instructions (e = 20)
     ///
