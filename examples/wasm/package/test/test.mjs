@@ -273,8 +273,9 @@ for (const n of SIZES) {
     t.dispose();
   }
 }
-// The streams must hold what they are meant to compare: every update, a reset at the
-// switch and none on the static light before it.
+// The streams must hold what they are meant to compare: every update, a reset within two
+// updates of the switch (a change the sentinels see counts once their next reading confirms
+// it) and none on the static light before it.
 const updatesPerStream = PHASES.reduce((a, b) => a + b, 0);
 ok(changes.length === SIZES.length * STREAMS.length * updatesPerStream, `${changes.length} temporal updates`);
 ok(reference.filter((l) => l.startsWith("t_change ")).length === changes.length,
@@ -284,7 +285,8 @@ for (const n of SIZES) {
     const c = changes.filter((x) => x.n === n && x.name === name);
     ok(c[0]?.change === "first" && c.slice(1, PHASES[0]).every((x) => x.change === "blended"),
       `temporal ${n} ${name}: static light ${c.slice(0, PHASES[0]).map((x) => x.change).join(" ")}`);
-    ok(c[PHASES[0]]?.change === "reset", `temporal ${n} ${name}: the switch gave ${c[PHASES[0]]?.change}`);
+    const atSwitch = c.slice(PHASES[0], PHASES[0] + 2).map((x) => x?.change);
+    ok(atSwitch.includes("reset"), `temporal ${n} ${name}: the switch gave ${atSwitch.join(" ")}`);
   }
 }
 
