@@ -134,8 +134,8 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_masked_irradiance_variance_M16_m0 N=64`: 261 780 instructions (none missing)
-    /// - `m4:probe_masked_irradiance_variance_M8_m8 N=64`: 518 490 instructions (8 missing)
+    /// - `m4:probe_masked_irradiance_variance_M16_m0 N=64`: 261 770 instructions (none missing)
+    /// - `m4:probe_masked_irradiance_variance_M8_m8 N=64`: 518 500 instructions (8 missing)
     /// - `m4:probe_masked_irradiance_variance_M16_m16 N=64`: 547 410 instructions (16 missing)
     ///
     /// `M8`, `M16` in the names: the probe's capacity `M` for missing samples.
@@ -287,9 +287,9 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_glossy_variance N=16`: 773 910 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=32`: 894 088 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=32`: 894 096 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=64`: 1 217 250 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=256`: 5 495 200 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=256`: 5 495 280 instructions (soft f64 quadrature)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):

@@ -59,7 +59,7 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_radiance_sh N=16`: 1 316 instructions
-    /// - `m4:probe_radiance_sh N=32`: 1 678 instructions
+    /// - `m4:probe_radiance_sh N=32`: 1 677 instructions
     /// - `m4:probe_radiance_sh N=64`: 2 398 instructions
     /// - `m4:probe_radiance_sh N=256`: 6 848 instructions
     ///

@@ -20,7 +20,7 @@ where
     /// - `m4:probe_update N=16`: 2 718 instructions (four-member selection)
     /// - `m4:probe_update N=32`: 33 968 instructions (four-member selection)
     /// - `m4:probe_update N=64`: 88 800 instructions (four-member selection)
-    /// - `m4:probe_update N=256`: 790 400 instructions (four-member selection)
+    /// - `m4:probe_update N=256`: 790 440 instructions (four-member selection)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):

@@ -300,6 +300,12 @@ fn layout_counts<const K: usize>(directions: &[Vec3; K], readings: &[[f32; 3]; K
         Ok(mut q) => count(4, || black_box(&mut q).update(black_box(&y))),
         Err(_) => 0,
     };
+    // And without any noise declared (exact readings).
+    let exact = Noise { absolute: 0.0, relative: 0.0 };
+    let update_exact = match LayoutProbe::<K, f32>::new(&sensors, Prior::ENVIRONMENT, exact) {
+        Ok(mut q) => count(4, || black_box(&mut q).update(black_box(&y))),
+        Err(_) => 0,
+    };
     let _ = p.update(&y);
     let query = count(200, || black_box(&p).irradiance(n));
     let variance = count(50, || black_box(&p).irradiance_variance(n));
@@ -307,6 +313,7 @@ fn layout_counts<const K: usize>(directions: &[Vec3; K], readings: &[[f32; 3]; K
     hprintln!("# count layout_update K={} {} instructions/call", K, update);
     hprintln!("# count layout_update_rgb K={} {} instructions/call", K, update_rgb);
     hprintln!("# count layout_update_absolute K={} {} instructions/call", K, update_absolute);
+    hprintln!("# count layout_update_exact K={} {} instructions/call", K, update_exact);
     hprintln!("# count layout_irradiance K={} {} instructions/call", K, query);
     hprintln!("# count layout_irradiance_variance K={} {} instructions/call", K, variance);
     hprintln!("# ram layout_f32 K={} {}", K, core::mem::size_of::<LayoutProbe<K, f32>>());
