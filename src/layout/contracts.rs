@@ -895,24 +895,26 @@ fn a_mean_far_above_the_noise_gives_finite_answers() {
     assert!(p.signal_variance().is_finite());
 }
 
-/// A zonal mean profile whose coefficients span 10²⁴ (found by the `layout` fuzz target):
-/// finite values and scale for readings at or above the noise (readings far below it, where
-/// the mean's basis underflows in the working units, are an open defect: fuzz/README.md).
+/// A zonal mean profile whose coefficients span 10²⁴ (found by the `layout` fuzz target), the
+/// large one of a degree cosine sensors do not see (degree 5).
+const SPREAD_PROFILE: [f32; 9] = [
+    0.0,
+    0.0,
+    -4.800_891e-24,
+    -4.800_891e-24,
+    2.464_855_2e-21,
+    1.355_252_7,
+    0.0,
+    9.523_297e-19,
+    0.0,
+];
+
+/// [`SPREAD_PROFILE`]: finite values and scale for readings at or above the noise (and below
+/// it: the next test).
 #[test]
 fn a_spread_mean_profile_below_the_noise_gives_finite_answers() {
     let sensors = fibonacci::<16>();
-    let profile = [
-        0.0,
-        0.0,
-        -4.800_891e-24,
-        -4.800_891e-24,
-        2.464_855_2e-21,
-        1.355_252_7,
-        0.0,
-        9.523_297e-19,
-        0.0,
-    ];
-    let prior = Prior::ENVIRONMENT.with_mean(Mean::Zonal(profile));
+    let prior = Prior::ENVIRONMENT.with_mean(Mean::Zonal(SPREAD_PROFILE));
     let noise = Noise { absolute: 0.01, relative: 0.0 };
     for level in [1.0f32, 1e3] {
         let mut p = LayoutProbe::<16>::new(&sensors, prior, noise).unwrap();
@@ -924,8 +926,7 @@ fn a_spread_mean_profile_below_the_noise_gives_finite_answers() {
     }
 }
 
-/// A zonal mean profile whose coefficients span 10²⁴, the large one of a degree cosine
-/// sensors do not see (degree 5): the mean's basis at the sensors is 10⁻²³ of the profile,
+/// [`SPREAD_PROFILE`]: the mean's basis at the sensors is 10⁻²³ of the profile,
 /// and readings at or below the noise (10⁻², 10⁻³ against an absolute noise of 0.01) gave NaN
 /// values and scale (the GLS mean `b/A` and its square overflowed beside `A` of order 10⁻⁴⁶;
 /// fuzz defect 17). The basis is now brought near 1 in `new`: finite answers for readings
@@ -933,18 +934,7 @@ fn a_spread_mean_profile_below_the_noise_gives_finite_answers() {
 #[test]
 fn a_mean_basis_far_below_its_profile_gives_finite_answers() {
     let sensors = fibonacci::<16>();
-    let profile = [
-        0.0,
-        0.0,
-        -4.800_891e-24,
-        -4.800_891e-24,
-        2.464_855_2e-21,
-        1.355_252_7,
-        0.0,
-        9.523_297e-19,
-        0.0,
-    ];
-    let prior = Prior::ENVIRONMENT.with_mean(Mean::Zonal(profile));
+    let prior = Prior::ENVIRONMENT.with_mean(Mean::Zonal(SPREAD_PROFILE));
     let noise = Noise { absolute: 0.01, relative: 0.0 };
     let mut values = Vec::new();
     for level in [1e3f32, 1.0, 1e-1, 1e-2, 1e-3, 1e-5, 1e-10, 1e-30] {
