@@ -87,16 +87,21 @@
 //!   factor of the innovation), the mixture of "changed" (the new update alone)
 //!   and "unchanged" (pooled with the old evidence) is collapsed to one pooled state with the
 //!   same mean: the old evidence keeps the weight `w′ = (1 − π)·w/(1 + π·w)` of its `w`.
-//!   Otherwise it keeps `(1 − π)·w`, with `π` at most the hazard, so that static light pools
+//!   Otherwise it keeps `(1 − π)·w`, with `π` at most the hazard where nothing sees a
+//!   change, so that static light pools
 //!   towards `1/h` updates even where aliasing makes the evidence weak (repeated collapses
 //!   would cap the weight at `1/√π`). Without sentinels a static map with a sun or lamps
 //!   pools 28–49 updates on average at `N = 16` (513–754 on `city`), where collapsing at every
 //!   update pooled 15–21 (67–69) (`tests/sh/temporal.rs`).
 //! - **The price**: sentinels are rays that add nothing to the estimate. Measured
-//!   ([`eval/src/bin/temporal.rs`], [`docs/temporal.md`]), 1–4 sentinels of 16–256 rays detect
-//!   most changes of the light within an update, where the innovation alone misses most
-//!   switches between maps on `clamp` light; on `smooth` light at `N = 16` the one sentinel
-//!   costs about 5–10 % of static accuracy.
+//!   ([`eval/src/bin/temporal.rs`], [`docs/temporal.md`], held-out maps, `clamp` light),
+//!   1, 2, 4 sentinels of 16, 64, 256 rays detect a ×0.5 or a switch between maps within two
+//!   updates in every sequence, a ×1.3 in 62, 95, 100 % and a 30° turn of the light in 65, 94,
+//!   100 %, where the innovation alone misses most switches between maps; static light stays
+//!   at 0.97–1.09× the oracle's error after 64 updates, with no false reset in 443 520 static
+//!   updates. A small lamp that switches on (1 % of the sphere), which few rays hit, goes
+//!   unseen (1–2 %), and with 1 % of the rays fireflies 0.5, 4.4, 17.9 updates in 1 000 are
+//!   false resets.
 //!
 //! ```
 //! use sphere_quadrature::footprint::Point;
