@@ -811,7 +811,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         let prior = self.prior_log_odds;
         let agrees = |y: T, before: T| prior + evidence(y, before) < 0.0;
         let (mut confirmed, mut fresh) = (0.0f32, 0.0f32);
-        // The regions of the alarms, as a bit set.
+        // The octants of the alarms, as a bit set.
         let mut alarms = 0u32;
         let mut next = self.slots;
         let slots = self.slots.iter().zip(&self.sentinel_directions);
@@ -835,7 +835,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
                 }
                 Kind::New => {
                     // A change, or an outlier in one of the two readings: an alarm that counts
-                    // only beside another.
+                    // only beside alarms in two other octants.
                     let b = evidence(y, slot.reference);
                     if prior + b >= 0.0 {
                         alarm(b);
@@ -868,7 +868,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             };
         }
         self.slots = next;
-        // One alarm alone may be an outlier, and alarms in one or two regions a flicker: they
+        // One alarm alone may be an outlier, and alarms in one or two octants a flicker: they
         // wait for their confirmation.
         if alarms.count_ones() >= 3 {
             confirmed + fresh
@@ -886,7 +886,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         for slot in 0..S {
             let s = &self.slots[slot];
             // The slots move in turn, so that some are verified at every update.
-            let turn = (slot as u16 * reread::TRACK / S as u16) % reread::TRACK;
+            let track = usize::from(reread::TRACK);
+            let turn = ((slot * track / S) % track) as u16;
             let free = s.kind == Kind::Empty
                 || (s.kind == Kind::Verified && s.age >= reread::TRACK + turn);
             if !free {
