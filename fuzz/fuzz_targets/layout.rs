@@ -8,7 +8,8 @@
 //! probe; before the first update irradiance, signal variance and log likelihood are 0; after
 //! finite readings no value, variance or likelihood is NaN and variances are ≥ 0; with
 //! readings within ±10¹⁵, default noise (none, 1 % absolute or 1 % relative, equal noise
-//! scales), a moderate mean profile and an ordinary spectrum every answer is finite.
+//! scales), a moderate mean profile (coefficients within 10^±15, seen by some sensor to within
+//! 1/16 of the largest) and an ordinary spectrum every answer is finite.
 //! `LAYOUT_DEBUG=1` prints the layout, the readings and Phong queries of an input.
 #![no_main]
 
@@ -448,6 +449,18 @@ fn run<T: Reading, const K: usize>(b: &mut Bytes, directions: [Vec3; K]) {
         }
         _ => Some(false),
     };
+    // A moderate profile is also one some sensor sees well: its basis there at least 1/16 of
+    // the profile's largest coefficient. Where the sensors barely see it, the mean's
+    // coefficient is known only to within readings/seen, and the variance of an answer, that
+    // uncertainty squared times the profile's size at the query, may rightly exceed f32::MAX.
+    if let Some(p) = profile {
+        let top = p.iter().fold(0.0f64, |m, &x| m.max(f64::from(x).abs()));
+        let seen = (0..K).fold(0.0f64, |m, i| {
+            let g = responses[i].gains().unwrap_or([1.0; 33]);
+            m.max(zonal_sum(&p, &g, directions[i]).0.abs())
+        });
+        moderate_profile &= seen >= top / 16.0;
+    }
     let r = LayoutProbe::<K, T>::new(&sensors, prior, noise);
     if std::env::var_os("LAYOUT_DEBUG").is_some() {
         eprintln!("K = {K}, {sensors:?}, {prior:?}, {noise:?}: {:?}", r.as_ref().err());
