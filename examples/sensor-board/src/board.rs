@@ -26,10 +26,11 @@ use xca9548a::{I2cSlave, Xca9548a};
 /// Sensors on the board.
 pub const FACES: usize = 6;
 
-/// The sensors' gain: ×1. With [`INTEGRATION_TIME`], 0.0576 lx per count and at most
-/// 65 535 counts: 3 775 lx (the driver's resolution table). Brighter light saturates
-/// ([`BoardError::Saturated`]).
-pub const GAIN: Gain = Gain::One;
+/// The sensors' gain: ×1/4 (×1 and ×2 are meant for dim light, below about 100 lx). With [`INTEGRATION_TIME`], 0.2304 lx per count (the driver's
+/// resolution table), linear up to 1 000 lx; above, the driver applies Vishay's correction
+/// polynomial. The full scale, 65 535 counts (15 099 lx before the correction), is
+/// [`BoardError::Saturated`].
+pub const GAIN: Gain = Gain::OneQuarter;
 
 /// The sensors' integration time: 100 ms.
 pub const INTEGRATION_TIME: IntegrationTime = IntegrationTime::Ms100;

@@ -7,13 +7,14 @@
 //! the Rec. 709 luminance (the VEML7700's spectral response is close to the eye's). Face `i`
 //! of the cube, turned by [`mounting`] into the map's frame, sees the exact cosine-weighted
 //! irradiance of the map's nearest-pixel radiance (`reference::truth::irradiance`, f64), in
-//! lux; its ALS register holds that over the resolution of gain ×1 and 100 ms
-//! (0.0576 lx per count, Vishay's resolution table as the driver uses it), rounded to u16.
+//! lux; its ALS register holds that over the resolution of gain ×1/4 and 100 ms
+//! (0.2304 lx per count, Vishay's resolution table as the driver uses it), rounded to u16.
 
+use embedded_hal::i2c::{ErrorKind, NoAcknowledgeSource};
 use embedded_hal_mock::eh1::delay::NoopDelay;
 use embedded_hal_mock::eh1::i2c::{Mock, Transaction};
 use reference::envmap::{luminance, EnvMap};
-use sensor_board::board::{Board, Wiring, FACES};
+use sensor_board::board::{Board, BoardError, Wiring, FACES};
 use sphere_quadrature::layout::Noise;
 use sphere_quadrature::Vec3;
 use xca9548a::{SlaveAddr, Xca9548a};
@@ -21,8 +22,8 @@ use xca9548a::{SlaveAddr, Xca9548a};
 /// The multiplexer's address (A2 = A1 = A0 = 0) and the VEML7700's (fixed).
 const MUX: u8 = 0x70;
 const ALS: u8 = 0x10;
-/// Lux per count at gain ×1 and 100 ms.
-const LUX_PER_COUNT: f64 = 0.0576;
+/// Lux per count at gain ×1/4 and 100 ms (linear up to 1 000 lx).
+const LUX_PER_COUNT: f64 = 0.2304;
 /// Map radiance unit in cd/m².
 const NITS: f64 = 100.0;
 
@@ -66,14 +67,15 @@ fn true_lux(map: &EnvMap, n: [f64; 3]) -> f64 {
 /// The ALS counts the sensor of each face reads: its lux over the resolution, rounded.
 fn counts(map: &EnvMap) -> [u16; FACES] {
     CUBE.map(|d| {
-        let c = (true_lux(map, mounting(d)) / LUX_PER_COUNT).round();
-        assert!((0.0..65535.0).contains(&c), "the simulated sensor saturates: {c}");
-        c as u16
+        let lux = true_lux(map, mounting(d));
+        // The simulated sensor is linear: as the VEML7700 at this gain, below 1 000 lx.
+        assert!((0.0..1000.0).contains(&lux), "{lux} lx: outside the linear range");
+        (lux / LUX_PER_COUNT).round() as u16
     })
 }
 
 /// What the board says on the bus, channel by channel in the order it was told: start (per
-/// sensor: select its channel, then the ALS_CONF writes of gain ×1 (bits 12:11 = 0), 100 ms
+/// sensor: select its channel, then the ALS_CONF writes of gain ×1/4 (bits 12:11 = 0b11), 100 ms
 /// (bits 9:6 = 0) with the sensor still shut down (bit 0), and powered on), then one reading
 /// (select, read ALS: register 4, little-endian) answered by whichever face is soldered to
 /// that channel (`soldered[i]`: the channel of face `i`).
@@ -85,9 +87,9 @@ fn transactions(
     let mut t = Vec::new();
     for &c in &told {
         t.push(Transaction::write(MUX, vec![1 << c]));
-        t.push(Transaction::write(ALS, vec![0x00, 0x01, 0x00]));
-        t.push(Transaction::write(ALS, vec![0x00, 0x01, 0x00]));
-        t.push(Transaction::write(ALS, vec![0x00, 0x00, 0x00]));
+        t.push(Transaction::write(ALS, vec![0x00, 0x01, 0x18]));
+        t.push(Transaction::write(ALS, vec![0x00, 0x01, 0x18]));
+        t.push(Transaction::write(ALS, vec![0x00, 0x00, 0x18]));
     }
     for &c in &told {
         let face = soldered.iter().position(|&s| s == c).expect("a sensor on every channel told");
@@ -250,4 +252,52 @@ fn a_wrong_channel_order_fails_the_check() {
 fn a_wrong_orientation_fails_the_check() {
     let map = load("lobby");
     assert!(!all_within(&run(&map, Wiring::CUBE.channels, &Wiring::CUBE)));
+}
+
+/// Bad wiring is refused before anything is sent on the bus.
+#[test]
+fn bad_wiring_is_refused() {
+    let mux = Xca9548a::new(Mock::new(&[]), SlaveAddr::default());
+    let noise = Noise::NONE;
+    for channels in [[0, 0, 1, 2, 3, 4], [0, 1, 2, 3, 4, 8]] {
+        let wiring = Wiring { channels, ..Wiring::CUBE };
+        let board = Board::new(&mux, &wiring, noise);
+        assert!(matches!(board, Err(BoardError::InvalidWiring)), "{channels:?}");
+    }
+    let mut directions = Wiring::CUBE.directions;
+    directions[2] = Vec3::ZERO;
+    let board = Board::new(&mux, &Wiring { directions, ..Wiring::CUBE }, noise);
+    assert!(matches!(board, Err(BoardError::Probe(sphere_quadrature::Error::InvalidDirection))));
+    mux.destroy().done();
+}
+
+/// A saturated sensor or a bus error leaves the probe and the last readings as they were.
+#[test]
+fn a_saturated_sensor_or_a_bus_error_keeps_the_state() {
+    let first = [900, 1000, 1100, 1200, 1300, 1400];
+    let mut t = transactions(Wiring::CUBE.channels, Wiring::CUBE.channels, first);
+    // A second reading: face 3 saturates (the reading stops there).
+    for (c, n) in [(0, 900), (1, 1000), (2, 1100), (3, u16::MAX)] {
+        t.push(Transaction::write(MUX, vec![1 << c]));
+        t.push(Transaction::write_read(ALS, vec![0x04], u16::to_le_bytes(n).to_vec()));
+    }
+    // A third: face 1's sensor does not answer.
+    t.push(Transaction::write(MUX, vec![1 << 0]));
+    t.push(Transaction::write_read(ALS, vec![0x04], vec![0x84, 0x03]));
+    t.push(Transaction::write(MUX, vec![1 << 1]));
+    t.push(
+        Transaction::write_read(ALS, vec![0x04], vec![0, 0])
+            .with_error(ErrorKind::NoAcknowledge(NoAcknowledgeSource::Address)),
+    );
+    let mux = Xca9548a::new(Mock::new(&t), SlaveAddr::default());
+    let mut board = Board::new(&mux, &Wiring::CUBE, Noise::NONE).expect("board");
+    board.start(&mut NoopDelay).expect("start");
+    let lux = board.update().expect("update");
+    let before = board.irradiance(Vec3::Z).expect("irradiance");
+    assert!(matches!(board.update(), Err(BoardError::Saturated(3))));
+    assert!(matches!(board.update(), Err(BoardError::Bus(_))));
+    assert_eq!(board.last_lux(), lux);
+    let after = board.irradiance(Vec3::Z).expect("irradiance");
+    assert_eq!((after.value, after.variance), (before.value, before.variance));
+    mux.destroy().done();
 }
