@@ -6,7 +6,7 @@
 # the `## Cost` sections of host timings. A stale report fails with the command that regenerates it.
 # Each run also writes its CSV rows (`--csv target/docs-current/NAME/rows.csv`), and its plot
 # beside the report: .ci/run checks those too.
-# Usage: .ci/docs-current.sh [BENCHMARK...] (default: all of them; about 9 min on 2 cores)
+# Usage: .ci/docs-current.sh [BENCHMARK...] (default: all of them; about 22 min on 2 cores)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=target/docs-current

@@ -76,6 +76,20 @@
 //!   confirms the change (it repeats the changed reading: the evidence counts, a reset after
 //!   two updates) or refutes it (back at the verified reading: no evidence). Changes seen
 //!   together in three octants of the sphere count at once, each capped at `ln 32`.
+//! - **Novel readings**: a lamp that switches on lights few directions, and a rotated ray
+//!   that hits it reads far brighter than anything its octant showed before. The update's
+//!   brightest rotated reading is *novel* where it exceeds the brightest reading of its
+//!   octant since the last reset (over 8 pooled updates or more) by `2048/N` within
+//!   `[8, 32]`, and carries over a tenth of the state's level. Two sentinels (`S ≥ 2`)
+//!   re-read it at the next update, taken from their directions if none is free: both
+//!   repeat it, and the change counts with `ln 64 + ln(ratio/bar)` (a reset at the default
+//!   hazard, the innovation's evidence against it set aside); one does not, and it was an
+//!   outlier (no evidence, no alarm). A small bright spot that a static light shows for the
+//!   first time looks the same: the bar keeps such first sightings rare.
+//! - **Noisy rays**: a path tracer's readings of one direction differ even where nothing
+//!   changed. The probe learns the 90th percentile of `(b − a)²/(a² + b²)` over its pairs of
+//!   readings (their brightness) and adds it, times the readings' mean square, to the
+//!   "unchanged" variance; readings that repeat exactly, as a map's do, leave it at 0.
 //! - **Innovation**: the new update's projection of degrees `l ≤ 2` (every channel) against
 //!   the state's mean, `d = p − p̄`: variance `v·(1 + 1/k)` on static light, more by twice each
 //!   degree's power when the light is new, both multivariate Student t of 3 degrees of
@@ -96,12 +110,13 @@
 //! - **The price**: sentinels are rays that add nothing to the estimate. Measured
 //!   ([`eval/src/bin/temporal.rs`], [`docs/temporal.md`], held-out maps, `clamp` light),
 //!   1, 2, 4 sentinels of 16, 64, 256 rays detect a ×0.5 or a switch between maps within two
-//!   updates in every sequence, a ×1.3 in 62, 95, 100 % and a 30° turn of the light in 65, 94,
-//!   100 %, where the innovation alone misses most switches between maps; static light stays
-//!   at 0.97–1.09× the oracle's error after 64 updates, with no false reset in 443 520 static
-//!   updates. A small lamp that switches on (1 % of the sphere), which few rays hit, goes
-//!   unseen (1–2 %), and with 1 % of the rays fireflies 0.5, 4.4, 17.9 updates in 1 000 are
-//!   false resets.
+//!   updates in 99–100 % of sequences, a ×1.3 in 58, 94, 100 % and a 30° turn of the light
+//!   in 65, 94, 100 %, where the innovation alone misses most switches between maps; a small
+//!   lamp switching on (1 % of the sphere, as bright as the rest of the light together) in
+//!   1, 33, 67 % (a ray of 64 hits it in one update of two), and its switching off in 19,
+//!   60, 100 %. Static light stays at 0.97–1.09× the oracle's error after 64 updates, with
+//!   0, 0.88, 0.55 false resets per 1 000 static updates (worst map 0, 2.2, 3.8: first
+//!   sightings of small bright spots); with 1 % of the rays fireflies, 0.5, 4.7, 14.5.
 //!
 //! ```
 //! use sphere_quadrature::footprint::Point;
@@ -362,7 +377,7 @@ pub type RgbTemporalProbe<const N: usize, F = Point, const S: usize = 0> =
 /// ([`crate::footprint`]). Any `N ≥ 1` works: the probe needs no baked tables.
 ///
 /// It holds its directions and three sets of 81 coefficients per channel (the sums, their
-/// rounding errors and the queries'): 4 224 bytes for `N = 64`, RGB, `S = 4`; 1 920 for
+/// rounding errors and the queries'): 4 264 bytes for `N = 64`, RGB, `S = 4`; 1 960 for
 /// `N = 64`, one channel, no sentinels, on a 64-bit host (a unit test pins both).
 ///
 /// # Examples
@@ -413,6 +428,13 @@ pub struct TemporalProbe<
     noise_prior_test: T,
     /// The re-read slots: what each slot's reading is compared with.
     slots: [reread::Slot<T>; S],
+    /// The brightest rotated sample seen in each octant since the last reset (brightness, in
+    /// units of `2^scale`): what makes a reading novel.
+    peaks: [f32; 8],
+    novel_confirmed: bool,
+    /// The running 90th percentile of `(b − a)²/(a² + b²)` over pairs of readings of one
+    /// direction (their brightness): 0 where readings repeat exactly.
+    repeat_noise: f32,
     /// The state's scale: every statistic above is in units of `2^scale` (second moments in
     /// units of `4^scale`), so that none depends on the units of the samples.
     scale: i32,
@@ -498,6 +520,9 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             noise_prior: T::ZERO,
             noise_prior_test: T::ZERO,
             slots: [reread::Slot::EMPTY; S],
+            peaks: [0.0; 8],
+            novel_confirmed: false,
+            repeat_noise: 0.0,
             scale: 0,
             irradiance_coefficients: [T::ZERO; COEFFICIENTS],
             irradiance_variance: T::ZERO,
@@ -577,10 +602,10 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against), one channel, a budget
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
-    /// - `m4:temporal_update_S1 N=16`: 25 308 instructions (15 rotated, 1 sentinel)
-    /// - `m4:temporal_update_S2 N=64`: 106 020 instructions (62 rotated, 2 sentinels)
-    /// - `m4:temporal_update_S0 N=64`: 106 870 instructions (64 rotated)
-    /// - `m4:temporal_update_S4 N=256`: 580 080 instructions (252 rotated, 4 sentinels)
+    /// - `m4:temporal_update_S1 N=16`: 26 196 instructions (15 rotated, 1 sentinel)
+    /// - `m4:temporal_update_S2 N=64`: 111 020 instructions (62 rotated, 2 sentinels)
+    /// - `m4:temporal_update_S0 N=64`: 106 880 instructions (64 rotated)
+    /// - `m4:temporal_update_S4 N=256`: 600 440 instructions (252 rotated, 4 sentinels)
     ///
     /// # Examples
     /// ```
@@ -683,8 +708,11 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         // With sentinels the innovation alone does not forget: aliasing can fake it, and an
         // outlier that made the old evidence weigh less would weigh more itself. It adds to
         // the evidence of a change the sentinels see.
+        let raw_rotated = log_bf_rotated;
         if S > 0 {
-            log_bf_rotated = log_bf_rotated.min(0.0);
+            // A novel reading its re-reads confirmed is seen directly: the innovation's
+            // evidence against a change (an aliasing outlier's) does not weigh against it.
+            log_bf_rotated = if self.novel_confirmed { 0.0 } else { log_bf_rotated.min(0.0) };
         }
         let probability = if first {
             1.0
@@ -699,6 +727,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         // hazard): the old weight times 1 − π. (Collapsing at every update would cap the
         // weight at 1/√π: static light with weak evidence, such as a bright spot's aliasing,
         // would never pool.)
+        let novelty =
+            if S >= reread::NOVEL_REREADS && !first { self.novelty(samples) } else { None };
         let confirmed = if S == 0 { log_bf_rotated > 0.0 } else { probability >= 0.5 };
         let kept = if first {
             0.0
@@ -754,10 +784,11 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
                     }
                 }
             }
-            self.choose_rereads(samples);
+            self.update_peaks(samples, probability >= 0.5 || first);
+            self.choose_rereads(samples, novelty);
         }
         self.last_change_probability = if first { 0.0 } else { probability };
-        self.last_evidence = (log_bf_rotated, log_bf_sentinel);
+        self.last_evidence = (raw_rotated, log_bf_sentinel);
         self.updates = self.updates.saturating_add(1);
         self.refresh();
         self.rotate();
@@ -786,7 +817,11 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             // never does (a slow drift between two readings of a direction).
             let tolerance =
                 relative.channel(ch).clamp(TOLERANCE.0 * TOLERANCE.0, TOLERANCE.1 * TOLERANCE.1);
-            let s0 = tolerance * m * m + tiny * tiny;
+            // What two readings of one direction differ by where nothing changed (a path
+            // tracer's rays are noisy): the learned percentile, as a variance.
+            let yc = y.channel(ch);
+            let repeat = self.repeat_noise * 0.5 * (m * m + yc * yc);
+            let s0 = tolerance * m * m + repeat + tiny * tiny;
             let psi = 2.0 * (second_moment.channel(ch) + m * m);
             bf += gaussian_log_bf(r.channel(ch) * r.channel(ch), 1.0, s0, psi).max(0.0);
         }
@@ -797,6 +832,17 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// moving each slot to its next state.
     fn weigh_rereads(&mut self, readings: &[T; S], second_moment: T) -> f32 {
         use reread::{Kind, Slot};
+        // The repeat noise: a running 90th percentile (multiplicative steps).
+        for (slot, &y) in self.slots.iter().zip(readings) {
+            if slot.kind == Kind::Empty {
+                continue;
+            }
+            let (a, b) = (reread::brightness(slot.reference), reread::brightness(y));
+            let q = if a + b > 0.0 { (b - a) * (b - a) / (a * a + b * b) } else { 0.0 };
+            let e = self.repeat_noise.max(reread::REPEAT_FLOOR);
+            // A running 90th percentile: up by STEP⁹ where q exceeds it, down by STEP else.
+            self.repeat_noise = if q > e { e * reread::REPEAT_UP } else { e / reread::REPEAT_STEP };
+        }
         // The relative variance of the state's level (its mean radiance), per channel.
         let (v, w) = (self.noise(), self.weight);
         let relative = v.map(|x| x / w);
@@ -811,6 +857,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         let prior = self.prior_log_odds;
         let agrees = |y: T, before: T| prior + evidence(y, before) < 0.0;
         let (mut confirmed, mut fresh) = (0.0f32, 0.0f32);
+        // A novel reading's re-reads: all must repeat it.
+        let (mut novel, mut refuted) = (0.0f32, false);
         // The octants of the alarms, as a bit set.
         let mut alarms = 0u32;
         let mut next = self.slots;
@@ -831,13 +879,16 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             *next = match slot.kind {
                 Kind::Empty => Slot::EMPTY,
                 Kind::New if agrees(y, slot.reference) => {
+                    novel = novel.max(slot.evidence);
                     to(Kind::Verified, slot.reference, y, 0.0)
                 }
                 Kind::New => {
+                    refuted |= slot.evidence > 0.0;
                     // A change, or an outlier in one of the two readings: an alarm that counts
                     // only beside alarms in two other octants.
+                    // (A novel reading that does not repeat was an outlier: no alarm.)
                     let b = evidence(y, slot.reference);
-                    if prior + b >= 0.0 {
+                    if prior + b >= 0.0 && slot.evidence == 0.0 {
                         alarm(b);
                     }
                     to(Kind::Disputed, slot.reference, y, 0.0)
@@ -857,17 +908,22 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
                         to(Kind::Suspect, slot.reference, y, b)
                     }
                 }
+                // Back at the verified reading (even if near the changed one too): refuted.
+                Kind::Suspect if agrees(y, slot.reference) => {
+                    to(Kind::Verified, slot.reference, y, 0.0)
+                }
                 Kind::Suspect if agrees(y, slot.other) => {
                     confirmed += slot.evidence;
                     to(Kind::Verified, y, y, 0.0)
-                }
-                Kind::Suspect if agrees(y, slot.reference) => {
-                    to(Kind::Verified, slot.reference, y, 0.0)
                 }
                 Kind::Suspect => to(Kind::New, y, y, 0.0),
             };
         }
         self.slots = next;
+        self.novel_confirmed = !refuted && novel > 0.0;
+        if !refuted {
+            confirmed += novel;
+        }
         // One alarm alone may be an outlier, and alarms in one or two octants a flicker: they
         // wait for their confirmation.
         if alarms.count_ones() >= 3 {
@@ -877,20 +933,90 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         }
     }
 
+    /// This update's brightest rotated sample, if it is novel: brighter than
+    /// [`reread::NOVELTY`] times the brightest one its octant has seen since the last reset,
+    /// and carrying over a tenth of the state's level (a change of 10 % always matters).
+    /// Its index and the evidence its confirmation brings: `ln(k + 1)` for the `k` updates
+    /// that saw nothing so bright there, plus `ln(ratio/NOVELTY)`.
+    fn novelty(&self, samples: &[T; N]) -> Option<(usize, f32)> {
+        use reread::brightness;
+        let (w, level) = (self.weight, brightness(self.sum[0]));
+        let (mut j, mut top, mut total) = (0usize, -1.0f32, 0.0f32);
+        for (i, &y) in samples.iter().enumerate() {
+            let b = brightness(y);
+            total += b;
+            if b > top {
+                (j, top) = (i, b);
+            }
+        }
+        let peak = self.peaks[reread::octant(self.directions[j]) as usize];
+        // The level's brightness per sample: sum[0]/w is √(4π) times the mean radiance.
+        let mean_level = level / (w * math::sqrt(4.0 * PI));
+        let excess = (top - total / N as f32) / (N as f32 * mean_level);
+        let ratio = top / peak;
+        (w >= reread::NOVEL_HISTORY
+            && ratio > reread::novelty(N)
+            && excess > TOLERANCE.1
+            && peak > 0.0)
+            .then(|| (j, reread::NOVEL_EVIDENCE + math::ln(ratio / reread::novelty(N))))
+    }
+
+    /// Raises each octant's peak to this update's brightest rotated sample there (restarts
+    /// them at a reset).
+    fn update_peaks(&mut self, samples: &[T; N], restart: bool) {
+        if restart {
+            self.peaks = [0.0; 8];
+        }
+        for (d, &y) in self.directions.iter().zip(samples) {
+            let p = &mut self.peaks[reread::octant(*d) as usize];
+            *p = p.max(reread::brightness(y));
+        }
+    }
+
     /// After an update: the directions the free slots re-read next (an empty slot, or one
     /// that has tracked its direction for [`reread::TRACK`] updates or more, the slots in
     /// turn), the brightest of this update's rotated samples.
-    fn choose_rereads(&mut self, samples: &[T; N]) {
+    fn choose_rereads(&mut self, samples: &[T; N], novelty: Option<(usize, f32)>) {
         use reread::{brightness, Kind, Slot};
-        let mut key = samples.map(brightness);
-        for slot in 0..S {
-            let s = &self.slots[slot];
+        // A novel reading whose confirmation would be a change: two slots re-read it, so that
+        // a firefly must repeat twice to pass for a change. Free slots first, else the ones
+        // that have verified their direction longest (the others keep watching).
+        let track = usize::from(reread::TRACK);
+        let free = |slots: &[reread::Slot<T>; S], slot: usize| {
+            let s = &slots[slot];
             // The slots move in turn, so that some are verified at every update.
-            let track = usize::from(reread::TRACK);
             let turn = ((slot * track / S) % track) as u16;
-            let free = s.kind == Kind::Empty
-                || (s.kind == Kind::Verified && s.age >= reread::TRACK + turn);
-            if !free {
+            s.kind == Kind::Empty || (s.kind == Kind::Verified && s.age >= reread::TRACK + turn)
+        };
+        let novelty = novelty.filter(|&(_, b)| S >= 2 && self.prior_log_odds + b >= 0.0);
+        if let Some((j, evidence)) = novelty {
+            for _ in 0..reread::NOVEL_REREADS {
+                let slot = (0..S).find(|&i| free(&self.slots, i)).or_else(|| {
+                    (0..S)
+                        .filter(|&i| self.slots[i].kind == Kind::Verified)
+                        .max_by_key(|&i| self.slots[i].age)
+                });
+                // Fewer than two slots to spare: the novel reading is re-read as any other.
+                let Some(i) = slot else { break };
+                self.sentinel_directions[i] = self.directions[j];
+                let y = samples[j];
+                self.slots[i] = Slot { kind: Kind::New, reference: y, other: y, evidence, age: 0 };
+            }
+            let novel = self.slots.iter().filter(|s| s.evidence > 0.0 && s.kind == Kind::New);
+            if novel.count() < reread::NOVEL_REREADS {
+                for s in &mut self.slots {
+                    if s.kind == Kind::New {
+                        s.evidence = 0.0;
+                    }
+                }
+            }
+        }
+        let mut key = samples.map(brightness);
+        if let Some((j, _)) = novelty {
+            key[j] = -1.0;
+        }
+        for slot in 0..S {
+            if !free(&self.slots, slot) {
                 continue;
             }
             let mut best: Option<usize> = None;
@@ -943,6 +1069,9 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         self.noise_prior_test = two(self.noise_prior_test);
         for slot in &mut self.slots {
             (slot.reference, slot.other) = (one(slot.reference), one(slot.other));
+        }
+        for p in &mut self.peaks {
+            *p = scale::ldexp_saturating(*p, k1);
         }
         self.irradiance_variance = two(self.irradiance_variance);
         self.scale = e;
@@ -1113,9 +1242,9 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// # Cost
     /// Cortex-M4F instructions per call (as [`TemporalProbe::pool`]'s), one channel: the
     /// harmonics of degree `L` at the normal and a dot product.
-    /// - `m4:temporal_irradiance_S1 N=16`: 907 instructions (`L = 4`)
-    /// - `m4:temporal_irradiance_S2 N=64`: 1 465 instructions (`L = 6`)
-    /// - `m4:temporal_irradiance_S4 N=256`: 2 135 instructions (`L = 8`)
+    /// - `m4:temporal_irradiance_S1 N=16`: 912 instructions (`L = 4`)
+    /// - `m4:temporal_irradiance_S2 N=64`: 1 446 instructions (`L = 6`)
+    /// - `m4:temporal_irradiance_S4 N=256`: 2 134 instructions (`L = 8`)
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let mut y = [0.0f32; COEFFICIENTS];

@@ -12,15 +12,53 @@
 //! - *verified*: a change from it is an alarm. An alarm counts at once only where alarms come
 //!   from three octants of the sphere together (a global change; its evidence capped at
 //!   [`CONTAMINATION`] each: one ray in 32 may be an outlier); else the slot becomes
-//! - *suspect*: its next reading confirms the change (it agrees with the changed reading: the
-//!   alarm's full evidence) or refutes it (back at the verified reading: a firefly or a
-//!   flicker, no evidence).
+//! - *suspect*: its next reading refutes the change (back at the verified reading: a firefly
+//!   or a flicker, no evidence) or confirms it (it agrees with the changed reading: the
+//!   alarm's full evidence).
+//!
+//! A *novel* reading, the update's brightest and far brighter than anything its octant has
+//! seen since the last reset ([`novelty`]), is re-read by two slots at once (taken from the
+//! directions they verify if none is free): a lamp that switched on is then confirmed at the
+//! next update, where a firefly would have to repeat twice.
+//!
+//! Readings of one direction need not repeat exactly: a path tracer's rays are noisy. The
+//! probe learns the 90th percentile of `(b − a)²/(a² + b²)` over its pairs of readings and
+//! counts a difference within it as no change.
 
 use super::Vec3;
 use crate::radiance::Radiance;
 
 /// Updates a slot tracks one direction before it moves to another.
 pub(super) const TRACK: u16 = 4;
+/// How much brighter than the brightest earlier reading in its octant a reading of `rays`
+/// rotated rays per update must be to be novel: `2048/rays` within `[8, 32]` (32 at 64 rays,
+/// 8 at 256). On static light a first hit of a small bright spot looks the same; the
+/// fewer the rays, the later an octant's peak settles, and the higher the bar that keeps
+/// such hits below one in a thousand updates on the training maps (`docs/temporal.md`).
+pub(super) const fn novelty(rays: usize) -> f32 {
+    let r = 2048.0 / rays as f32;
+    if r < 8.0 {
+        8.0
+    } else if r > 32.0 {
+        32.0
+    } else {
+        r
+    }
+}
+/// The log Bayes factor of a confirmed novel reading at the bar [`novelty`]: `ln 64`, a
+/// change at the default hazard (more above the bar by `ln(ratio/bar)`).
+pub(super) const NOVEL_EVIDENCE: f32 = 4.158_883;
+/// The pooled updates an octant's peak must rest on before a reading can be novel.
+pub(super) const NOVEL_HISTORY: f32 = 8.0;
+/// The repeat noise's running 90th percentile steps down by this factor for a pair below
+/// it (`e^(1/32)`), and up by its ninth power for one above.
+pub(super) const REPEAT_STEP: f32 = 1.031_743;
+/// `REPEAT_STEP⁹`.
+pub(super) const REPEAT_UP: f32 = 1.324_784;
+/// Below this the repeat noise is nil (readings that repeat exactly, as a map's do).
+pub(super) const REPEAT_FLOOR: f32 = 1e-6;
+/// The slots that re-read a novel reading (at most).
+pub(super) const NOVEL_REREADS: usize = 2;
 /// The log Bayes factor one fresh slot can add at most: `ln 32`, as if one reading in 32
 /// were an outlier.
 pub(super) const CONTAMINATION: f32 = 3.465_736;

@@ -182,7 +182,8 @@ pub(crate) fn render(args: &Args, r: &Results, secs: f64, threads: usize) -> Str
         "A sentinel's re-read of a direction is a new path: in the static scene two readings of one direction \
          (luminance, {pairs} pairs: 256 directions per probe) differ by more than 10 % of their mean in {}, by \
          more than 50 % in {}, median {}. The probe's model of an unchanged reading allows a relative spread of \
-         5–10 % (`src/temporal.rs`, module docs).\n",
+         5–10 % plus what it learns from its own pairs of readings (their 90th percentile; `src/temporal.rs`, \
+         module docs): a Gaussian model of a heavy-tailed spread, so a pair in its tail can still pass for a change.\n",
         pct(over10, 1),
         pct(over50, 1),
         pct(median, 1)
