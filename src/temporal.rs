@@ -1221,7 +1221,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     }
 
     /// The log Bayes factors of a change at the last update: from the rotated samples'
-    /// innovation and from the sentinels (0 for the first).
+    /// innovation (its full value; with sentinels only its evidence against a change counts,
+    /// and none where a novel reading was confirmed) and from the sentinels (0 for the first).
     #[must_use]
     pub const fn last_evidence(&self) -> (f32, f32) {
         self.last_evidence
