@@ -14,6 +14,7 @@
 /// The files of `src/common/`, re-exported at the crate root (they keep that folder, which the
 /// reports and tables cite).
 mod common {
+    pub mod blends;
     pub mod cli;
     pub mod luminance_bar;
     pub mod optimal;
@@ -23,7 +24,7 @@ mod common {
     pub mod tiers;
 }
 
-pub use common::{cli, luminance_bar, optimal, parallel, renderer_engine, report, tiers};
+pub use common::{blends, cli, luminance_bar, optimal, parallel, renderer_engine, report, tiers};
 
 #[path = "../../examples/common/compare.rs"]
 pub mod compare;

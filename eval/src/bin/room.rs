@@ -54,6 +54,7 @@ mod report;
 mod scene;
 
 use scene::{Scene, Setup, V};
+use sphere_quadrature_eval::blends::ddgi_blend;
 use sphere_quadrature_eval::{cli, parallel};
 
 use std::error::Error;
@@ -62,6 +63,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Parser;
+use reference::envmap::luminance;
 use reference::rng::Rng;
 use sphere_quadrature::footprint::Point;
 use sphere_quadrature::probe::cosine_weighted_average;
@@ -172,11 +174,6 @@ fn reference_half(scene: &Scene, p: V, normals: &[V], rays: usize, seed: u64) ->
     }
     let w = 4.0 * std::f64::consts::PI / rays as f64;
     e.into_iter().map(|x| x.map(|c| c * w)).collect()
-}
-
-/// Luminance (Rec. 709), as the temporal benchmark's.
-fn luminance(x: V) -> f64 {
-    0.2126 * x[0] + 0.7152 * x[1] + 0.0722 * x[2]
 }
 
 /// Two readings of one direction differ by path-tracing noise alone: over the probes and
@@ -297,28 +294,6 @@ struct Run {
     trace_secs: f64,
     pool_secs: f64,
     paths: usize,
-}
-
-/// DDGI v1.3.7's blend of one texel, in gamma-5 encoded space (as `cargo eval temporal`).
-fn ddgi_blend(prev: V, new: V, thresholds: (f64, f64)) -> V {
-    let enc = |x: V| x.map(|c| c.max(0.0).powf(0.2));
-    let (p, r) = (enc(prev), enc(new));
-    let mut hysteresis = 0.97f64;
-    let max3 = |x: V| x[0].max(x[1]).max(x[2]);
-    if max3([p[0] - r[0], p[1] - r[1], p[2] - r[2]]) > thresholds.0 {
-        hysteresis = (hysteresis - 0.75).max(0.0);
-    }
-    let mut delta = [r[0] - p[0], r[1] - p[1], r[2] - p[2]];
-    if luminance(delta) > thresholds.1 {
-        delta = delta.map(|d| d * 0.25);
-    }
-    let mut step = delta.map(|d| (1.0 - hysteresis) * d);
-    if max3(r) < max3(p) {
-        for (s, d) in step.iter_mut().zip(delta) {
-            *s = s.abs().max(1.0 / 1024.0).min(d.abs()) * s.signum();
-        }
-    }
-    [p[0] + step[0], p[1] + step[1], p[2] + step[2]].map(|c| c.powi(5))
 }
 
 /// The truth of a frame at a probe (scaled units).

@@ -93,6 +93,7 @@ use sphere_quadrature::footprint::Point;
 use sphere_quadrature::probe::{cosine_weighted_average, Probe, ProbeSize};
 use sphere_quadrature::temporal::{Change, TemporalProbe};
 use sphere_quadrature::{RotationSequence, SphericalFibonacci, Vec3};
+use sphere_quadrature_eval::blends::ddgi_blend;
 
 const TIERS: [&str; 2] = ["clamp", "smooth"];
 const NS: [usize; 3] = [16, 64, 256];
@@ -657,28 +658,6 @@ impl Curve {
     fn changes(&self) -> usize {
         self.detections[0].all
     }
-}
-
-/// DDGI v1.3.7's blend of one texel, in gamma-5 encoded space.
-fn ddgi_blend(prev: [f64; 3], new: [f64; 3], thresholds: (f64, f64)) -> [f64; 3] {
-    let enc = |x: [f64; 3]| x.map(|c| c.max(0.0).powf(0.2));
-    let (p, r) = (enc(prev), enc(new));
-    let mut hysteresis = 0.97f64;
-    let max3 = |x: [f64; 3]| x[0].max(x[1]).max(x[2]);
-    if max3([p[0] - r[0], p[1] - r[1], p[2] - r[2]]) > thresholds.0 {
-        hysteresis = (hysteresis - 0.75).max(0.0);
-    }
-    let mut delta = [r[0] - p[0], r[1] - p[1], r[2] - p[2]];
-    if luminance(delta) > thresholds.1 {
-        delta = delta.map(|d| d * 0.25);
-    }
-    let mut step = delta.map(|d| (1.0 - hysteresis) * d);
-    if max3(r) < max3(p) {
-        for (s, d) in step.iter_mut().zip(delta) {
-            *s = s.abs().max(1.0 / 1024.0).min(d.abs()) * s.signum();
-        }
-    }
-    [p[0] + step[0], p[1] + step[1], p[2] + step[2]].map(|c| c.powi(5))
 }
 
 /// The blends' state per normal.
