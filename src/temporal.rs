@@ -435,6 +435,9 @@ pub struct TemporalProbe<
     /// The running 90th percentile of `(b − a)²/(a² + b²)` over pairs of readings of one
     /// direction (their brightness): 0 where readings repeat exactly.
     repeat_noise: f32,
+    /// The running share of re-reads that disagree with the reading they re-read: what a
+    /// re-read's evidence can be worth at most.
+    disagree_rate: f32,
     /// The state's scale: every statistic above is in units of `2^scale` (second moments in
     /// units of `4^scale`), so that none depends on the units of the samples.
     scale: i32,
@@ -523,6 +526,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             peaks: [0.0; 8],
             novel_confirmed: false,
             repeat_noise: 0.0,
+            disagree_rate: reread::DISAGREE_START,
             scale: 0,
             irradiance_coefficients: [T::ZERO; COEFFICIENTS],
             irradiance_variance: T::ZERO,
@@ -833,15 +837,11 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     fn weigh_rereads(&mut self, readings: &[T; S], second_moment: T) -> f32 {
         use reread::{Kind, Slot};
         // The repeat noise: a running 90th percentile (multiplicative steps).
-        for (slot, &y) in self.slots.iter().zip(readings) {
-            if slot.kind == Kind::Empty {
-                continue;
+        for (i, &y) in readings.iter().enumerate() {
+            let slot = self.slots[i];
+            if slot.kind != Kind::Empty {
+                self.learn_repeat_noise(reread::repeat_q(slot.reference, y));
             }
-            let (a, b) = (reread::brightness(slot.reference), reread::brightness(y));
-            let q = if a + b > 0.0 { (b - a) * (b - a) / (a * a + b * b) } else { 0.0 };
-            let e = self.repeat_noise.max(reread::REPEAT_FLOOR);
-            // A running 90th percentile: up by STEP⁹ where q exceeds it, down by STEP else.
-            self.repeat_noise = if q > e { e * reread::REPEAT_UP } else { e / reread::REPEAT_STEP };
         }
         // The relative variance of the state's level (its mean radiance), per channel.
         let (v, w) = (self.noise(), self.weight);
@@ -856,6 +856,12 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             |y: T, before: T| self.reread_evidence(y, before, second_moment, relative_level);
         let prior = self.prior_log_odds;
         let agrees = |y: T, before: T| prior + evidence(y, before) < 0.0;
+        // What one alarm, and an alarm and its confirmation, are worth at most: as rare as
+        // one and two disagreeing re-reads of one of the S slots where nothing changed.
+        let rate = self.disagree_rate.max(reread::DISAGREE_FLOOR);
+        let cap_alarm = -math::ln(rate * S as f32);
+        let cap_confirmed = -math::ln(rate * rate * S as f32);
+        let (mut compared, mut disagreements) = (0u32, 0u32);
         let (mut confirmed, mut fresh) = (0.0f32, 0.0f32);
         // A novel reading's re-reads: all must repeat it.
         let (mut novel, mut refuted) = (0.0f32, false);
@@ -866,8 +872,25 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         for ((slot, &d), (next, &y)) in slots.zip(next.iter_mut().zip(readings)) {
             let mut alarm = |b: f32| {
                 alarms |= 1 << reread::octant(d);
-                fresh += b.min(reread::CONTAMINATION);
+                fresh += b.min(reread::CONTAMINATION).min(cap_alarm);
             };
+            // Whether this re-read adds a disagreement (or an agreement) to their share: an
+            // alarm's waits for the next reading, and a change that it confirms is not one.
+            let counted = match slot.kind {
+                Kind::Empty => None,
+                Kind::New | Kind::Verified if !agrees(y, slot.reference) => None,
+                Kind::New | Kind::Verified => Some(false),
+                Kind::Disputed | Kind::Suspect
+                    if agrees(y, slot.other) && !agrees(y, slot.reference) =>
+                {
+                    None
+                }
+                Kind::Disputed | Kind::Suspect => Some(true),
+            };
+            if let Some(disagree) = counted {
+                compared += 1;
+                disagreements += u32::from(disagree);
+            }
             let age = slot.age.saturating_add(1);
             let to = |kind: Kind, reference: T, other: T, evidence: f32| Slot {
                 kind,
@@ -905,7 +928,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
                         to(Kind::Verified, slot.reference, y, 0.0)
                     } else {
                         alarm(b);
-                        to(Kind::Suspect, slot.reference, y, b)
+                        // Capped by the share of disagreeing re-reads before this one.
+                        to(Kind::Suspect, slot.reference, y, b.min(cap_confirmed))
                     }
                 }
                 // Back at the verified reading (even if near the changed one too): refuted.
@@ -920,6 +944,11 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             };
         }
         self.slots = next;
+        // The share of disagreeing re-reads: a running mean.
+        for k in 0..compared {
+            let x = if k < disagreements { 1.0 } else { 0.0 };
+            self.disagree_rate += (x - self.disagree_rate) * reread::DISAGREE_GAIN;
+        }
         self.novel_confirmed = !refuted && novel > 0.0;
         if !refuted {
             confirmed += novel;
@@ -931,6 +960,14 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         } else {
             confirmed
         }
+    }
+
+    /// Adds a pair of readings of one direction, `q` apart ([`reread::repeat_q`]), to the
+    /// repeat noise: a running 90th percentile, up by `REPEAT_UP` where `q` exceeds it and
+    /// down by `REPEAT_STEP` else.
+    fn learn_repeat_noise(&mut self, q: f32) {
+        let e = self.repeat_noise.max(reread::REPEAT_FLOOR);
+        self.repeat_noise = if q > e { e * reread::REPEAT_UP } else { e / reread::REPEAT_STEP };
     }
 
     /// This update's brightest rotated sample, if it is novel: brighter than

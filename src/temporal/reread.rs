@@ -24,6 +24,14 @@
 //! Readings of one direction need not repeat exactly: a path tracer's rays are noisy. The
 //! probe learns the 90th percentile of `(b − a)²/(a² + b²)` over its pairs of readings and
 //! counts a difference within it as no change.
+//!
+//! Where readings are that noisy, a change seen by one slot proves little: two readings in a
+//! row may stray by chance. The probe therefore also keeps the share `r` of re-reads that
+//! disagree with the reading they re-read where no change followed (an alarm that its next
+//! reading confirms is left out), and an alarm and its confirmation are worth at most
+//! `−ln(S·r²)`, a fresh alarm `−ln(S·r)`: as rare as that under static light. Where readings
+//! repeat exactly (a map) `r` stays near zero and the caps do not bind; in a path-traced room
+//! they cut false resets about fivefold (`docs/room.md`).
 
 use super::Vec3;
 use crate::radiance::Radiance;
@@ -57,6 +65,12 @@ pub(super) const REPEAT_STEP: f32 = 1.031_743;
 pub(super) const REPEAT_UP: f32 = 1.324_784;
 /// Below this the repeat noise is nil (readings that repeat exactly, as a map's do).
 pub(super) const REPEAT_FLOOR: f32 = 1e-6;
+/// The share of disagreeing re-reads a new state assumes.
+pub(super) const DISAGREE_START: f32 = 1.0 / 1024.0;
+/// The weight of each re-read in the running share of disagreeing ones.
+pub(super) const DISAGREE_GAIN: f32 = 1.0 / 32.0;
+/// The share's floor (`1/4096`).
+pub(super) const DISAGREE_FLOOR: f32 = 1.0 / 4096.0;
 /// The slots that re-read a novel reading (at most).
 pub(super) const NOVEL_REREADS: usize = 2;
 /// The log Bayes factor one fresh slot can add at most: `ln 32`, as if one reading in 32
@@ -105,4 +119,15 @@ pub(super) fn octant(d: Vec3) -> u32 {
 /// parts.
 pub(super) fn brightness<T: Radiance>(y: T) -> f32 {
     (0..T::CHANNELS).map(|c| y.channel(c).max(0.0)).sum()
+}
+
+/// `(b − a)²/(a² + b²)` of two readings' brightness (0 for two dark ones): how far apart two
+/// readings of one direction are, from 0 (equal) to 1 (one of them dark).
+pub(super) fn repeat_q<T: Radiance>(a: T, b: T) -> f32 {
+    let (a, b) = (brightness(a), brightness(b));
+    if a + b > 0.0 {
+        (b - a) * (b - a) / (a * a + b * b)
+    } else {
+        0.0
+    }
 }

@@ -874,3 +874,56 @@ fn irradiance_near_the_top_of_the_range_is_the_scaled_answer_never_nan() {
     // Both kinds of answer are checked.
     assert!(infinite > 0 && infinite < 6 * 16, "{infinite} infinite answers");
 }
+
+/// A path tracer's readings of `light`: each one the light times an independent heavy-tailed
+/// factor (log-normal, σ = 0.7: two readings of one direction differ by more than 10 % in
+/// nine pairs of ten), drawn from a xorshift generator.
+fn traced(light: f32, state: &mut u64) -> f32 {
+    let mut uniform = || {
+        *state ^= *state << 13;
+        *state ^= *state >> 7;
+        *state ^= *state << 17;
+        ((*state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    };
+    let g = (-2.0 * uniform().ln()).sqrt() * (2.0 * PI * uniform()).cos();
+    light * (0.7 * g).exp() as f32
+}
+
+/// Resets in `updates` static updates (the first left out) of path-traced readings, and the
+/// updates to the reset after the light then dims to `dim` times itself (`None`: not within 4).
+fn traced_run<const N: usize, const S: usize>(
+    updates: usize,
+    dim: f32,
+    seed: u64,
+) -> (usize, Option<usize>) {
+    let mut p = TemporalProbe::<N, f32, sphere_quadrature::footprint::Point, S>::new(seed);
+    let mut state = 0x9E37_79B9_7F4A_7C15 ^ seed;
+    let mut resets = 0;
+    for k in 0..updates {
+        let s = p.directions().map(|d| traced(sky(d), &mut state));
+        let t = p.sentinels().map(|d| traced(sky(d), &mut state));
+        resets += usize::from(p.pool(&s, &t).unwrap() == Change::Reset && k > 0);
+    }
+    let after = (1..=4).find(|_| {
+        let s = p.directions().map(|d| traced(dim * sky(d), &mut state));
+        let t = p.sentinels().map(|d| traced(dim * sky(d), &mut state));
+        p.pool(&s, &t).unwrap() == Change::Reset
+    });
+    (resets, after)
+}
+
+#[test]
+fn noisy_rereads_rarely_reset() {
+    // Uncapped, the re-reads' evidence reset such a stream 8 times in these 2 000 updates.
+    let mut total = 0;
+    for seed in 0..4 {
+        let (resets, after) = traced_run::<62, 2>(500, 0.0, seed);
+        // A blackout after such a stream is not seen within four updates (the innovation
+        // counts only against a change where there are sentinels): printed, not asserted.
+        println!(
+            "seed {seed}: {resets} resets in 500 static updates; blackout seen after {after:?}"
+        );
+        total += resets;
+    }
+    assert!(total <= 4, "{total} resets in 2 000 static updates");
+}
