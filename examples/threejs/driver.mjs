@@ -165,6 +165,30 @@ function report(r) {
     lines.push("The package's irradiance is the probe's own (`Probe.irradiance`, `TemporalProbe.irradiance`);");
     lines.push("the SH export column is the irradiance three.js shades from `threeJsSh(\"y-up\")` (its");
     lines.push("`getIrradianceAt`), which keeps degrees ≤ 2 only, as `LightProbeGenerator`'s does.");
+    const mv = d.moving;
+    if (mv) {
+      const pct1 = (x) => `${(100 * x).toFixed(2)} %`;
+      const mean = (xs) => xs.reduce((a, b) => a + b, 0) / xs.length;
+      lines.push("");
+      lines.push("### A moving light");
+      lines.push("");
+      lines.push(`The panel slides 3.5 units (the room is 6 wide) along the ceiling over ${mv.frames} frames; the cube target is re-rendered every frame.`);
+      lines.push("`LightProbeGenerator` projects each frame's target; a `TemporalProbe` (N = 64, Gaussian footprint)");
+      lines.push("pools one update per frame, forgetting old evidence by its probability of a change (prior");
+      lines.push("probability `hazard` per update: the default 1/64, and 1/4). Irradiance");
+      lines.push("error (relative RMS over the 64 normals) against each frame's brute-force reference:");
+      lines.push("");
+      lines.push(`| frame | ${mv.lpg.map((_, i) => i + 1).join(" | ")} | mean |`);
+      lines.push(`| --- | ${mv.lpg.map(() => "---:").join(" | ")} | ---: |`);
+      lines.push(`| \`LightProbeGenerator\` | ${mv.lpg.map(pct1).join(" | ")} | ${pct1(mean(mv.lpg))} |`);
+      for (const t of mv.temporal) {
+        lines.push(`| \`TemporalProbe\`, hazard 1/${Math.round(1 / t.hazard)} | ${t.errors.map(pct1).join(" | ")} | ${pct1(mean(t.errors))} |`);
+      }
+      lines.push("");
+      for (const t of mv.temporal) {
+        lines.push(`What \`pool\` did at hazard 1/${Math.round(1 / t.hazard)}: ${Object.entries(t.changes).map(([k, v]) => `${k} ${v}`).join(", ")}.`);
+      }
+    }
   }
   const md = `${lines.join("\n")}\n`;
   console.log(md);

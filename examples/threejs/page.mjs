@@ -164,6 +164,7 @@ function room() {
   panel.rotation.x = Math.PI / 2; // facing down
   panel.position.set(1.2, 1.99, -0.6);
   scene.add(panel);
+  scene.userData.panel = panel;
   for (const [x, y, z, sx, sy, sz, r, g, b] of [
     [-1.6, -1.4, -1.2, 1.0, 1.2, 1.0, 0.8, 0.7, 0.1],
     [1.8, -1.5, 1.4, 0.8, 1.0, 1.4, 0.1, 0.6, 0.7],
@@ -209,29 +210,33 @@ async function dynamic() {
   const refTarget = new THREE.WebGLCubeRenderTarget(RW, { type: THREE.FloatType });
   const refCamera = new THREE.CubeCamera(0.05, 100, refTarget);
   refCamera.position.copy(PROBE_AT);
-  refCamera.update(renderer, scene);
   const normals = fibonacci(64);
-  const reference = normals.map(() => [0, 0, 0]);
   const face = new Float32Array(RW * RW * 4);
   const d = new THREE.Vector3();
   const A = (x, y) => Math.atan2(x * y, Math.sqrt(x * x + y * y + 1));
-  for (let f = 0; f < 6; f++) {
-    renderer.readRenderTargetPixels(refTarget, 0, 0, RW, RW, face, f);
-    for (let i = 0; i < RW * RW; i++) {
-      faceCoord(f, i, RW, d);
-      const u0 = -1 + 2 * (i % RW) / RW, v0 = -1 + 2 * Math.floor(i / RW) / RW, h = 2 / RW;
-      const omega = A(u0, v0) - A(u0, v0 + h) - A(u0 + h, v0) + A(u0 + h, v0 + h);
-      d.normalize();
-      for (let k = 0; k < normals.length; k++) {
-        const [nx, ny, nz] = normals[k];
-        const t = nx * d.x + ny * d.y + nz * d.z;
-        if (t <= 0) continue;
-        const w = omega * t, r = reference[k];
-        r[0] += w * face[4 * i]; r[1] += w * face[4 * i + 1]; r[2] += w * face[4 * i + 2];
+  /** The brute-force irradiance of the scene at `normals`, from a fresh 256² float cube render. */
+  const brute = () => {
+    refCamera.update(renderer, scene);
+    const irr = normals.map(() => [0, 0, 0]);
+    for (let f = 0; f < 6; f++) {
+      renderer.readRenderTargetPixels(refTarget, 0, 0, RW, RW, face, f);
+      for (let i = 0; i < RW * RW; i++) {
+        faceCoord(f, i, RW, d);
+        const u0 = -1 + 2 * (i % RW) / RW, v0 = -1 + 2 * Math.floor(i / RW) / RW, h = 2 / RW;
+        const omega = A(u0, v0) - A(u0, v0 + h) - A(u0 + h, v0) + A(u0 + h, v0 + h);
+        d.normalize();
+        for (let k = 0; k < normals.length; k++) {
+          const [nx, ny, nz] = normals[k];
+          const t = nx * d.x + ny * d.y + nz * d.z;
+          if (t <= 0) continue;
+          const w = omega * t, r = irr[k];
+          r[0] += w * face[4 * i]; r[1] += w * face[4 * i + 1]; r[2] += w * face[4 * i + 2];
+        }
       }
     }
-  }
-  refTarget.dispose();
+    return irr;
+  };
+  let reference = brute();
   const errorOf = (irr) => {
     let num = 0, den = 0, max = 0;
     normals.forEach((n, k) => {
@@ -394,6 +399,38 @@ async function dynamic() {
     probe.dispose();
     g.dispose();
   }
+  // A moving light: the panel slides along the ceiling, FRAMES frames, the cube re-rendered
+  // every frame. Per frame: LightProbeGenerator on that frame's target, and one pool of a
+  // TemporalProbe (N = 64, Gaussian footprint) carried across the frames, at the default
+  // hazard 1/64 and at 1/4; each against that frame's brute-force reference.
+  const FRAMES = Number(params.get("frames") ?? 12);
+  const panel = scene.userData.panel;
+  const HAZARDS = [1 / 64, 1 / 4];
+  const moving = { frames: FRAMES, lpg: [], temporal: HAZARDS.map((hazard) => ({ hazard, errors: [], changes: {} })) };
+  const tprobes = await Promise.all(HAZARDS.map((hazard) => TemporalProbe.create({ n: 64, seed: 5, footprint: "gaussian", hazard })));
+  const tg = gatherer(64, tprobes[0].sharpness);
+  const tboth = new Float32Array(3 * 64);
+  for (let f = 0; f < FRAMES; f++) {
+    panel.position.x = -2 + (3.5 * f) / (FRAMES - 1);
+    cubeCamera.update(renderer, scene);
+    reference = brute();
+    const probeSh = await LightProbeGenerator.fromCubeRenderTarget(renderer, cubeTarget);
+    moving.lpg.push(errorOf((nn) => probeSh.sh.getIrradianceAt(vec.set(...nn), col).toArray()).rms);
+    tprobes.forEach((tprobe, i) => {
+      const dirs = new Float32Array(3 * 64);
+      dirs.set(tprobe.directions());
+      dirs.set(tprobe.sentinels(), 3 * tprobe.sampleCount);
+      tg.read(dirs, tboth);
+      const change = tprobe.pool(tboth.subarray(0, 3 * tprobe.sampleCount), tboth.subarray(3 * tprobe.sampleCount));
+      const m = moving.temporal[i];
+      m.changes[change] = (m.changes[change] ?? 0) + 1;
+      m.errors.push(errorOf((nn) => Array.from(tprobe.irradiance(nn).value)).rms);
+    });
+  }
+  for (const t of tprobes) t.dispose();
+  tg.dispose();
+  results.moving = moving;
+
   cubeTarget.dispose();
   const base = results.methods[0];
   for (const m of results.methods) {
@@ -403,6 +440,12 @@ async function dynamic() {
     rows.push(`threejs,${m.method},irradiance-rel-max,${m.max.toPrecision(4)}`);
     if (m.shRms !== undefined) rows.push(`threejs,${m.method},sh-export-irradiance-rel-rms,${m.shRms.toPrecision(4)}`);
     rows.push(`threejs,${m.method},ms-per-update,${m.ms.toPrecision(4)}`);
+  }
+  const mean = (xs) => xs.reduce((a, b) => a + b, 0) / xs.length;
+  for (const [name, xs] of [["light-probe-generator", moving.lpg],
+    ...moving.temporal.map((t) => [`package-temporal-64-gaussian-hazard-${Math.round(1 / t.hazard)}`, t.errors])]) {
+    rows.push(`threejs,moving-${name},irradiance-rel-rms-mean,${mean(xs).toPrecision(4)}`);
+    rows.push(`threejs,moving-${name},irradiance-rel-rms-max,${Math.max(...xs).toPrecision(4)}`);
   }
   results.rows = rows;
   return results;
