@@ -165,6 +165,29 @@ function report(r) {
     lines.push("The package's irradiance is the probe's own (`Probe.irradiance`, `TemporalProbe.irradiance`);");
     lines.push("the SH export column is the irradiance three.js shades from `threeJsSh(\"y-up\")` (its");
     lines.push("`getIrradianceAt`), which keeps degrees ≤ 2 only, as `LightProbeGenerator`'s does.");
+    const g = d.grid;
+    if (g) {
+      lines.push("");
+      lines.push("### three.js's LightProbeGridWebGL");
+      lines.push("");
+      lines.push("A `LightProbeGridWebGL` of 3 × 3 × 3 probes 0.02 apart (the room is 6 wide) about the same point renders its own");
+      lines.push(`${d.cube}² cubes and projects them to SH on the GPU, into a 3D texture: nothing is read back. Its`);
+      lines.push("irradiance is read through rendering: a white `MeshLambertMaterial` ball (radius 0.015) at the");
+      lines.push("point lit by the grid alone, E = π·pixel at each pixel's world normal (the shader samples the");
+      lines.push("grid half a cell off the surface, so the centre probe cannot be read alone, and its close");
+      lines.push(`neighbours blend in). Relative RMS error at the ball's ${g.normals} visible`);
+      lines.push("normals (n·view > 0.2) against the brute-force reference at those normals, with the other");
+      lines.push("methods' irradiance at the same normals:");
+      lines.push("");
+      lines.push("| method | irradiance error (RMS), visible hemisphere |");
+      lines.push("| --- | ---: |");
+      lines.push(`| \`LightProbeGridWebGL\` | ${pct(g.grid)} |`);
+      lines.push(`| \`light-probe-generator\` | ${pct(g.lpg)} |`);
+      lines.push(`| \`package-temporal-64-gaussian-1\` | ${pct(g.temporal)} |`);
+      lines.push("");
+      lines.push(`Baking the centre probe alone (\`start: 13, count: 1\`, with \`gl.finish()\` after it) takes ${g.ms.toFixed(2)} ms`);
+      lines.push("(median), its SH left on the GPU; the other methods' times above include reading back.");
+    }
     const mv = d.moving;
     if (mv) {
       const pct1 = (x) => `${(100 * x).toFixed(2)} %`;

@@ -23,6 +23,7 @@
 import * as THREE from "three";
 import { HDRLoader } from "three/addons/loaders/HDRLoader.js";
 import { LightProbeGenerator } from "three/addons/lights/LightProbeGenerator.js";
+import { LightProbeGridWebGL } from "three/addons/lighting/LightProbeGridWebGL.js";
 import { Probe, TemporalProbe } from "sphere-quadrature";
 
 const params = new URLSearchParams(location.search);
@@ -215,9 +216,9 @@ async function dynamic() {
   const d = new THREE.Vector3();
   const A = (x, y) => Math.atan2(x * y, Math.sqrt(x * x + y * y + 1));
   /** The brute-force irradiance of the scene at `normals`, from a fresh 256² float cube render. */
-  const brute = () => {
+  const brute = (at = normals) => {
     refCamera.update(renderer, scene);
-    const irr = normals.map(() => [0, 0, 0]);
+    const irr = at.map(() => [0, 0, 0]);
     for (let f = 0; f < 6; f++) {
       renderer.readRenderTargetPixels(refTarget, 0, 0, RW, RW, face, f);
       for (let i = 0; i < RW * RW; i++) {
@@ -225,8 +226,8 @@ async function dynamic() {
         const u0 = -1 + 2 * (i % RW) / RW, v0 = -1 + 2 * Math.floor(i / RW) / RW, h = 2 / RW;
         const omega = A(u0, v0) - A(u0, v0 + h) - A(u0 + h, v0) + A(u0 + h, v0 + h);
         d.normalize();
-        for (let k = 0; k < normals.length; k++) {
-          const [nx, ny, nz] = normals[k];
+        for (let k = 0; k < at.length; k++) {
+          const [nx, ny, nz] = at[k];
           const t = nx * d.x + ny * d.y + nz * d.z;
           if (t <= 0) continue;
           const w = omega * t, r = irr[k];
@@ -399,6 +400,100 @@ async function dynamic() {
     probe.dispose();
     g.dispose();
   }
+  // three.js's LightProbeGridWebGL at the same point: it renders its own cubes (cubemapSize
+  // as ours) and projects them on the GPU into a 3D texture, so its SH are read through
+  // rendering: a white MeshLambertMaterial sphere at the probe lit by the grid alone,
+  // E = π·pixel at each pixel's world normal (a second pass writes it), against the
+  // brute-force irradiance at those normals, with LightProbeGenerator's and the footprint
+  // TemporalProbe's (N = 64, first update) irradiance on the same normals.
+  {
+    // 3 × 3 × 3 probes 0.02 apart about the point (the room is 6 wide): the shader samples the
+    // grid half a cell off the surface, so a single probe cannot be read alone and its close
+    // neighbours blend in. Timed: the centre probe alone (start 13).
+    const grid = new LightProbeGridWebGL(0.06, 0.06, 0.06, 3, 3, 3);
+    grid.position.copy(PROBE_AT);
+    grid.updateBoundingBox();
+    const bakeOptions = { cubemapSize: CW, near: 0.05, far: 100 };
+    grid.bake(renderer, scene, bakeOptions);
+    const gridTimes = [];
+    for (let r = 0; r < REPEATS + 2; r++) {
+      gl.finish();
+      const t0 = performance.now();
+      grid.bake(renderer, scene, { ...bakeOptions, start: 13, count: 1 });
+      gl.finish();
+      const t1 = performance.now();
+      if (r >= 2) gridTimes.push(t1 - t0);
+    }
+    const evalScene = new THREE.Scene();
+    evalScene.add(grid);
+    const ball = new THREE.Mesh(new THREE.SphereGeometry(0.015, 128, 64), new THREE.MeshLambertMaterial({ color: new THREE.Color(1, 1, 1) }));
+    ball.position.copy(PROBE_AT);
+    evalScene.add(ball);
+    const GS = 96;
+    const cam = new THREE.OrthographicCamera(-0.016, 0.016, 0.016, -0.016, 0.1, 10);
+    const eye = new THREE.Vector3(-0.4, 0.5, 0.77).normalize();
+    cam.position.copy(PROBE_AT).addScaledVector(eye, 3);
+    cam.lookAt(PROBE_AT);
+    const rt = new THREE.WebGLRenderTarget(GS, GS, { type: THREE.FloatType });
+    const readRt = () => {
+      const px = new Float32Array(GS * GS * 4);
+      renderer.readRenderTargetPixels(rt, 0, 0, GS, GS, px);
+      return px;
+    };
+    renderer.setClearColor(0x000000, 0);
+    renderer.setRenderTarget(rt);
+    renderer.clear();
+    renderer.render(evalScene, cam);
+    const shaded = readRt();
+    ball.material = new THREE.ShaderMaterial({
+      vertexShader: `varying vec3 vN;
+        void main() { vN = normalize(mat3(modelMatrix) * normal); gl_Position = projectionMatrix * modelViewMatrix * vec4(position, 1.0); }`,
+      fragmentShader: "varying vec3 vN; void main() { gl_FragColor = vec4(normalize(vN), 1.0); }",
+    });
+    renderer.clear();
+    renderer.render(evalScene, cam);
+    const nrm = readRt();
+    renderer.setRenderTarget(null);
+    const at = [], gridE = [];
+    for (let p = 0; p < GS * GS; p += 7) {
+      if (nrm[4 * p + 3] < 0.5) continue;
+      const m = [nrm[4 * p], nrm[4 * p + 1], nrm[4 * p + 2]];
+      const len = Math.hypot(...m);
+      if (!(len > 0)) continue;
+      const u = m.map((x) => x / len);
+      if (u[0] * eye.x + u[1] * eye.y + u[2] * eye.z <= 0.2) continue;
+      at.push(u);
+      gridE.push([0, 1, 2].map((c) => Math.PI * shaded[4 * p + c]));
+    }
+    const ref = brute(at);
+    const errAt = (irr) => {
+      let num = 0, den = 0;
+      at.forEach((n, k) => {
+        const e = irr(n, k);
+        for (let c = 0; c < 3; c++) { num += (e[c] - ref[k][c]) ** 2; den += ref[k][c] ** 2; }
+      });
+      return Math.sqrt(num / den);
+    };
+    const tp = await TemporalProbe.create({ n: 64, seed: 3, footprint: "gaussian" });
+    const tgg = gatherer(64, tp.sharpness);
+    const both = new Float32Array(3 * 64), dd = new Float32Array(3 * 64);
+    dd.set(tp.directions());
+    dd.set(tp.sentinels(), 3 * tp.sampleCount);
+    tgg.read(dd, both);
+    tp.pool(both.subarray(0, 3 * tp.sampleCount), both.subarray(3 * tp.sampleCount));
+    results.grid = {
+      normals: at.length,
+      ms: median(gridTimes),
+      grid: errAt((n, k) => gridE[k]),
+      lpg: errAt((n) => lpg.sh.getIrradianceAt(vec.set(...n), col).toArray()),
+      temporal: errAt((n) => Array.from(tp.irradiance(n).value)),
+    };
+    tp.dispose();
+    tgg.dispose();
+    rt.dispose();
+    grid.dispose?.();
+  }
+
   // A moving light: the panel slides along the ceiling, FRAMES frames, the cube re-rendered
   // every frame. Per frame: LightProbeGenerator on that frame's target, and one pool of a
   // TemporalProbe (N = 64, Gaussian footprint) carried across the frames, at the default
@@ -441,6 +536,11 @@ async function dynamic() {
     if (m.shRms !== undefined) rows.push(`threejs,${m.method},sh-export-irradiance-rel-rms,${m.shRms.toPrecision(4)}`);
     rows.push(`threejs,${m.method},ms-per-update,${m.ms.toPrecision(4)}`);
   }
+  const gr = results.grid;
+  rows.push(`threejs,light-probe-grid-webgl,hemisphere-irradiance-rel-rms,${gr.grid.toPrecision(4)}`);
+  rows.push(`threejs,light-probe-generator,hemisphere-irradiance-rel-rms,${gr.lpg.toPrecision(4)}`);
+  rows.push(`threejs,package-temporal-64-gaussian-1,hemisphere-irradiance-rel-rms,${gr.temporal.toPrecision(4)}`);
+  rows.push(`threejs,light-probe-grid-webgl,ms-per-bake,${gr.ms.toPrecision(4)}`);
   const mean = (xs) => xs.reduce((a, b) => a + b, 0) / xs.length;
   for (const [name, xs] of [["light-probe-generator", moving.lpg],
     ...moving.temporal.map((t) => [`package-temporal-64-gaussian-hazard-${Math.round(1 / t.hazard)}`, t.errors])]) {
