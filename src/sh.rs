@@ -53,7 +53,14 @@
 //!   `Vector3` (RGB), are radiance coefficients in this very basis and order (constants
 //!   0.282095, 0.488603·y, z, x, 1.092548·xy, yz, 0.315392·(3z² − 1), 1.092548·xz,
 //!   0.546274·(x² − y²)), and the shader returns the irradiance `E(n)` (it then multiplies
-//!   by `BRDF_Lambert`, albedo/π): [`ShL2::three_js`] is the identity.
+//!   by `BRDF_Lambert`, albedo/π, so a white `MeshLambertMaterial` lit by a `LightProbe` of
+//!   intensity 1 shows `E(n)/π`). three.js's world is y-up, so the export names the frame of
+//!   the probe's directions: [`ShL2::three_js_from_z_up`] rotates a z-up probe (the crate's
+//!   point sets take z as the pole) by `(x, y, z) ↦ (x, z, −y)`;
+//!   [`ShL2::three_js_from_y_up`] hands over coefficients already in three.js's axes
+//!   unchanged (a probe sampled in three.js world directions). `examples/threejs` renders a
+//!   sphere lit by the export in three.js and compares its pixels with
+//!   [`ShL2::irradiance`].
 //! - **Filament** (google/filament): `IndirectLight::Builder::irradiance(3, sh)`
 //!   (`filament/include/filament/IndirectLight.h`) takes the irradiance pre-convolved with
 //!   the clamped cosine, pre-multiplied by the Lambertian `1/π` and pre-scaled by the
@@ -83,12 +90,13 @@
 //! # Axes
 //! The engines evaluate their polynomials in the components of a world-space direction:
 //! three.js and Filament are right-handed with y up, Unity left-handed with y up. A probe
-//! whose frame has z up converts with [`ShL2::rotated`] first: to a right-handed y-up frame
-//! by the rotation `(x, y, z) ↦ (x, z, −y)`, to Unity's by the reflection
-//! `(x, y, z) ↦ (x, z, y)` (any orthogonal matrix is accepted).
+//! whose frame has z up converts to three.js with [`ShL2::three_js_from_z_up`] (the rotation
+//! [`Y_UP_FROM_Z_UP`], `(x, y, z) ↦ (x, z, −y)`), and with [`ShL2::rotated`] first for the
+//! others: to Filament's right-handed y-up frame by [`Y_UP_FROM_Z_UP`], to Unity's by the
+//! reflection `(x, y, z) ↦ (x, z, y)` (any orthogonal matrix is accepted).
 //!
 //! ```
-//! use sphere_quadrature::{probe::Probe, sh::ShL2, Mat3, Vec3};
+//! use sphere_quadrature::{probe::Probe, sh::{ShL2, Y_UP_FROM_Z_UP}, Vec3};
 //!
 //! let mut probe = Probe::<64, [f32; 3]>::new();
 //! let sky = |d: Vec3| [1.0 + 0.5 * d.z, 1.0, 0.8 + 0.2 * d.x];
@@ -97,12 +105,15 @@
 //! // Irradiance in O(9): π·(1 + 0.5·2/3) for the red channel at +z.
 //! let e = sh.irradiance(Vec3::Z)?;
 //! assert!((e[0] - 4.18879).abs() < 0.02);
-//! // three.js is y-up: rotate z to y, then hand the 9 RGB triples to `SphericalHarmonics3`.
-//! let y_up = Mat3::from_rows(Vec3::X, Vec3::Z, -Vec3::Y);
-//! let three: [[f32; 3]; 9] = sh.rotated(&y_up).three_js();
+//! // The probe's frame is z-up, three.js's y-up: the export rotates z to y, and the 9 RGB
+//! // triples go to `SphericalHarmonics3.coefficients`.
+//! let three: [[f32; 3]; 9] = sh.three_js_from_z_up();
 //! // three.js's y (index 1) is our z (index 2), its z (index 2) our −y (index 1).
 //! assert!((three[1][0] - sh.coefficients[2][0]).abs() < 1e-5);
 //! assert!((three[2][0] + sh.coefficients[1][0]).abs() < 1e-5);
+//! // The same as rotating first and handing the result over unchanged, to f32 rounding.
+//! let rotated = sh.rotated(&Y_UP_FROM_Z_UP).three_js_from_y_up();
+//! assert!(three.iter().zip(&rotated).all(|(a, b)| (a[0] - b[0]).abs() < 1e-5));
 //! # Ok::<(), sphere_quadrature::Error>(())
 //! ```
 //!
@@ -135,6 +146,20 @@ use crate::math;
 use crate::radiance::Radiance;
 use crate::rotation::Mat3;
 use crate::vec3::Vec3;
+
+/// The rotation from a right-handed z-up frame (the crate's point sets' pole) to a
+/// right-handed y-up one (three.js, Filament): `(x, y, z) ↦ (x, z, −y)`, so `+z ↦ +y` and
+/// `+y ↦ −z`. [`ShL2::three_js_from_z_up`] applies it; [`ShL2::rotated`] takes it for the
+/// other y-up engines.
+///
+/// ```
+/// use sphere_quadrature::{sh::Y_UP_FROM_Z_UP, Vec3};
+///
+/// assert_eq!(Y_UP_FROM_Z_UP * Vec3::Z, Vec3::Y);
+/// assert_eq!(Y_UP_FROM_Z_UP * Vec3::Y, -Vec3::Z);
+/// ```
+pub const Y_UP_FROM_Z_UP: Mat3 =
+    Mat3::from_rows(Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, -1.0, 0.0));
 
 /// `Y₀₀ = ½·√(1/π)`.
 const Y00: f32 = 0.282_094_791_773_878_14_f64 as f32;
@@ -477,13 +502,64 @@ impl<T: Radiance> ShL2<T> {
         }
     }
 
-    /// three.js `SphericalHarmonics3.coefficients` (one `Vector3` per index for RGB): the
-    /// radiance coefficients in the same basis and order, unchanged (module docs, "Engines").
-    /// `getIrradianceAt(n)` and the shader's `shGetIrradianceAt(n)` then return
-    /// [`ShL2::irradiance`]`(n)`, `getAt(n)` [`ShL2::radiance`]`(n)`, to the 6 digits of
-    /// three.js's constants.
+    /// three.js `SphericalHarmonics3.coefficients` (one `Vector3` per index for RGB) of a
+    /// probe whose directions are in a z-up frame (the crate's point sets take z as the
+    /// pole): the coefficients rotated into three.js's y-up world by [`Y_UP_FROM_Z_UP`],
+    /// `(x, y, z) ↦ (x, z, −y)` (module docs, "Engines", "Axes"). three.js's
+    /// `getIrradianceAt(m)` and the shader's `shGetIrradianceAt(m)` at the y-up normal
+    /// `m = (x, z, −y)` then return [`ShL2::irradiance`]`((x, y, z))`, to the 6 digits of
+    /// three.js's constants; a white `MeshLambertMaterial` lit by a `LightProbe` of these
+    /// coefficients renders `E/π` (`BRDF_Lambert`). The rotation is a signed permutation of
+    /// degrees 0 and 1 (exact) and, on degree 2, `c′₂₀ = −½·c₂₀ − (√3/2)·c₂₂`,
+    /// `c′₂₂ = ½·c₂₂ − (√3/2)·c₂₀` with the rest permuted: [`ShL2::rotated`]`(&`
+    /// [`Y_UP_FROM_Z_UP`]`)` to f32 rounding, in 4 multiplies.
+    ///
+    /// ```
+    /// use sphere_quadrature::sh::ShL2;
+    ///
+    /// // Light from +z (up in the probe's frame) only.
+    /// let mut c = [0.0f32; 9];
+    /// c[0] = 1.0;
+    /// c[2] = 0.8;
+    /// let three = ShL2::new(c).three_js_from_z_up();
+    /// // In three.js the gradient is along +y (index 1), and none is left along z (index 2).
+    /// assert!((three[1] - 0.8).abs() < 1e-6 && three[2].abs() < 1e-6);
+    /// ```
     #[must_use]
-    pub const fn three_js(&self) -> [T; 9] {
+    pub fn three_js_from_z_up(&self) -> [T; 9] {
+        // Y_lm((x, z, −y)) in the basis at (x, y, z): y′ = z, z′ = −y, x′y′ = xz, y′z′ = −yz,
+        // x′z′ = −xy, and 3z′² − 1 = 3y² − 1, x′² − y′² = x² − z² mix the zonal and the
+        // (x² − y²) harmonics on the unit sphere.
+        const HALF_SQRT3: f32 = 0.866_025_403_784_438_6_f64 as f32;
+        let [c0, c1, c2, c3, c4, c5, c6, c7, c8] = self.coefficients;
+        [
+            c0,
+            c2,
+            c1.scale(-1.0),
+            c3,
+            c7,
+            c5.scale(-1.0),
+            c6.scale(-0.5).mul_add(c8, -HALF_SQRT3),
+            c4.scale(-1.0),
+            c8.scale(0.5).mul_add(c6, -HALF_SQRT3),
+        ]
+    }
+
+    /// three.js `SphericalHarmonics3.coefficients` of a probe whose directions are already
+    /// three.js world directions (y up): the radiance coefficients in the same basis and
+    /// order, unchanged (module docs, "Engines"). `getIrradianceAt(n)` and the shader's
+    /// `shGetIrradianceAt(n)` then return [`ShL2::irradiance`]`(n)`, `getAt(n)`
+    /// [`ShL2::radiance`]`(n)`, to the 6 digits of three.js's constants. For a probe in the
+    /// crate's z-up frame use [`ShL2::three_js_from_z_up`].
+    ///
+    /// ```
+    /// use sphere_quadrature::sh::ShL2;
+    ///
+    /// let sh = ShL2::new([1.0f32, 0.5, 0.25, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    /// assert_eq!(sh.three_js_from_y_up(), sh.coefficients);
+    /// ```
+    #[must_use]
+    pub const fn three_js_from_y_up(&self) -> [T; 9] {
         self.coefficients
     }
 

@@ -9,7 +9,7 @@ use reference::sh::{legendre, real_sh};
 use sphere_quadrature::bmc::Size;
 use sphere_quadrature::footprint::{CosinePower, Footprint, Gaussian, Kind, Point};
 use sphere_quadrature::probe::{Probe, ProbeTables, Selection};
-use sphere_quadrature::sh::ShL2;
+use sphere_quadrature::sh::{ShL2, Y_UP_FROM_Z_UP};
 use sphere_quadrature::{Error, Mat3, Vec3};
 use std::f64::consts::PI;
 
@@ -380,6 +380,42 @@ fn unity_shade_sh9(k: &[[f32; 4]; 7], n: [f64; 3], c: usize) -> f64 {
     l0l1 + dot(k[3 + c], vb) + f64::from(k[6][c]) * vc
 }
 
+/// A probe in the crate's z-up frame, handed to three.js (y-up) by `three_js_from_z_up`:
+/// three.js's shader formula at the y-up image `(x, z, −y)` of a z-up normal `(x, y, z)` must
+/// give `ShL2::irradiance` at that normal, and `getAt` the radiance, for light that is not
+/// symmetric about any axis. With the coefficients handed over unrotated (what
+/// `three_js_from_y_up` does, and the only export before the z-up one) the error is of the
+/// order of the coefficients themselves.
+#[test]
+fn three_js_from_z_up_matches_three_js_at_the_rotated_normal() {
+    let mut rng = Rng::new(0x7e5a);
+    let (mut rotated_err, mut unrotated_err) = (0.0f64, 0.0f64);
+    for _ in 0..500 {
+        let c = random_sh(&mut rng);
+        let sh = ShL2::new(c);
+        let norm: f64 = c.iter().map(|v| f64::from(*v).abs()).sum();
+        let n = rng.uniform_sphere();
+        let y_up = [n[0], n[2], -n[1]];
+        let e = f64::from(sh.irradiance(vec32(n)).unwrap());
+        let l = f64::from(sh.radiance(vec32(n)).unwrap());
+        let t = sh.three_js_from_z_up().map(f64::from);
+        let via_rotated = sh.rotated(&Y_UP_FROM_Z_UP).three_js_from_y_up();
+        for (a, b) in t.iter().zip(via_rotated) {
+            rotated_err = rotated_err.max((a - f64::from(b)).abs() / norm);
+        }
+        rotated_err = rotated_err.max((three_irradiance(&t, y_up) - e).abs() / norm);
+        rotated_err = rotated_err.max((three_get_at(&t, y_up) - l).abs() / norm);
+        let raw = sh.three_js_from_y_up().map(f64::from);
+        unrotated_err = unrotated_err.max((three_irradiance(&raw, y_up) - e).abs() / norm);
+    }
+    println!(
+        "three.js from z-up (error of Σ|c|): {rotated_err:.2e}; unrotated {unrotated_err:.2e}"
+    );
+    // three.js's 6-digit constants, as in engine_conversions_match_the_engines_formulas.
+    assert!(rotated_err < 3e-6, "three.js from z-up {rotated_err:e}");
+    assert!(unrotated_err > 0.1, "the check cannot tell the frames apart: {unrotated_err:e}");
+}
+
 #[test]
 fn engine_conversions_match_the_engines_formulas() {
     let mut rng = Rng::new(0x5405);
@@ -395,7 +431,7 @@ fn engine_conversions_match_the_engines_formulas() {
         let n = rng.uniform_sphere();
         let e = sh.irradiance(vec32(n)).unwrap();
         let l = sh.radiance(vec32(n)).unwrap();
-        let t = sh.three_js();
+        let t = sh.three_js_from_y_up();
         let f = sh.filament_irradiance();
         let fr = sh.filament_radiance();
         let u = sh.unity();

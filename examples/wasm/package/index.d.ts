@@ -31,6 +31,13 @@ export declare class ProbeError extends Error {
   readonly code: ProbeErrorCode;
 }
 
+/**
+ * The frame of a probe's directions, for the three.js export: `"y-up"` (three.js world
+ * directions, exported unchanged) or `"z-up"` (rotated to three.js's y-up world by
+ * (x, y, z) ↦ (x, z, −y)).
+ */
+export type Frame = "y-up" | "z-up";
+
 /** Three numbers: x, y, z of a direction (need not be unit, must be finite and non-zero). */
 export type Direction = ArrayLike<number>;
 
@@ -132,6 +139,18 @@ export declare class Probe {
 
   /** The posterior variance of each of `radianceSh()`'s 27 numbers. */
   radianceShVariance(): Float32Array;
+
+  /**
+   * three.js `SphericalHarmonics3` coefficients of the posterior mean radiance: 27 floats
+   * for `lightProbe.sh.fromArray(...)`. `frame` is where the probe's directions were
+   * sampled: `"y-up"` (three.js world directions: unchanged) or `"z-up"` (rotated to y-up by
+   * (x, y, z) ↦ (x, z, −y)). A white `MeshLambertMaterial` lit by a `LightProbe` of these
+   * (intensity 1) renders E(n)/π, E the irradiance of `radianceSh()` (Rust `ShL2::irradiance`)
+   * at the z-up normal n = (x, −z, y) of its y-up world normal (x, y, z) (`"z-up"`), or at its
+   * world normal (`"y-up"`).
+   * @throws {ProbeError} `InvalidParameter` for another `frame`.
+   */
+  threeJsSh(frame: Frame): Float32Array;
 
   /** Frees the probe; later calls throw `ProbeError` `InvalidHandle`. Idempotent. */
   dispose(): void;
@@ -286,6 +305,13 @@ export declare class TemporalProbe {
 
   /** The variance of each of `radianceSh()`'s 27 numbers. */
   radianceShVariance(): Float32Array;
+
+  /**
+   * three.js `SphericalHarmonics3` coefficients of the accumulated radiance (27 floats for
+   * `fromArray`), `frame` as in `Probe.threeJsSh`.
+   * @throws {ProbeError} `InvalidParameter` for another `frame`.
+   */
+  threeJsSh(frame: Frame): Float32Array;
 
   /** Frees the probe; later calls throw `ProbeError` `InvalidHandle`. Idempotent. */
   dispose(): void;

@@ -44,10 +44,23 @@ function check(status, what) {
 const EXPORTS = [
   "memory", "probe_size", "io_ptr", "io_len", "probe_new", "probe_free", "probe_directions",
   "probe_update", "probe_irradiance", "probe_glossy", "probe_radiance_sh", "probe_radiance_sh_variance",
+  "probe_three_js_sh",
   "temporal_sentinel_count", "temporal_sharpness", "temporal_new", "temporal_free", "temporal_directions",
   "temporal_sentinels", "temporal_pool", "temporal_irradiance", "temporal_radiance_sh",
-  "temporal_radiance_sh_variance", "temporal_state",
+  "temporal_radiance_sh_variance", "temporal_state", "temporal_three_js_sh",
 ];
+
+/** The frames of the probe's directions `threeJsSh` takes: the export's rotation to y-up. */
+const FRAMES = { "y-up": 0, "z-up": 1 };
+
+/** The code of `frame` ("y-up" or "z-up"), or a `ProbeError` `InvalidParameter` from `what`. */
+function frameCode(frame, what) {
+  const code = Object.hasOwn(FRAMES, frame) ? FRAMES[frame] : undefined;
+  if (code === undefined) {
+    throw new ProbeError("InvalidParameter", `${what}: the frame of the probe's directions must be "y-up" or "z-up", got ${String(frame)}`);
+  }
+  return code;
+}
 
 /** The module `wasm/<file>` beside index.js, or `source` (see `ProbeOptions.wasm`), compiled. */
 async function moduleOf(file, source) {
@@ -260,6 +273,20 @@ export class Probe {
     return this.#io(27).slice();
   }
 
+  /**
+   * three.js `SphericalHarmonics3` coefficients of the posterior mean radiance, 27 floats for
+   * `sh.fromArray(...)`: `frame` says where the probe's directions were sampled, `"y-up"`
+   * (three.js world directions: unchanged) or `"z-up"` (rotated to three.js's y-up world by
+   * (x, y, z) ↦ (x, z, −y)). Anything else throws `ProbeError` `InvalidParameter`.
+   * @param {"y-up" | "z-up"} frame
+   * @returns {Float32Array}
+   */
+  threeJsSh(frame) {
+    const code = frameCode(frame, "threeJsSh");
+    check(this.#exports.probe_three_js_sh(this.#live("threeJsSh"), code), "threeJsSh");
+    return this.#io(27).slice();
+  }
+
   /** Frees the probe in the module; any later call throws `ProbeError` `InvalidHandle`. */
   dispose() {
     if (this.#handle < 0) return;
@@ -438,6 +465,18 @@ export class TemporalProbe {
    */
   radianceSh() {
     check(this.#exports.temporal_radiance_sh(this.#live("radianceSh")), "radianceSh");
+    return this.#io(27).slice();
+  }
+
+  /**
+   * three.js `SphericalHarmonics3` coefficients of the accumulated radiance, 27 floats for
+   * `sh.fromArray(...)`, `frame` as in `Probe.threeJsSh`.
+   * @param {"y-up" | "z-up"} frame
+   * @returns {Float32Array}
+   */
+  threeJsSh(frame) {
+    const code = frameCode(frame, "threeJsSh");
+    check(this.#exports.temporal_three_js_sh(this.#live("threeJsSh"), code), "threeJsSh");
     return this.#io(27).slice();
   }
 

@@ -300,7 +300,8 @@ fn sh_export(ys: &[f32]) {
     keep(sh.radiance(dir()));
     keep(sh.convolved(black_box([1.0, 0.5, 0.25])));
     keep(sh.rotated(&Mat3::from_axis_angle(dir(), black_box(0.4))));
-    keep(sh.three_js());
+    keep(sh.three_js_from_z_up());
+    keep(sh.three_js_from_y_up());
     keep(sh.filament_irradiance());
     keep(sh.filament_radiance());
     keep(sh.unity());

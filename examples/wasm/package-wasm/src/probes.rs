@@ -12,6 +12,7 @@ use std::vec::Vec;
 use sphere_quadrature::footprint::{Footprint, Gaussian, Point};
 use sphere_quadrature::probe::Probe;
 use sphere_quadrature::sg::SphericalGaussian;
+use sphere_quadrature::sh::ShL2;
 use sphere_quadrature::temporal::{Change, TemporalProbe};
 use sphere_quadrature::{Error, RotationSequence, Vec3};
 
@@ -126,9 +127,28 @@ fn glossy(p: &RgbProbe, r: Vec3, e: f32) -> Result<(), Error> {
     Ok(())
 }
 
+/// The probe's 9 RGB SH coefficients, computed in one place for every export that needs them
+/// (inlined into each, the module would carry the computation several times).
+#[inline(never)]
+fn sh_of(p: &RgbProbe) -> ShL2<[f32; 3]> {
+    p.radiance_sh()
+}
+
 /// The 9 RGB SH coefficients (r, g, b each) into [`IO`].
 fn radiance_sh(p: &RgbProbe) -> Result<(), Error> {
-    store(p.radiance_sh().coefficients.into_iter().flatten());
+    store(sh_of(p).coefficients.into_iter().flatten());
+    Ok(())
+}
+
+/// Error code of a `frame` other than 0 (y-up) and 1 (z-up): `index.js`'s `InvalidParameter`.
+const INVALID_FRAME: i32 = 5;
+
+/// three.js `SphericalHarmonics3` coefficients (r, g, b each) of `sh` into [`IO`]: the
+/// probe's directions are in a z-up frame (`z_up`: rotated to y-up) or a y-up one (unchanged).
+#[inline(never)]
+fn three_js_sh(sh: &ShL2<[f32; 3]>, z_up: bool) -> Result<(), Error> {
+    let c = if z_up { sh.three_js_from_z_up() } else { sh.three_js_from_y_up() };
+    store(c.into_iter().flatten());
     Ok(())
 }
 
@@ -228,6 +248,14 @@ fn temporal_sh<F: Footprint>(
     Ok(())
 }
 
+/// The temporal probe's three.js SH coefficients (`frame` as in [`three_js_sh`]) into [`IO`].
+fn temporal_three_js_sh<F: Footprint>(
+    p: &TemporalProbe<ROTATED, [f32; 3], F, SENTINELS>,
+    z_up: bool,
+) -> Result<(), Error> {
+    three_js_sh(p.radiance_sh(), z_up)
+}
+
 /// The temporal probe's state into [`IO`]: updates and degree (u32 bits), then the pooled
 /// updates, the last change probability and its two log Bayes factors (f32).
 fn temporal_state<F: Footprint>(
@@ -243,7 +271,7 @@ fn temporal_state<F: Footprint>(
 #[allow(unsafe_code)] // `#[no_mangle]` only; every body is one safe call.
 mod exports {
     use super::{with_probe, with_temporal, Temporal, Vec3, IO, N};
-    use super::{SENTINELS, SHARPNESS};
+    use super::{INVALID_FRAME, SENTINELS, SHARPNESS};
     use crate::IO_LEN;
 
     /// The module's probe size `N`.
@@ -324,6 +352,19 @@ mod exports {
         with_probe(handle, |p| super::radiance_sh_variance(p))
     }
 
+    /// Writes the 27 floats of three.js `SphericalHarmonics3.coefficients` (r, g, b of each
+    /// of the 9, for `fromArray`) of the posterior mean radiance to the exchange buffer: the
+    /// probe's directions are three.js world directions (`frame` 0, y-up: unchanged) or in a
+    /// z-up frame (`frame` 1: rotated to y-up by `(x, y, z) ↦ (x, z, −y)`); 0, or an error
+    /// code (5, `InvalidParameter`: another `frame`).
+    #[no_mangle]
+    pub extern "C" fn probe_three_js_sh(handle: u32, frame: u32) -> i32 {
+        if frame > 1 {
+            return INVALID_FRAME;
+        }
+        with_probe(handle, |p| super::three_js_sh(&super::sh_of(p), frame == 1))
+    }
+
     /// The sentinels `S` of the module's temporal probes (of `N` rays per update, `N − S`
     /// rotated).
     #[no_mangle]
@@ -397,6 +438,18 @@ mod exports {
     #[no_mangle]
     pub extern "C" fn temporal_radiance_sh_variance(handle: u32) -> i32 {
         with_temporal(handle, |t| either!(t, p => super::temporal_sh(p, true)))
+    }
+
+    /// Writes the 27 floats of three.js `SphericalHarmonics3.coefficients` of the
+    /// accumulated radiance to the exchange buffer, `frame` as in `probe_three_js_sh`; 0, or
+    /// an error code (5, `InvalidParameter`: another `frame`).
+    #[no_mangle]
+    pub extern "C" fn temporal_three_js_sh(handle: u32, frame: u32) -> i32 {
+        if frame > 1 {
+            return INVALID_FRAME;
+        }
+        let z_up = frame == 1;
+        with_temporal(handle, |t| either!(t, p => super::temporal_three_js_sh(p, z_up)))
     }
 
     /// Writes the temporal probe's state to the exchange buffer: updates and SH degree

@@ -66,10 +66,10 @@ ok(entry.includes(`node_modules/sphere-quadrature/`), `the package resolves into
 ok(JSON.stringify(SIZES) === "[16,32,64,128,256]", `SIZES ${SIZES}`);
 const EXPORTS = [
   "io_len", "io_ptr", "memory", "probe_directions", "probe_free", "probe_glossy", "probe_irradiance", "probe_new",
-  "probe_radiance_sh", "probe_radiance_sh_variance", "probe_size", "probe_update", "temporal_directions",
-  "temporal_free", "temporal_irradiance", "temporal_new", "temporal_pool", "temporal_radiance_sh",
-  "temporal_radiance_sh_variance", "temporal_sentinel_count", "temporal_sentinels", "temporal_sharpness",
-  "temporal_state",
+  "probe_radiance_sh", "probe_radiance_sh_variance", "probe_size", "probe_three_js_sh",
+  "probe_update", "temporal_directions", "temporal_free", "temporal_irradiance", "temporal_new", "temporal_pool",
+  "temporal_radiance_sh", "temporal_radiance_sh_variance", "temporal_sentinel_count", "temporal_sentinels",
+  "temporal_sharpness", "temporal_state", "temporal_three_js_sh",
 ];
 const bytesOf = {};
 for (const n of SIZES) {
@@ -462,6 +462,26 @@ if (differing === 0) {
 
 // 3. Fields with known answers.
 const rel = (a, b) => Math.abs(a - b) / Math.abs(b);
+/**
+ * E(n) = Σ Â_l·c_lm·Y_lm(n) (Â = π, 2π/3, π/4; the basis of the crate's sh.rs, full-precision
+ * constants), channel `c` of 27 floats, unit `n`.
+ */
+function shIrradiance(sh, n, c) {
+  const [x, y, z] = n;
+  const k = (i) => sh[3 * i + c];
+  const y0 = 0.5 * Math.sqrt(1 / Math.PI), y1 = 0.5 * Math.sqrt(3 / Math.PI), y2 = 0.5 * Math.sqrt(15 / Math.PI);
+  const y20 = 0.25 * Math.sqrt(5 / Math.PI), y22 = 0.25 * Math.sqrt(15 / Math.PI);
+  return Math.PI * k(0) * y0 + (2 * Math.PI / 3) * y1 * (k(1) * y + k(2) * z + k(3) * x) +
+    (Math.PI / 4) * (y2 * (k(4) * x * y + k(5) * y * z + k(7) * x * z) + y20 * k(6) * (3 * z * z - 1) + y22 * k(8) * (x * x - y * y));
+}
+/** three.js's `shGetIrradianceAt` (lights_pars_begin.glsl.js), channel `c` of 27 floats, unit `n`. */
+function threeIrradiance(sh, n, c) {
+  const [x, y, z] = n;
+  const k = (i) => sh[3 * i + c];
+  return k(0) * 0.886227 + k(1) * 2 * 0.511664 * y + k(2) * 2 * 0.511664 * z + k(3) * 2 * 0.511664 * x +
+    k(4) * 2 * 0.429043 * x * y + k(5) * 2 * 0.429043 * y * z + k(6) * (0.743125 * z * z - 0.247708) +
+    k(7) * 2 * 0.429043 * x * z + k(8) * 0.429043 * (x * x - y * y);
+}
 for (const n of SIZES) {
   const p = await Probe.create({ n, seed: 3 });
   const d = p.directions();
@@ -492,7 +512,31 @@ for (const n of SIZES) {
   }
   const shv = p.radianceShVariance();
   ok(shv.length === 27 && shv.every((v) => v >= 0 && Number.isFinite(v)), `N = ${n}: SH variances ${shv}`);
+  // The three.js export: three.js's shader formula (shGetIrradianceAt,
+  // lights_pars_begin.glsl.js, its 6-digit constants) at the y-up image (x, z, −y) of a z-up
+  // normal gives, for "z-up", the irradiance of radianceSh() at that normal (Ramamoorthi and
+  // Hanrahan's E(n) = Σ Â_l·c_lm·Y_lm(n), the crate's ShL2::irradiance) and so the linear
+  // field's; for "y-up" (the coefficients unchanged) at the normal itself. The light varies
+  // along z, so handing over unrotated coefficients moves it: that check can fail.
+  const shLin = p.radianceSh();
+  const zUp = p.threeJsSh("z-up");
+  const yUp = p.threeJsSh("y-up");
+  ok(yUp.length === 27 && yUp.every((v, k) => v === shLin[k]), `N = ${n}: threeJsSh("y-up") is radianceSh() unchanged`);
+  const unit = normal.map((v) => v / u);
+  const m = [unit[0], unit[2], -unit[1]];
+  for (let c = 0; c < 3; c++) {
+    const want = Math.PI * (a[c] + (b[c] * normal[2] * 2) / (3 * u));
+    const shE = shIrradiance(shLin, unit, c);
+    ok(rel(shE, want) < tol, `N = ${n}, linear: SH irradiance ${shE}, expected ${want}`);
+    const three = threeIrradiance(zUp, m, c);
+    ok(rel(three, shE) < 1e-5, `N = ${n}: three.js at the y-up normal ${three}, SH irradiance ${shE}`);
+    ok(rel(threeIrradiance(yUp, m, c), shE) > 1e-2, `N = ${n}: the unrotated export matches at the y-up normal too`);
+    ok(rel(threeIrradiance(yUp, unit, c), shE) < 1e-5, `N = ${n}: "y-up" at the normal itself`);
+  }
+  throws(() => p.threeJsSh("Y-UP"), "InvalidParameter", "threeJsSh of an unknown frame", "threeJsSh");
+  throws(() => p.threeJsSh(), "InvalidParameter", "threeJsSh without a frame", "threeJsSh");
   p.dispose();
+  throws(() => p.threeJsSh("z-up"), "InvalidHandle", "threeJsSh after dispose", "threeJsSh");
 }
 
 // The temporal probes on known fields: a constant L has irradiance π·L; a linear field
@@ -525,7 +569,16 @@ for (const n of SIZES) {
     for (let c = 0; c < 3; c++) {
       const want = Math.PI * (a[c] + (b[c] * normal[2] * 2) / (3 * u));
       ok(rel(lin.value[c], want) < 1e-2, `temporal N = ${n} ${footprint}, linear: irradiance ${lin.value[c]}, expected ${want}`);
+      // three.js's formula on the z-up export at the y-up image of the normal gives the
+      // irradiance of the degree ≤ 2 coefficients at the normal (the state's degrees above 2
+      // are not exported).
+      const three = threeIrradiance(fresh.threeJsSh("z-up"), [normal[0] / u, normal[2] / u, -normal[1] / u], c);
+      const shE = shIrradiance(fresh.radianceSh(), normal.map((v) => v / u), c);
+      ok(rel(three, shE) < 1e-5, `temporal N = ${n} ${footprint}: three.js ${three}, SH irradiance ${shE}`);
     }
+    const freshSh = fresh.radianceSh();
+    ok(fresh.threeJsSh("y-up").every((v, k) => v === freshSh[k]), `temporal N = ${n} ${footprint}: "y-up" export unchanged`);
+    throws(() => fresh.threeJsSh("x-up"), "InvalidParameter", "temporal threeJsSh of an unknown frame", "threeJsSh");
     t.dispose();
     fresh.dispose();
   }

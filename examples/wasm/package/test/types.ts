@@ -2,7 +2,7 @@
 // README's usage compiles, misuse does not (each @ts-expect-error must meet an error).
 import {
   LAYOUT_SIZES, LayoutProbe, Probe, ProbeError, SIZES, TemporalProbe, type Change, type ChangeEvidence, type Estimate,
-  type Footprint, type LayoutPrior, type LayoutSize, type ProbeErrorCode, type ProbeSize,
+  type Footprint, type Frame, type LayoutPrior, type LayoutSize, type ProbeErrorCode, type ProbeSize,
 } from "sphere-quadrature";
 
 export async function shade(radiance: (x: number, y: number, z: number) => [number, number, number]): Promise<number> {
@@ -16,6 +16,12 @@ export async function shade(radiance: (x: number, y: number, z: number) => [numb
   const g = probe.glossy(new Float32Array([0, 1, 0]), 20);
   const sh: Float32Array = probe.radianceSh();
   const shVar: Float32Array = probe.radianceShVariance();
+  const frame: Frame = "z-up";
+  const three: Float32Array = probe.threeJsSh(frame);
+  // @ts-expect-error: the frame is "y-up" or "z-up"
+  probe.threeJsSh("x-up");
+  // @ts-expect-error: the frame is required
+  probe.threeJsSh();
   let code: ProbeErrorCode | null = null;
   try {
     probe.irradiance([0, 0, 0]);
@@ -24,7 +30,7 @@ export async function shade(radiance: (x: number, y: number, z: number) => [numb
   }
   probe.dispose();
   const first: 16 = SIZES[0];
-  return e.value[0] + e.variance[0] + g.value[1] + sh[0] + shVar[0] + first + (code === "InvalidDirection" ? 1 : 0);
+  return e.value[0] + e.variance[0] + g.value[1] + sh[0] + shVar[0] + three[0] + first + (code === "InvalidDirection" ? 1 : 0);
 }
 
 export async function pool(trace: (dirs: Float32Array) => Float32Array): Promise<number> {
