@@ -356,8 +356,7 @@ where
     ///
     /// # Errors
     /// [`Error::InvalidNoise`] for a negative, NaN or infinite `σ` or `η`, or `η` above
-    /// [`MAX_RELATIVE_NOISE`](crate::layout::MAX_RELATIVE_NOISE); the renderer keeps its
-    /// noise.
+    /// [`MAX_RELATIVE_NOISE`]; the renderer keeps its noise.
     pub fn set_lookup_noise(&mut self, noise: Noise) -> Result<(), Error> {
         let valid = |x: f32| x.is_finite() && x >= 0.0;
         if !valid(noise.absolute) || !valid(noise.relative) || noise.relative > MAX_RELATIVE_NOISE {
