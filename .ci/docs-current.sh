@@ -34,7 +34,7 @@ check() {
     echo "ok: docs/$file is current (cargo eval $name${*:+ -- $*}: $((SECONDS - start)) s)"
 }
 
-all="precision temporal room sensors missing probe_trust accuracy glossy footprint footprint_raw renderer"
+all="precision lookup_precision temporal room sensors missing probe_trust accuracy glossy footprint footprint_raw renderer"
 # shellcheck disable=SC2048,SC2086 # the names split on spaces
 for b in ${*:-$all}; do
     case $b in

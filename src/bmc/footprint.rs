@@ -61,6 +61,40 @@
 //! # Ok::<(), sphere_quadrature::Error>(())
 //! ```
 //!
+//! # Lookup noise
+//! Lookups read back from a GPU are rounded (to fp16, or to 8-bit sRGB after an exposure
+//! scale). [`FootprintRenderer::set_lookup_noise`] declares that rounding as independent noise
+//! of variance `σ² + η²·Yⱼ²` on lookup `Yⱼ` ([`Noise`]: `σ = absolute` in the lookups' units,
+//! `η = relative`); the weights are fixed, so the estimate is unchanged and its variance gains
+//! `Σ wⱼ²·(σ² + η²·Yⱼ²)` per channel, added after the calibration factor (the rounding is
+//! known, not fitted). The default is [`Noise::NONE`], which adds nothing: the answers are
+//! then those of a renderer that never heard of lookup noise, bit for bit. For fp16 lookups
+//! `η = 2⁻¹¹/√3` covers the rounding (half an ulp, uniform, at the bottom of a binade); for
+//! 8-bit sRGB the step of the curve depends on the value and on the exposure, and `cargo eval
+//! lookup_precision` (`docs/lookup_precision.md`) says which `(σ, η)` it derives and what
+//! coverage they give on real maps.
+//!
+//! ```
+//! use sphere_quadrature::bmc::footprint::{Diffuse, FootprintRenderer};
+//! use sphere_quadrature::layout::Noise;
+//! use sphere_quadrature::Error;
+//!
+//! let mut r = FootprintRenderer::<32, Diffuse>::new();
+//! let exact = r.estimate_with_variance(&[2.0f32; 32])?;
+//! // fp16 lookups: relative rounding 2⁻¹¹/√3.
+//! r.set_lookup_noise(Noise { absolute: 0.0, relative: 2f32.powi(-11) / 3f32.sqrt() })?;
+//! let fp16 = r.estimate_with_variance(&[2.0f32; 32])?;
+//! let mut w = [0.0f32; 32];
+//! r.weights(&mut w)?;
+//! let added: f32 = w.iter().map(|w| (w * 2.0 * 2f32.powi(-11) / 3f32.sqrt()).powi(2)).sum();
+//! assert_eq!(fp16.value, exact.value);
+//! assert!((fp16.variance - exact.variance - added).abs() <= 1e-5 * added);
+//! // A negative or non-finite noise is refused, and the renderer keeps its noise.
+//! assert_eq!(r.set_lookup_noise(Noise { absolute: -1.0, relative: 0.0 }), Err(Error::InvalidNoise));
+//! assert!(r.lookup_noise().relative > 0.0);
+//! # Ok::<(), sphere_quadrature::Error>(())
+//! ```
+//!
 //! # Bad input
 //! A zero or non-finite normal or mirror direction gives [`Error::InvalidDirection`]; a NaN or
 //! infinite lookup gives [`Error::InvalidRadiance`]. A mirror direction below the horizon
@@ -76,6 +110,7 @@ use super::glossy::{interval, lobe_frame};
 use super::{scaled, Size};
 use crate::error::Error;
 use crate::footprint::Kind;
+use crate::layout::{Noise, MAX_RELATIVE_NOISE};
 use crate::math;
 use crate::probe::Estimate;
 use crate::radiance::{from_channels, Radiance, MAX_CHANNELS};
@@ -228,7 +263,9 @@ pub(crate) mod sealed {
 }
 
 /// Bayesian Monte Carlo of the integral `B` from `N` footprint lookups, with baked weights
-/// and an error bar from the most likely of a family of models (module docs). Zero-sized.
+/// and an error bar from the most likely of a family of models (module docs). Holds only the
+/// lookups' declared noise ([`set_lookup_noise`](Self::set_lookup_noise); none by default):
+/// 8 bytes.
 ///
 /// # Examples
 /// ```
@@ -252,11 +289,49 @@ pub(crate) mod sealed {
 /// assert_eq!(r.estimate(&bad), Err(Error::InvalidRadiance));
 /// # Ok::<(), sphere_quadrature::Error>(())
 /// ```
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Debug)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct FootprintRenderer<const N: usize, B: Brdf>(core::marker::PhantomData<B>)
+pub struct FootprintRenderer<const N: usize, B: Brdf>
 where
-    Size<N>: FootprintSize<B>;
+    Size<N>: FootprintSize<B>,
+{
+    /// The lookups' noise, finite and non-negative (`set_lookup_noise` refuses any other).
+    noise: Noise,
+    brdf: core::marker::PhantomData<B>,
+}
+
+impl<const N: usize, B: Brdf> Clone for FootprintRenderer<N, B>
+where
+    Size<N>: FootprintSize<B>,
+{
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<const N: usize, B: Brdf> Copy for FootprintRenderer<N, B> where Size<N>: FootprintSize<B> {}
+
+/// Two renderers of one type are equal when their lookup noise is.
+impl<const N: usize, B: Brdf> PartialEq for FootprintRenderer<N, B>
+where
+    Size<N>: FootprintSize<B>,
+{
+    fn eq(&self, other: &Self) -> bool {
+        self.noise == other.noise
+    }
+}
+
+/// The noise is never NaN (`set_lookup_noise` refuses it), so equality is an equivalence.
+impl<const N: usize, B: Brdf> Eq for FootprintRenderer<N, B> where Size<N>: FootprintSize<B> {}
+
+impl<const N: usize, B: Brdf> Default for FootprintRenderer<N, B>
+where
+    Size<N>: FootprintSize<B>,
+{
+    fn default() -> Self {
+        Self::new()
+    }
+}
 
 impl<const N: usize, B: Brdf> FootprintRenderer<N, B>
 where
@@ -265,10 +340,36 @@ where
     const SET: sealed::Set = <Size<N> as sealed::Sealed<B>>::SET;
     const E: u32 = <B as sealed::Kind>::EXPONENT;
 
-    /// The renderer.
+    /// The renderer, with exact lookups ([`Noise::NONE`]).
     #[must_use]
     pub const fn new() -> Self {
-        Self(core::marker::PhantomData)
+        Self { noise: Noise::NONE, brdf: core::marker::PhantomData }
+    }
+
+    /// Declares the lookups' noise: lookup `Yⱼ` has an independent error of variance
+    /// `σ² + η²·Yⱼ²` (`σ = absolute`, in the lookups' units; `η = relative`), as rounding to
+    /// fp16 or 8-bit sRGB gives ("Lookup noise" in the module docs). The estimate does not
+    /// change; [`estimate_with_variance`](Self::estimate_with_variance) adds
+    /// `Σ wⱼ²·(σ² + η²·Yⱼ²)` to each channel's variance (after the calibration factor), and
+    /// leaves `unit_variance`, the model's, as it was. [`Noise::NONE`] (the default) adds
+    /// nothing.
+    ///
+    /// # Errors
+    /// [`Error::InvalidNoise`] for a negative, NaN or infinite `σ` or `η`, or `η` above
+    /// [`MAX_RELATIVE_NOISE`]; the renderer keeps its noise.
+    pub fn set_lookup_noise(&mut self, noise: Noise) -> Result<(), Error> {
+        let valid = |x: f32| x.is_finite() && x >= 0.0;
+        if !valid(noise.absolute) || !valid(noise.relative) || noise.relative > MAX_RELATIVE_NOISE {
+            return Err(Error::InvalidNoise);
+        }
+        self.noise = noise;
+        Ok(())
+    }
+
+    /// The lookups' declared noise ([`set_lookup_noise`](Self::set_lookup_noise)).
+    #[must_use]
+    pub const fn lookup_noise(&self) -> Noise {
+        self.noise
     }
 
     /// The lobe frame `(t₁, t₂, a)`: for Phong `a = r` with `t₁` towards `n`; for irradiance
@@ -433,11 +534,13 @@ where
         let mut scales = [0.0f32; MAX_CHANNELS];
         let mut numeric = [0.0f32; MAX_CHANNELS];
         let mut binades = [0i32; MAX_CHANNELS];
-        for (c, (((signal, scale), numeric), binade)) in signal
+        let mut lookup_noise = [0.0f32; MAX_CHANNELS];
+        for (c, ((((signal, scale), numeric), binade), lookup)) in signal
             .iter_mut()
             .zip(&mut scales)
             .zip(&mut numeric)
             .zip(&mut binades)
+            .zip(&mut lookup_noise)
             .take(channels)
             .enumerate()
         {
@@ -457,6 +560,11 @@ where
             let rounding = (math::sqrt(N as f32) + 1.0) * f32::EPSILON * 0.5 * sum_abs;
             let interp = mass_error * math::abs(mean) + norm_error * top;
             *numeric = rounding * rounding + interp * interp;
+            if self.noise.relative > 0.0 {
+                // The lookups' relative noise at this scale: η²·Σ(wⱼyⱼ)², after the calibration.
+                let sum_sq: f32 = y.iter().zip(&w).map(|(&y, w)| (w * y) * (w * y)).sum();
+                *lookup = self.noise.relative * self.noise.relative * sum_sq;
+            }
             if top == 0.0 {
                 continue;
             }
@@ -514,9 +622,18 @@ where
         let f2 = set.calibration * set.calibration;
         let unit_best = unit.get(best).copied().unwrap_or(0.0);
         let unit_variance = f2 * unit_best;
+        // The lookups' absolute noise, in their units: (σ·|w|₂)², the same for every channel
+        // (the product first: σ² alone may overflow where the result does not).
+        let absolute = if self.noise.absolute > 0.0 {
+            let norm = math::sqrt(w.iter().map(|w| w * w).sum::<f32>());
+            let s = self.noise.absolute * norm;
+            s * s
+        } else {
+            0.0
+        };
         let variance = from_channels::<T>(|c| {
-            let (Some(signal), Some(&scale), Some(&numeric), Some(&binade)) =
-                (signal.get(c), scales.get(c), numeric.get(c), binades.get(c))
+            let (Some(signal), Some(&scale), Some(&numeric), Some(&binade), Some(&lookup)) =
+                (signal.get(c), scales.get(c), numeric.get(c), binades.get(c), lookup_noise.get(c))
             else {
                 return 0.0;
             };
@@ -526,7 +643,10 @@ where
                 let s = signal.get(best).copied().unwrap_or(0.0);
                 f2 * (s * unit_best * scale * scale + numeric)
             };
-            math::ldexp_variance(normalised, 2 * binade)
+            if lookup == 0.0 && absolute == 0.0 {
+                return math::ldexp_variance(normalised, 2 * binade);
+            }
+            math::ldexp_variance(normalised + lookup, 2 * binade) + absolute
         });
         Ok(Estimate { value, variance, unit_variance: Some(unit_variance) })
     }
@@ -570,7 +690,8 @@ where
     /// the calibration factor squared. `unit_variance` is that model's error variance for a
     /// signal variance of 1. Added to each channel's variance before the calibration: the
     /// arithmetic's own error (f32 rounding of the weighted sum), which is all a channel
-    /// whose lookups are equal has.
+    /// whose lookups are equal has. Added after it: the declared lookup noise's
+    /// `Σ wⱼ²·(σ² + η²·Yⱼ²)` ([`set_lookup_noise`](Self::set_lookup_noise); none by default).
     ///
     /// # Errors
     /// As [`estimate`](Self::estimate).
@@ -641,7 +762,8 @@ where
     /// arithmetic's own error (f32 rounding of the weighted sum, and the interpolation of the
     /// weights between the baked `θₙ` nodes: the error measured at each interval's midpoint
     /// when baked, times `4t(1 − t)` at the fraction `t` of the interval), which is all a
-    /// channel whose lookups are equal has.
+    /// channel whose lookups are equal has. Added after it: the declared lookup noise's
+    /// `Σ wⱼ²·(σ² + η²·Yⱼ²)` ([`set_lookup_noise`](Self::set_lookup_noise); none by default).
     ///
     /// # Errors
     /// As [`estimate`](Self::estimate).

@@ -10,6 +10,7 @@
 use reference::rng::Rng;
 use sphere_quadrature::bmc::footprint::{Brdf, Diffuse, FootprintRenderer, Phong};
 use sphere_quadrature::bmc::{self, BakedSize, FootprintSize, GlossyRenderer, GlossySize, Size};
+use sphere_quadrature::layout::Noise;
 use sphere_quadrature::{Error, Estimate, Vec3};
 
 use crate::footprint_lookups::Lookups;
@@ -25,7 +26,27 @@ trait Renderer {
     fn estimate(n: Vec3, r: Vec3, y: &[f32]) -> Result<f32, Error>;
     /// `None` where the type has no error bar.
     fn estimate_with_variance(n: Vec3, r: Vec3, y: &[f32]) -> Option<Result<Estimate<f32>, Error>>;
+    /// `None` where the type takes no lookup noise. Else: on a renderer whose noise is
+    /// `first`, the answer of setting `then`, and whether the renderer then equals what it
+    /// was (`true` when the call was refused and nothing changed, or when it was accepted
+    /// and changed it as asked).
+    fn set_lookup_noise(_first: Noise, _then: Noise) -> Option<(Result<(), Error>, bool)> {
+        None
+    }
+    /// `estimate_with_variance` of a renderer with lookup noise `noise`, and its weights;
+    /// `None` where the type takes no lookup noise.
+    fn estimate_with_lookup_noise(
+        _n: Vec3,
+        _r: Vec3,
+        _y: &[f32],
+        _noise: Noise,
+    ) -> Option<NoisyEstimate> {
+        None
+    }
 }
+
+/// An estimate with declared lookup noise, and the renderer's weights for the same query.
+type NoisyEstimate = (Result<Estimate<f32>, Error>, Vec<f32>);
 
 struct Irradiance<const N: usize>;
 struct Glossy<const N: usize, const E: u32>;
@@ -90,6 +111,31 @@ where
     }
     fn estimate_with_variance(n: Vec3, r: Vec3, y: &[f32]) -> Option<Result<Estimate<f32>, Error>> {
         Some(FootprintRenderer::<N, B>::new().estimate_with_variance_for(n, r, &array::<N>(y)))
+    }
+    fn set_lookup_noise(first: Noise, then: Noise) -> Option<(Result<(), Error>, bool)> {
+        let mut renderer = FootprintRenderer::<N, B>::new();
+        renderer.set_lookup_noise(first).expect("a valid first noise");
+        let before = renderer;
+        let result = renderer.set_lookup_noise(then);
+        let as_expected = match result {
+            Ok(()) => renderer.lookup_noise() == then,
+            Err(_) => renderer == before && renderer.lookup_noise() == first,
+        };
+        Some((result, as_expected))
+    }
+    fn estimate_with_lookup_noise(
+        n: Vec3,
+        r: Vec3,
+        y: &[f32],
+        noise: Noise,
+    ) -> Option<NoisyEstimate> {
+        let mut renderer = FootprintRenderer::<N, B>::new();
+        if let Err(e) = renderer.set_lookup_noise(noise) {
+            return Some((Err(e), Vec::new()));
+        }
+        let mut w = [0.0f32; N];
+        renderer.weights_for(n, r, &mut w).expect("valid directions");
+        Some((renderer.estimate_with_variance_for(n, r, &array::<N>(y)), w.to_vec()))
     }
 }
 
@@ -366,6 +412,99 @@ fn renderer_answers_scale_with_the_input() {
     answers_scale::<Footprint<32, Phong<200>>>();
 }
 
+/// A lookup noise with a negative, NaN or infinite part, or a relative part above
+/// `MAX_RELATIVE_NOISE`, is [`Error::InvalidNoise`] and leaves the renderer as it was; any
+/// other is taken as given.
+fn lookup_noise_is_validated<R: Renderer>() {
+    let first = Noise { absolute: 0.25, relative: 0.01 };
+    let max = sphere_quadrature::layout::MAX_RELATIVE_NOISE;
+    let bad = [-1.0, -f32::MIN_POSITIVE, f32::NAN, f32::INFINITY, f32::NEG_INFINITY];
+    let mut refused: Vec<Noise> = bad
+        .iter()
+        .flat_map(|&b| [Noise { absolute: b, relative: 0.0 }, Noise { absolute: 0.0, relative: b }])
+        .collect();
+    refused.push(Noise { absolute: 0.0, relative: max * 1.01 });
+    for noise in refused {
+        let Some((result, unchanged)) = R::set_lookup_noise(first, noise) else { return };
+        assert_eq!(result, Err(Error::InvalidNoise), "{}: {noise:?}", R::NAME);
+        assert!(unchanged, "{}: a refused noise {noise:?} changed the renderer", R::NAME);
+    }
+    let accepted = [
+        Noise::NONE,
+        Noise { absolute: 0.0, relative: 2f32.powi(-11) / 3f32.sqrt() },
+        Noise { absolute: f32::MAX, relative: max },
+        Noise { absolute: f32::from_bits(1), relative: 0.0 },
+    ];
+    for noise in accepted {
+        let Some((result, as_asked)) = R::set_lookup_noise(first, noise) else { return };
+        assert_eq!(result, Ok(()), "{}: {noise:?}", R::NAME);
+        assert!(as_asked, "{}: {noise:?} was not taken as given", R::NAME);
+    }
+}
+
+/// Declared lookup noise `(σ, η)` leaves the estimate as it was, bit for bit, and adds
+/// `Σ wⱼ²·(σ² + η²·Yⱼ²)` (computed here in f64 from the renderer's weights) to the variance,
+/// within 10⁻⁵ of the total; `Noise::NONE` changes nothing, bit for bit. At lookups `c·Y`
+/// with relative noise only, the same holds at every scale whose answer is a normal f32.
+fn lookup_noise_adds_its_variance<R: Renderer>() {
+    let noises = [
+        Noise { absolute: 0.0, relative: 2f32.powi(-11) / 3f32.sqrt() },
+        Noise { absolute: 0.0, relative: 0.05 },
+        Noise { absolute: 0.1, relative: 0.0 },
+        Noise { absolute: 0.02, relative: 0.01 },
+    ];
+    for (n, r) in queries() {
+        let dirs = R::directions(n, r).unwrap();
+        let light: Vec<f64> = dirs.iter().map(|&d| light(d)).collect();
+        let y: Vec<f32> = light.iter().map(|&v| v as f32).collect();
+        let Some(base) = R::estimate_with_variance(n, r, &y) else { return };
+        let base = base.unwrap();
+        let (none, _) =
+            R::estimate_with_lookup_noise(n, r, &y, Noise::NONE).expect("the same type");
+        assert_eq!(none.unwrap(), base, "{}: Noise::NONE changed the answer", R::NAME);
+        for noise in noises {
+            for c in [1.0f64, 1e-15, 3e15, 2f64.powi(-40)] {
+                if noise.absolute > 0.0 && c != 1.0 {
+                    continue; // σ is in the lookups' units: it does not scale with them.
+                }
+                let yc: Vec<f32> = light.iter().map(|&v| (v * c) as f32).collect();
+                let (got, w) = R::estimate_with_lookup_noise(n, r, &yc, noise).unwrap();
+                let got = got.unwrap();
+                let plain = R::estimate_with_variance(n, r, &yc).unwrap().unwrap();
+                let what = format!("{} n = {n:?} r = {r:?} {noise:?} c = {c:e}", R::NAME);
+                assert_eq!(got.value, plain.value, "{what}: the value moved");
+                assert_eq!(got.unit_variance, plain.unit_variance, "{what}: unit variance");
+                let (sigma, eta) = (f64::from(noise.absolute), f64::from(noise.relative));
+                let added: f64 = w
+                    .iter()
+                    .zip(&yc)
+                    .map(|(&w, &y)| {
+                        f64::from(w).powi(2) * (sigma.powi(2) + (eta * f64::from(y)).powi(2))
+                    })
+                    .sum();
+                let want = f64::from(plain.variance) + added;
+                check_variance(got.variance, want, 1e-5, &format!("{what}: variance"));
+                // Where the noise's share exceeds the tolerance, the variance must have grown.
+                if added > 1e-4 * want && want > TINY {
+                    assert!(got.variance > plain.variance, "{what}: nothing added");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn renderer_lookup_noise_is_validated_and_adds_its_variance() {
+    lookup_noise_is_validated::<Footprint<16, Diffuse>>();
+    lookup_noise_is_validated::<Footprint<64, Phong<50>>>();
+    // Types without lookup noise answer None and are skipped by the same code.
+    lookup_noise_is_validated::<Irradiance<16>>();
+    lookup_noise_adds_its_variance::<Footprint<16, Diffuse>>();
+    lookup_noise_adds_its_variance::<Footprint<64, Diffuse>>();
+    lookup_noise_adds_its_variance::<Footprint<32, Phong<10>>>();
+    lookup_noise_adds_its_variance::<Footprint<64, Phong<200>>>();
+}
+
 #[test]
 fn renderer_non_finite_lookups_are_refused() {
     non_finite_lookups_are_refused::<Irradiance<16>>();
@@ -380,7 +519,7 @@ fn renderer_non_finite_lookups_are_refused() {
 // Probes: N samples (or readings) in, queries out; streams of them.
 
 use sphere_quadrature::footprint::{CosinePower, Footprint as SampleFootprint, Gaussian, Point};
-use sphere_quadrature::layout::{LayoutProbe, Noise, Prior, Sensor};
+use sphere_quadrature::layout::{LayoutProbe, Prior, Sensor};
 use sphere_quadrature::probe::{Probe, ProbeTables};
 use sphere_quadrature::temporal::TemporalProbe;
 
