@@ -96,8 +96,9 @@
 //! with `--csv FILE` one row `renderer,<tier>,<estimator>,<n>,<brdf>,<map>,<rel_rmse>` per
 //! (tier, estimator, N, BRDF, map), and one row
 //! `coverage,<tier>,bmc-fp-pyramid,<n>,<brdf>,<map>,<fraction>` per (tier, N, BRDF, map) with
-//! a footprint renderer set (held-out maps and mixtures). The full run takes about 3 minutes on
-//! 2 cores, `--quick` under 30 s, `--learn` 30 s.
+//! a footprint renderer set (held-out maps and mixtures). The full run takes about 430 CPU
+//! seconds (most of it the footprint renderer's lookups; 2 threads), `--quick` under 30 s,
+//! `--learn` several CPU-minutes.
 //!
 //! [`rough_z`]: sphere_quadrature_eval::renderer::plans::rough_z
 
