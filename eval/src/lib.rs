@@ -29,8 +29,8 @@ pub use common::{blends, cli, luminance_bar, optimal, parallel, renderer_engine,
 #[path = "../../examples/common/compare.rs"]
 pub mod compare;
 
-#[path = "../../gen/mod.rs"]
-pub mod gen;
+/// The table generators of `gen/` (the `sphere-quadrature-gen` crate).
+pub use sphere_quadrature_gen as gen;
 
 /// The Cortex-M4 scenario (`examples/cortex-m4/src/scenario.rs`); at the crate root, where
 /// `api` finds it as `crate::scenario`.

@@ -115,7 +115,9 @@ pub struct Options {
     pub queries: usize,
     pub mixtures: usize,
     pub sobol_queries: usize,
-    /// Queries per map of `bmc-fp` (exact lookups).
+    /// Queries per map of `bmc-fp-pyramid` (the first ones).
+    pub footprint_queries: usize,
+    /// Queries per map of `bmc-fp` (exact lookups; the first ones).
     pub exact_queries: usize,
     pub paths: Vec<PathBuf>,
     pub args: Vec<String>,

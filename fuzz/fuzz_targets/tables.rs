@@ -1,5 +1,5 @@
-//! The `tables/` parsers of the build script's generators (`gen/`, included here as
-//! `build.rs` includes them): on any text every parser returns `Err` (never panics), and what
+//! The `tables/` parsers of the build script's generators (`gen/`, through the
+//! `sphere-quadrature-gen` crate, the same files `build.rs` includes): on any text every parser returns `Err` (never panics), and what
 //! it accepts satisfies its documented rules (`gen/sg.rs`, `gen/bmc.rs`, `gen/probe.rs`,
 //! `gen/glossy.rs`: sizes, finite positive parameters, strict orders, no duplicates). With
 //! the feature `strict`, accepted probe specs of small `N` are also baked and every baked
@@ -11,9 +11,7 @@ use std::sync::OnceLock;
 use fuzz_support::known_defect;
 use libfuzzer_sys::fuzz_target;
 
-#[allow(dead_code, clippy::all)]
-#[path = "../../gen/mod.rs"]
-mod gen;
+use sphere_quadrature_gen as gen;
 
 use gen::glossy::{Learned, OptimalSet};
 

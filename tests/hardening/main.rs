@@ -7,9 +7,7 @@
 
 #[path = "../shared/footprint_lookups.rs"]
 mod footprint_lookups;
-#[allow(dead_code)] // build.rs uses the rest
-#[path = "../../gen/mod.rs"]
-mod gen;
+use sphere_quadrature_gen as gen;
 
 mod contract;
 mod hardening;

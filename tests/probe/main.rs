@@ -4,9 +4,7 @@
 //! One test binary, one module per concept: `cargo test --test probe missing::` runs one
 //! module.
 
-#[allow(dead_code)] // build.rs uses the rest
-#[path = "../../gen/mod.rs"]
-mod gen;
+use sphere_quadrature_gen as gen;
 
 mod calibration;
 

@@ -59,9 +59,11 @@
 //! - `bmc-fp-pyramid`: the crate's footprint renderer `bmc::FootprintRenderer<N, B>` (N = 16,
 //!   32, 64, 128; the lobe-morphed SF set, each sample read through a normalised spherical
 //!   Gaussian footprint matched to the sample density, baked f32 weights interpolated in θₙ)
-//!   on `MipPyramid::footprint_sample` lookups, and its error bar's 2σ coverage;
+//!   on `MipPyramid::footprint_sample` lookups, and its error bar's 2σ coverage, on the first
+//!   `--footprint-queries` queries (default 64) of each held-out map and mixture (its lookups
+//!   are most of the run's time; its ratios to other estimators are on the same queries);
 //! - `bmc-fp`: the same on exact lookups (`EquirectMap::footprint_sample`, every pixel of the
-//!   map), on the first `--exact-queries` queries of each map (default 8);
+//!   map), on the first `--exact-queries` of those queries (default 8);
 //! - `split-sum` (Phong, maps; Karis 2013): one lookup of the map prefiltered by the lobe
 //!   `cosᵉ` along `r` (`MipPyramid`'s `CosinePower` footprint), times the exact `∫p`.
 //!
@@ -94,8 +96,9 @@
 //! with `--csv FILE` one row `renderer,<tier>,<estimator>,<n>,<brdf>,<map>,<rel_rmse>` per
 //! (tier, estimator, N, BRDF, map), and one row
 //! `coverage,<tier>,bmc-fp-pyramid,<n>,<brdf>,<map>,<fraction>` per (tier, N, BRDF, map) with
-//! a footprint renderer set. The full run takes about 12 minutes on 2 cores (most of it the
-//! footprint renderer's lookups), `--quick` under 30 s, `--learn` 30 s.
+//! a footprint renderer set (held-out maps and mixtures). The full run takes about 430 CPU
+//! seconds (most of it the footprint renderer's lookups; 2 threads), `--quick` under 30 s,
+//! `--learn` several CPU-minutes.
 //!
 //! [`rough_z`]: sphere_quadrature_eval::renderer::plans::rough_z
 
@@ -152,8 +155,12 @@ struct Cli {
     /// bmc-sobol on the first Q queries only (default: all)
     #[arg(long, value_name = "Q")]
     sobol_queries: Option<usize>,
-    /// bmc-fp (the footprint renderer with exact lookups, 0.1–1 ms each) on the
-    /// first Q queries only (default 8)
+    /// bmc-fp-pyramid (the footprint renderer on MipPyramid lookups, about 0.2 ms
+    /// each) on the first Q queries of each held-out map and mixture (default 64)
+    #[arg(long, value_name = "Q", verbatim_doc_comment)]
+    footprint_queries: Option<usize>,
+    /// bmc-fp (the footprint renderer with exact lookups) on the first Q of the
+    /// bmc-fp-pyramid queries only (default 8)
     #[arg(long, value_name = "Q", verbatim_doc_comment)]
     exact_queries: Option<usize>,
     /// Learn (l, σ′) per (BRDF, N) on the training maps' clamp tier (REML, the
@@ -200,6 +207,7 @@ fn parse_args() -> Options {
         queries: c.queries.unwrap_or(if c.quick { 32 } else { 256 }),
         mixtures: if c.quick { 2 } else { 10 },
         sobol_queries: c.sobol_queries.unwrap_or(usize::MAX),
+        footprint_queries: c.footprint_queries.unwrap_or(64),
         exact_queries: c.exact_queries.unwrap_or(8),
         paths,
         args,
@@ -317,7 +325,16 @@ fn main() -> Result<(), Box<dyn Error>> {
         let (plan, fam) = plans(brdf, &queries, &h, &optimal_sets, &o, &failures)?;
         let t2 = Instant::now();
         let rel = parallel_map(&scenes, o.threads, |i, s| {
-            evaluate(s, brdf, &queries, &plan, &fam, &truth[i], o.exact_queries)
+            evaluate(
+                s,
+                brdf,
+                &queries,
+                &plan,
+                &fam,
+                &truth[i],
+                o.footprint_queries,
+                o.exact_queries,
+            )
         });
         for (s, r) in scenes.iter().zip(rel) {
             let tr = &mut results[s.tier][bi];
@@ -328,6 +345,7 @@ fn main() -> Result<(), Box<dyn Error>> {
             tr.crate_diff.push(r.crate_diff);
             tr.exact.push(r.exact);
             tr.inside.push(r.inside);
+            tr.fp_rel.push(r.fp_rel);
         }
         let t3 = Instant::now();
         let times = ((t1 - t0).as_secs_f64(), (t2 - t1).as_secs_f64(), (t3 - t2).as_secs_f64());
@@ -445,7 +463,7 @@ fn main() -> Result<(), Box<dyn Error>> {
          irradiance, and the lobe-frame rule at double density for Phong.\n\n",
     );
     targets(&mut md, &results);
-    footprint_tables(&mut md, &results, o.exact_queries);
+    footprint_tables(&mut md, &results, o.footprint_queries, o.exact_queries);
     crate_table(&mut md, &results);
     seed_table(&mut md, &results);
     selection_table(&mut md, &results);

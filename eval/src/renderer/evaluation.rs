@@ -25,6 +25,9 @@ pub struct Outcome {
     pub exact: [[f64; 2]; 5],
     /// `bmc-fp-pyramid`'s error bar: queries inside 2σ and queries, per N index.
     pub inside: [[usize; 2]; 5],
+    /// Relative RMSE per N index and estimator on the queries of `bmc-fp-pyramid` (the first
+    /// `footprint_queries`), so that its ratios to the other estimators are on the same queries.
+    pub fp_rel: [[f64; E]; 5],
 }
 
 /// `Σ wᵢYᵢ` with the weights of the family member of highest REML likelihood for `y`, and
@@ -45,7 +48,24 @@ fn select(members: &[Member], y: &[f64], z: &[Vec<f64>], qw: &[f64], mass: f64) 
     (w.iter().zip(y).map(|(w, y)| w * y).sum(), m.index)
 }
 
-/// Every estimator on one scene; `bmc-fp` on the first `exact_queries` queries.
+/// Relative RMSE per N index and estimator from sums of squared errors, counts and sums of
+/// |truth| (NaN where nothing was counted).
+fn relative(se: &[[f64; E]; 5], count: &[[usize; E]; 5], abs: &[[f64; E]; 5]) -> [[f64; E]; 5] {
+    let mut rel = [[f64::NAN; E]; 5];
+    for ni in 0..5 {
+        for k in 0..E {
+            if count[ni][k] > 0 {
+                let c = count[ni][k] as f64;
+                rel[ni][k] = (se[ni][k] / c).sqrt() / (abs[ni][k] / c);
+            }
+        }
+    }
+    rel
+}
+
+/// Every estimator on one scene; on a held-out scene, `bmc-fp-pyramid` on the first
+/// `footprint_queries` queries and `bmc-fp` on the first `exact_queries` of those.
+#[allow(clippy::too_many_arguments)]
 pub fn evaluate(
     scene: &Scene,
     brdf: Brdf,
@@ -53,8 +73,13 @@ pub fn evaluate(
     plans: &[Vec<Plan>],
     fam: &Families,
     truth: &[f64],
+    footprint_queries: usize,
     exact_queries: usize,
 ) -> Outcome {
+    // The footprint renderer's lookups are most of the benchmark's time: they run on the
+    // held-out scenes only (the report's figures are over those).
+    let footprint_queries = if scene.held_out { footprint_queries } else { 0 };
+    let exact_queries = exact_queries.min(footprint_queries);
     with_lookups(scene, |lookups| {
         let mut exact_se = [[0.0f64; 2]; 5];
         let mut exact_abs = [0.0f64; 5];
@@ -63,6 +88,7 @@ pub fn evaluate(
         let mut se = [[0.0f64; E]; 5];
         let mut count = [[0usize; E]; 5];
         let mut abs = [[0.0f64; E]; 5];
+        let (mut fp_se, mut fp_count, mut fp_abs) = (se, count, abs);
         let mut selected = [[0usize; SEL]; 5];
         let mut diff = [(0.0f64, 0usize, 0.0f64); 5];
         let mean = |dirs: &[[f64; 3]], q: &Query| -> f64 {
@@ -107,7 +133,7 @@ pub fn evaluate(
                 if let Brdf::Phong(_) = brdf {
                     est[SPLIT_SUM] = lookups.split_sum(exponent(brdf), q.r, p.mass);
                 }
-                if let Some(f) = crate_fns[ni] {
+                if let Some(f) = crate_fns[ni].filter(|_| qi < footprint_queries) {
                     let r = if brdf == Brdf::Diffuse { q.n } else { q.r };
                     let (v, var) = lookups.render(f, q.n, r, false);
                     est[BMC_FP_PYRAMID] = v;
@@ -126,19 +152,17 @@ pub fn evaluate(
                         se[ni][k] += (est[k] - t).powi(2);
                         count[ni][k] += 1;
                         abs[ni][k] += t.abs();
+                        if qi < footprint_queries {
+                            fp_se[ni][k] += (est[k] - t).powi(2);
+                            fp_count[ni][k] += 1;
+                            fp_abs[ni][k] += t.abs();
+                        }
                     }
                 }
             }
         }
-        let mut rel = [[f64::NAN; E]; 5];
-        for ni in 0..5 {
-            for k in 0..E {
-                if count[ni][k] > 0 {
-                    let c = count[ni][k] as f64;
-                    rel[ni][k] = (se[ni][k] / c).sqrt() / (abs[ni][k] / c);
-                }
-            }
-        }
+        let rel = relative(&se, &count, &abs);
+        let fp_rel = relative(&fp_se, &fp_count, &fp_abs);
         let crate_diff =
             diff.map(
                 |(sq, c, a)| {
@@ -159,7 +183,7 @@ pub fn evaluate(
                 }
             })
         });
-        Outcome { rel, selected, crate_diff, exact, inside }
+        Outcome { rel, selected, crate_diff, exact, inside, fp_rel }
     })
 }
 
@@ -173,6 +197,8 @@ pub struct TierResult {
     pub crate_diff: Vec<[f64; 5]>,
     pub exact: Vec<[[f64; 2]; 5]>,
     pub inside: Vec<[[usize; 2]; 5]>,
+    /// Per scene: [`Outcome::fp_rel`].
+    pub fp_rel: Vec<[[f64; E]; 5]>,
 }
 
 impl TierResult {
@@ -183,6 +209,11 @@ impl TierResult {
         } else {
             held
         }
+    }
+
+    /// The same results with `rel` on the footprint renderer's queries ([`Outcome::fp_rel`]).
+    pub fn on_footprint_queries(&self) -> Self {
+        Self { rel: self.fp_rel.clone(), ..self.clone() }
     }
 
     /// Mean over the held-out maps of estimator `e` at N index `ni`.
