@@ -874,18 +874,21 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
                 alarms |= 1 << reread::octant(d);
                 fresh += b.min(reread::CONTAMINATION).min(cap_alarm);
             };
+            if slot.kind == Kind::Empty {
+                *next = Slot::EMPTY;
+                continue;
+            }
+            // The evidence of a change from the reference reading; whether this reading is
+            // back at it, and whether it agrees with the changed one.
+            let b = evidence(y, slot.reference);
+            let back = prior + b < 0.0;
+            let with_other =
+                matches!(slot.kind, Kind::Disputed | Kind::Suspect) && agrees(y, slot.other);
             // Whether this re-read adds a disagreement (or an agreement) to their share: an
             // alarm's waits for the next reading, and a change that it confirms is not one.
             let counted = match slot.kind {
-                Kind::Empty => None,
-                Kind::New | Kind::Verified if !agrees(y, slot.reference) => None,
-                Kind::New | Kind::Verified => Some(false),
-                Kind::Disputed | Kind::Suspect
-                    if agrees(y, slot.other) && !agrees(y, slot.reference) =>
-                {
-                    None
-                }
-                Kind::Disputed | Kind::Suspect => Some(true),
+                Kind::New | Kind::Verified => back.then_some(false),
+                _ => (back || !with_other).then_some(true),
             };
             if let Some(disagree) = counted {
                 compared += 1;
@@ -901,7 +904,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             };
             *next = match slot.kind {
                 Kind::Empty => Slot::EMPTY,
-                Kind::New if agrees(y, slot.reference) => {
+                Kind::New if back => {
                     novel = novel.max(slot.evidence);
                     to(Kind::Verified, slot.reference, y, 0.0)
                 }
@@ -910,33 +913,24 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
                     // A change, or an outlier in one of the two readings: an alarm that counts
                     // only beside alarms in two other octants.
                     // (A novel reading that does not repeat was an outlier: no alarm.)
-                    let b = evidence(y, slot.reference);
-                    if prior + b >= 0.0 && slot.evidence == 0.0 {
+                    if slot.evidence == 0.0 {
                         alarm(b);
                     }
                     to(Kind::Disputed, slot.reference, y, 0.0)
                 }
                 // Two readings of three agree: the odd one was an outlier (or the light
                 // changed once, unseen: no evidence either way).
-                Kind::Disputed if agrees(y, slot.reference) => {
-                    to(Kind::Verified, slot.reference, y, 0.0)
-                }
+                Kind::Disputed if back => to(Kind::Verified, slot.reference, y, 0.0),
                 Kind::Disputed => to(Kind::Verified, y, y, 0.0),
+                Kind::Verified if back => to(Kind::Verified, slot.reference, y, 0.0),
                 Kind::Verified => {
-                    let b = evidence(y, slot.reference);
-                    if prior + b < 0.0 {
-                        to(Kind::Verified, slot.reference, y, 0.0)
-                    } else {
-                        alarm(b);
-                        // Capped by the share of disagreeing re-reads before this one.
-                        to(Kind::Suspect, slot.reference, y, b.min(cap_confirmed))
-                    }
+                    alarm(b);
+                    // Capped by the share of disagreeing re-reads before this one.
+                    to(Kind::Suspect, slot.reference, y, b.min(cap_confirmed))
                 }
                 // Back at the verified reading (even if near the changed one too): refuted.
-                Kind::Suspect if agrees(y, slot.reference) => {
-                    to(Kind::Verified, slot.reference, y, 0.0)
-                }
-                Kind::Suspect if agrees(y, slot.other) => {
+                Kind::Suspect if back => to(Kind::Verified, slot.reference, y, 0.0),
+                Kind::Suspect if with_other => {
                     confirmed += slot.evidence;
                     to(Kind::Verified, y, y, 0.0)
                 }
