@@ -15,12 +15,12 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_irradiance N=16`: 842 instructions
-    /// - `m4:probe_irradiance N=32`: 1 565 instructions
+    /// - `m4:probe_irradiance N=16`: 845 instructions
+    /// - `m4:probe_irradiance N=32`: 1 568 instructions
     /// - `m4:probe_irradiance N=64`: 2 921 instructions
     /// - `m4:probe_irradiance N=256`: 11 644 instructions
-    /// - `m4:gaussian8_probe_irradiance N=64`: 2 958 instructions (`Gaussian<8>` footprint)
-    /// - `m4:photodiode_probe_irradiance N=16`: 839 instructions (`CosinePower<1>`)
+    /// - `m4:gaussian8_probe_irradiance N=64`: 2 961 instructions (`Gaussian<8>` footprint)
+    /// - `m4:photodiode_probe_irradiance N=16`: 842 instructions (`CosinePower<1>`)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
@@ -202,12 +202,12 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_glossy N=16`: 2 701 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=32`: 4 908 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=16`: 2 702 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=32`: 4 909 instructions (SG lobe of Phong e = 20)
     /// - `m4:probe_glossy N=64`: 9 282 instructions (SG lobe of Phong e = 20)
     /// - `m4:probe_glossy N=256`: 38 188 instructions (SG lobe of Phong e = 20)
-    /// - `m4:gaussian8_probe_glossy N=64`: 9 334 instructions (`Gaussian<8>`)
-    /// - `m4:photodiode_probe_glossy N=16`: 11 525 instructions (photodiodes)
+    /// - `m4:gaussian8_probe_glossy N=64`: 9 335 instructions (`Gaussian<8>`)
+    /// - `m4:photodiode_probe_glossy N=16`: 11 542 instructions (photodiodes)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
@@ -289,7 +289,7 @@ where
     /// - `m4:probe_glossy_variance N=16`: 773 910 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=32`: 894 096 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=64`: 1 217 250 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=256`: 5 495 280 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=256`: 5 495 440 instructions (soft f64 quadrature)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
@@ -373,8 +373,8 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_phong N=16`: 9 453 instructions (e = 20)
-    /// - `m4:probe_phong N=32`: 13 422 instructions (e = 20)
-    /// - `m4:probe_phong N=64`: 21 383 instructions (e = 20)
+    /// - `m4:probe_phong N=32`: 13 455 instructions (e = 20)
+    /// - `m4:probe_phong N=64`: 21 385 instructions (e = 20)
     /// - `m4:probe_phong N=256`: 66 524 instructions (e = 20)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
