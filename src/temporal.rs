@@ -526,7 +526,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             peaks: [0.0; 8],
             novel_confirmed: false,
             repeat_noise: 0.0,
-            disagree_rate: reread::DISAGREE_START,
+            disagree_rate: reread::DISAGREE_FLOOR,
             scale: 0,
             irradiance_coefficients: [T::ZERO; COEFFICIENTS],
             irradiance_variance: T::ZERO,
@@ -836,31 +836,13 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// moving each slot to its next state.
     fn weigh_rereads(&mut self, readings: &[T; S], second_moment: T) -> f32 {
         use reread::{Kind, Slot};
-        // The repeat noise: a running 90th percentile (multiplicative steps).
-        for (i, &y) in readings.iter().enumerate() {
-            let slot = self.slots[i];
-            if slot.kind != Kind::Empty {
-                self.learn_repeat_noise(reread::repeat_q(slot.reference, y));
-            }
-        }
-        // The relative variance of the state's level (its mean radiance), per channel.
-        let (v, w) = (self.noise(), self.weight);
-        let relative = v.map(|x| x / w);
-        let mut relative_level = T::ZERO;
-        for ch in 0..T::CHANNELS {
-            let level = self.sum[0].channel(ch) / w;
-            let x = if level != 0.0 { relative.channel(ch) / (level * level) } else { 0.0 };
-            relative_level = set_channel(relative_level, ch, x);
-        }
+        self.learn_repeat_noise(readings);
+        let relative_level = self.relative_level_variance();
         let evidence =
             |y: T, before: T| self.reread_evidence(y, before, second_moment, relative_level);
         let prior = self.prior_log_odds;
         let agrees = |y: T, before: T| prior + evidence(y, before) < 0.0;
-        // What one alarm, and an alarm and its confirmation, are worth at most: as rare as
-        // one and two disagreeing re-reads of one of the S slots where nothing changed.
-        let rate = self.disagree_rate.max(reread::DISAGREE_FLOOR);
-        let cap_alarm = -math::ln(rate * S as f32);
-        let cap_confirmed = -math::ln(rate * rate * S as f32);
+        let (cap_alarm, cap_confirmed) = self.reread_caps();
         let (mut compared, mut disagreements) = (0u32, 0u32);
         let (mut confirmed, mut fresh) = (0.0f32, 0.0f32);
         // A novel reading's re-reads: all must repeat it.
@@ -938,11 +920,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             };
         }
         self.slots = next;
-        // The share of disagreeing re-reads: a running mean.
-        for k in 0..compared {
-            let x = if k < disagreements { 1.0 } else { 0.0 };
-            self.disagree_rate += (x - self.disagree_rate) * reread::DISAGREE_GAIN;
-        }
+        self.learn_disagreements(compared, disagreements);
         self.novel_confirmed = !refuted && novel > 0.0;
         if !refuted {
             confirmed += novel;
@@ -956,12 +934,48 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         }
     }
 
-    /// Adds a pair of readings of one direction, `q` apart ([`reread::repeat_q`]), to the
-    /// repeat noise: a running 90th percentile, up by `REPEAT_UP` where `q` exceeds it and
-    /// down by `REPEAT_STEP` else.
-    fn learn_repeat_noise(&mut self, q: f32) {
-        let e = self.repeat_noise.max(reread::REPEAT_FLOOR);
-        self.repeat_noise = if q > e { e * reread::REPEAT_UP } else { e / reread::REPEAT_STEP };
+    /// The relative variance of the state's level (its mean radiance), per channel.
+    fn relative_level_variance(&self) -> T {
+        let (v, w) = (self.noise(), self.weight);
+        let relative = v.map(|x| x / w);
+        let mut relative_level = T::ZERO;
+        for ch in 0..T::CHANNELS {
+            let level = self.sum[0].channel(ch) / w;
+            let x = if level != 0.0 { relative.channel(ch) / (level * level) } else { 0.0 };
+            relative_level = set_channel(relative_level, ch, x);
+        }
+        relative_level
+    }
+
+    /// What one alarm, and an alarm and its confirmation, are worth at most: as rare as one
+    /// and two disagreeing re-reads of one of the `S` slots where nothing changed,
+    /// `−ln(S·r)` and `−ln(S·r²)` for the share `r` of disagreeing re-reads.
+    fn reread_caps(&self) -> (f32, f32) {
+        let rate = self.disagree_rate.max(reread::DISAGREE_FLOOR);
+        (-math::ln(rate * S as f32), -math::ln(rate * rate * S as f32))
+    }
+
+    /// Adds `compared` re-reads, `disagreements` of them disagreeing, to the running share of
+    /// disagreeing ones (the disagreements first).
+    fn learn_disagreements(&mut self, compared: u32, disagreements: u32) {
+        for k in 0..compared {
+            let x = if k < disagreements { 1.0 } else { 0.0 };
+            self.disagree_rate += (x - self.disagree_rate) * reread::DISAGREE_GAIN;
+        }
+    }
+
+    /// Adds each slot's pair of readings, `q` apart ([`reread::repeat_q`]), to the repeat
+    /// noise: a running 90th percentile, up by `REPEAT_UP` where `q` exceeds it and down by
+    /// `REPEAT_STEP` else.
+    fn learn_repeat_noise(&mut self, readings: &[T; S]) {
+        for (slot, &y) in self.slots.iter().zip(readings) {
+            if slot.kind != reread::Kind::Empty {
+                let q = reread::repeat_q(slot.reference, y);
+                let e = self.repeat_noise.max(reread::REPEAT_FLOOR);
+                self.repeat_noise =
+                    if q > e { e * reread::REPEAT_UP } else { e / reread::REPEAT_STEP };
+            }
+        }
     }
 
     /// This update's brightest rotated sample, if it is novel: brighter than

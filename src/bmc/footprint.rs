@@ -477,6 +477,28 @@ where
         })
     }
 
+    /// The lookups' relative noise in the units of the scaled lookups `y`: `η²·Σ(wⱼyⱼ)²`
+    /// (added after the calibration; 0 without relative noise).
+    fn relative_lookup_noise(&self, y: &[f32; N], w: &[f32; N]) -> f32 {
+        if self.noise.relative > 0.0 {
+            let sum_sq: f32 = y.iter().zip(w).map(|(&y, w)| (w * y) * (w * y)).sum();
+            self.noise.relative * self.noise.relative * sum_sq
+        } else {
+            0.0
+        }
+    }
+
+    /// The lookups' absolute noise in their own units: `(σ·|w|₂)²`, the same for every
+    /// channel (the product first: `σ²` alone may overflow where the result does not).
+    fn absolute_lookup_noise(&self, w: &[f32; N]) -> f32 {
+        if self.noise.absolute > 0.0 {
+            let s = self.noise.absolute * math::sqrt(w.iter().map(|w| w * w).sum::<f32>());
+            s * s
+        } else {
+            0.0
+        }
+    }
+
     /// `estimate_at` with its error bar (the public calls' docs).
     fn estimate_with_variance_at<T: Radiance>(
         &self,
@@ -560,11 +582,7 @@ where
             let rounding = (math::sqrt(N as f32) + 1.0) * f32::EPSILON * 0.5 * sum_abs;
             let interp = mass_error * math::abs(mean) + norm_error * top;
             *numeric = rounding * rounding + interp * interp;
-            if self.noise.relative > 0.0 {
-                // The lookups' relative noise at this scale: η²·Σ(wⱼyⱼ)², after the calibration.
-                let sum_sq: f32 = y.iter().zip(&w).map(|(&y, w)| (w * y) * (w * y)).sum();
-                *lookup = self.noise.relative * self.noise.relative * sum_sq;
-            }
+            *lookup = self.relative_lookup_noise(&y, &w);
             if top == 0.0 {
                 continue;
             }
@@ -622,15 +640,7 @@ where
         let f2 = set.calibration * set.calibration;
         let unit_best = unit.get(best).copied().unwrap_or(0.0);
         let unit_variance = f2 * unit_best;
-        // The lookups' absolute noise, in their units: (σ·|w|₂)², the same for every channel
-        // (the product first: σ² alone may overflow where the result does not).
-        let absolute = if self.noise.absolute > 0.0 {
-            let norm = math::sqrt(w.iter().map(|w| w * w).sum::<f32>());
-            let s = self.noise.absolute * norm;
-            s * s
-        } else {
-            0.0
-        };
+        let absolute = self.absolute_lookup_noise(&w);
         let variance = from_channels::<T>(|c| {
             let (Some(signal), Some(&scale), Some(&numeric), Some(&binade), Some(&lookup)) =
                 (signal.get(c), scales.get(c), numeric.get(c), binades.get(c), lookup_noise.get(c))

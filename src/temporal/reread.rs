@@ -65,11 +65,10 @@ pub(super) const REPEAT_STEP: f32 = 1.031_743;
 pub(super) const REPEAT_UP: f32 = 1.324_784;
 /// Below this the repeat noise is nil (readings that repeat exactly, as a map's do).
 pub(super) const REPEAT_FLOOR: f32 = 1e-6;
-/// The share of disagreeing re-reads a new state assumes.
-pub(super) const DISAGREE_START: f32 = 1.0 / 1_048_576.0;
 /// The weight of each re-read in the running share of disagreeing ones.
 pub(super) const DISAGREE_GAIN: f32 = 1.0 / 32.0;
-/// The share's floor (`1/4096`).
+/// The share's floor, and where a new state starts (`2⁻²⁰`: on exact re-reads the caps never
+/// bind).
 pub(super) const DISAGREE_FLOOR: f32 = 1.0 / 1_048_576.0;
 /// The slots that re-read a novel reading (at most).
 pub(super) const NOVEL_REREADS: usize = 2;
