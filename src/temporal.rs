@@ -606,8 +606,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against), one channel, a budget
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
-    /// - `m4:temporal_update_S1 N=16`: 26 268 instructions (15 rotated, 1 sentinel)
-    /// - `m4:temporal_update_S2 N=64`: 111 240 instructions (62 rotated, 2 sentinels)
+    /// - `m4:temporal_update_S1 N=16`: 26 260 instructions (15 rotated, 1 sentinel)
+    /// - `m4:temporal_update_S2 N=64`: 111 230 instructions (62 rotated, 2 sentinels)
     /// - `m4:temporal_update_S0 N=64`: 106 870 instructions (64 rotated)
     /// - `m4:temporal_update_S4 N=256`: 600 760 instructions (252 rotated, 4 sentinels)
     ///
