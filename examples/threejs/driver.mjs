@@ -11,6 +11,7 @@
 //      per update, readback included (printed, never asserted).
 //
 //   (cd examples/threejs && npm ci)
+//   (cd examples/wasm && npm ci)                 # binaryen's wasm-opt for the package build
 //   examples/wasm/package/build.sh               # the package's modules
 //   node examples/threejs/driver.mjs [--out DIR] [--csv FILE] [--quick] [--map NAME]
 //

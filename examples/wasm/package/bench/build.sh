@@ -2,7 +2,8 @@
 # Builds the modules that bench/throughput.mjs times: the package's own (`build.sh 16 64 256
 # layout`, into wasm/) and the same crate built three other ways, each into
 # target/wasm-bench/<variant>/ at the repository root (not the package's wasm/, which ships the
-# plain modules):
+# plain modules), each passed through wasm-opt at the same level as rustc (-Oz or -O3), as
+# build.sh passes the package's:
 #   simd128      the package's profile (opt-level "z", LTO) with -C target-feature=+simd128
 #   o3           opt-level 3 (LLVM's loop and SLP vectorisers run only above "s"/"z")
 #   o3-simd128   opt-level 3 with -C target-feature=+simd128
@@ -15,6 +16,7 @@ crate="$package/../package-wasm"
 root="$(cd "$package/../../.." && pwd)"
 "$package/build.sh" 16 64 256 layout
 cargo_home="${CARGO_HOME:-$HOME/.cargo}"
+wasm_opt="$package/../node_modules/.bin/wasm-opt"
 # As build.sh: home paths remapped in the panic locations.
 remap="--remap-path-prefix=$root=sphere-quadrature --remap-path-prefix=$cargo_home=cargo"
 for variant in simd128 o3 o3-simd128; do
@@ -33,7 +35,9 @@ for variant in simd128 o3 o3-simd128; do
         esac
         (cd "$crate" && RUSTFLAGS="${RUSTFLAGS:-} $flags $remap" CARGO_PROFILE_RELEASE_OPT_LEVEL="$opt" \
             cargo build --release --target wasm32-unknown-unknown --features "$feature" --target-dir "$build_dir")
-        cp "$build_dir/wasm32-unknown-unknown/release/sphere_quadrature_js.wasm" "$out/$module"
+        "$wasm_opt" "-O$opt" --enable-bulk-memory --enable-sign-ext --enable-mutable-globals \
+            --enable-nontrapping-float-to-int --enable-simd \
+            "$build_dir/wasm32-unknown-unknown/release/sphere_quadrature_js.wasm" -o "$out/$module"
         echo "target/wasm-bench/$variant/$module $(wc -c < "$out/$module") bytes"
     done
 done
