@@ -90,6 +90,13 @@
 //!   changed. The probe learns the 90th percentile of `(b − a)²/(a² + b²)` over its pairs of
 //!   readings (their brightness) and adds it, times the readings' mean square, to the
 //!   "unchanged" variance; readings that repeat exactly, as a map's do, leave it at 0.
+//!   Where re-reads disagree often, a sentinel's evidence is capped at what such
+//!   disagreements are worth under static light.
+//! - **The level**: capped re-reads can miss a light that switches off while the scene's
+//!   interreflection remains, but every update's level moves. The mean brightness of the
+//!   update's rotated samples, the brightest left out, is compared with the state's level;
+//!   the probe learns the 95th percentile of their log ratio and counts a level beyond it as
+//!   evidence, a dark level against a lit one as a certain change (module `level`).
 //! - **Innovation**: the new update's projection of degrees `l ≤ 2` (every channel) against
 //!   the state's mean, `d = p − p̄`: variance `v·(1 + 1/k)` on static light, more by twice each
 //!   degree's power when the light is new, both multivariate Student t of 3 degrees of
@@ -110,13 +117,13 @@
 //! - **The price**: sentinels are rays that add nothing to the estimate. Measured
 //!   ([`eval/src/bin/temporal.rs`], [`docs/temporal.md`], held-out maps, `clamp` light),
 //!   1, 2, 4 sentinels of 16, 64, 256 rays detect a ×0.5 or a switch between maps within two
-//!   updates in 99–100 % of sequences, a ×1.3 in 58, 94, 100 % and a 30° turn of the light
-//!   in 65, 94, 100 %, where the innovation alone misses most switches between maps; a small
-//!   lamp switching on (1 % of the sphere, as bright as the rest of the light together) in
-//!   1, 33, 67 % (a ray of 64 hits it in one update of two), and its switching off in 19,
-//!   60, 100 %. Static light stays at 0.97–1.09× the oracle's error after 64 updates, with
-//!   0, 0.88, 0.55 false resets per 1 000 static updates (worst map 0, 2.2, 3.8: first
-//!   sightings of small bright spots); with 1 % of the rays fireflies, 0.5, 4.7, 14.5.
+//!   updates in 99–100 % of sequences (a ×10 or ×0.1 within one in 54–100 %), a ×1.3 in 58,
+//!   94, 100 % and a 30° turn of the light in 65, 93, 100 %, where the innovation alone
+//!   misses most switches between maps; a small lamp switching on (1 % of the sphere, as
+//!   bright as the rest of the light together) in 1, 33, 67 % (a ray of 64 hits it in one
+//!   update of two), and its switching off in 19, 60, 100 %. Static light stays at
+//!   0.97–1.13× the oracle's error after 64 updates, with 0.2, 0.7, 0.5 false resets per
+//!   1 000 static updates; with 1 % of the rays fireflies, 1.1, 3.4, 10.4.
 //!
 //! ```
 //! use sphere_quadrature::footprint::Point;
@@ -199,6 +206,8 @@ const TAIL: f32 = 3.0;
 /// the state is rescaled: within it every square and sum of squares of the state is a normal
 /// f32 number far from overflow.
 const SCALE_WINDOW: i32 = 20;
+/// `√(4π)`: the degree-0 coefficient of a constant 1.
+const SQRT_4PI: f32 = 3.544_907_7;
 
 /// The smallest and largest relative change of a re-read that the change test tolerates as
 /// within the state's error.
@@ -377,7 +386,7 @@ pub type RgbTemporalProbe<const N: usize, F = Point, const S: usize = 0> =
 /// ([`crate::footprint`]). Any `N ≥ 1` works: the probe needs no baked tables.
 ///
 /// It holds its directions and three sets of 81 coefficients per channel (the sums, their
-/// rounding errors and the queries'): 4 264 bytes for `N = 64`, RGB, `S = 4`; 1 960 for
+/// rounding errors and the queries'): 4 272 bytes for `N = 64`, RGB, `S = 4`; 1 968 for
 /// `N = 64`, one channel, no sentinels, on a 64-bit host (a unit test pins both).
 ///
 /// # Examples
@@ -438,6 +447,9 @@ pub struct TemporalProbe<
     /// The running share of re-reads that disagree with the reading they re-read: what a
     /// re-read's evidence can be worth at most.
     disagree_rate: f32,
+    /// The running 95th percentile of how far an update's level strays from the state's
+    /// (module `level`).
+    level_spread: f32,
     /// The state's scale: every statistic above is in units of `2^scale` (second moments in
     /// units of `4^scale`), so that none depends on the units of the samples.
     scale: i32,
@@ -527,6 +539,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             novel_confirmed: false,
             repeat_noise: 0.0,
             disagree_rate: reread::DISAGREE_FLOOR,
+            level_spread: level::SPREAD_START,
             scale: 0,
             irradiance_coefficients: [T::ZERO; COEFFICIENTS],
             irradiance_variance: T::ZERO,
@@ -606,10 +619,10 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against), one channel, a budget
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
-    /// - `m4:temporal_update_S1 N=16`: 26 260 instructions (15 rotated, 1 sentinel)
-    /// - `m4:temporal_update_S2 N=64`: 111 230 instructions (62 rotated, 2 sentinels)
-    /// - `m4:temporal_update_S0 N=64`: 106 870 instructions (64 rotated)
-    /// - `m4:temporal_update_S4 N=256`: 600 760 instructions (252 rotated, 4 sentinels)
+    /// - `m4:temporal_update_S1 N=16`: 26 884 instructions (15 rotated, 1 sentinel)
+    /// - `m4:temporal_update_S2 N=64`: 113 420 instructions (62 rotated, 2 sentinels)
+    /// - `m4:temporal_update_S0 N=64`: 106 880 instructions (64 rotated)
+    /// - `m4:temporal_update_S4 N=256`: 608 560 instructions (252 rotated, 4 sentinels)
     ///
     /// # Examples
     /// ```
@@ -708,6 +721,9 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             // Re-reads: evidence for a change only (module `reread`).
             let second_moment = sum_squares(samples).scale(1.0 / N as f32);
             log_bf_sentinel = self.weigh_rereads(sentinels, second_moment);
+            if S > 0 {
+                log_bf_sentinel += self.weigh_level(samples);
+            }
         }
         // With sentinels the innovation alone does not forget: aliasing can fake it, and an
         // outlier that made the old evidence weigh less would weigh more itself. It adds to
@@ -934,6 +950,29 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         }
     }
 
+    /// The state's level: its mean brightness ([`reread::brightness`]) per direction (`sum[0]/w`
+    /// is `√(4π)` times the mean radiance).
+    fn mean_level(&self) -> f32 {
+        reread::brightness(self.sum[0]) / (self.weight * SQRT_4PI)
+    }
+
+    /// The level test's evidence of a change (module `level`), 0 before the spread is
+    /// learned; learns the spread.
+    fn weigh_level(&mut self, samples: &[T; N]) -> f32 {
+        let state = self.mean_level();
+        // Against a state of `w` updates the distance strays `√(1 + 1/w)` times as far as
+        // against a noiseless one: the spread is learned, and tested, without that factor.
+        let (x, dark) = level::distance(level::trimmed_mean(samples), state);
+        let x = x / math::sqrt(1.0 + 1.0 / self.weight);
+        let (evidence, spread) = level::weigh((x, dark), self.level_spread);
+        self.level_spread = spread;
+        if self.updates >= level::HISTORY {
+            evidence
+        } else {
+            0.0
+        }
+    }
+
     /// The relative variance of the state's level (its mean radiance), per channel.
     fn relative_level_variance(&self) -> T {
         let (v, w) = (self.noise(), self.weight);
@@ -985,7 +1024,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// that saw nothing so bright there, plus `ln(ratio/NOVELTY)`.
     fn novelty(&self, samples: &[T; N]) -> Option<(usize, f32)> {
         use reread::brightness;
-        let (w, level) = (self.weight, brightness(self.sum[0]));
+        let w = self.weight;
         let (mut j, mut top, mut total) = (0usize, -1.0f32, 0.0f32);
         for (i, &y) in samples.iter().enumerate() {
             let b = brightness(y);
@@ -995,8 +1034,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             }
         }
         let peak = self.peaks[reread::octant(self.directions[j]) as usize];
-        // The level's brightness per sample: sum[0]/w is √(4π) times the mean radiance.
-        let mean_level = level / (w * math::sqrt(4.0 * PI));
+        let mean_level = self.mean_level();
         let excess = (top - total / N as f32) / (N as f32 * mean_level);
         let ratio = top / peak;
         (w >= reread::NOVEL_HISTORY
@@ -1289,8 +1327,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (as [`TemporalProbe::pool`]'s), one channel: the
     /// harmonics of degree `L` at the normal and a dot product.
     /// - `m4:temporal_irradiance_S1 N=16`: 914 instructions (`L = 4`)
-    /// - `m4:temporal_irradiance_S2 N=64`: 1 464 instructions (`L = 6`)
-    /// - `m4:temporal_irradiance_S4 N=256`: 2 186 instructions (`L = 8`)
+    /// - `m4:temporal_irradiance_S2 N=64`: 1 445 instructions (`L = 6`)
+    /// - `m4:temporal_irradiance_S4 N=256`: 2 135 instructions (`L = 8`)
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let mut y = [0.0f32; COEFFICIENTS];
@@ -1362,6 +1400,7 @@ fn max_per_channel<T: Radiance>(a: T, b: T) -> T {
 }
 
 mod evidence;
+mod level;
 mod reread;
 mod scale;
 pub(crate) use evidence::{gaussian_log_bf, log_odds, logistic};
