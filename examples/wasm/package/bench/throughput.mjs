@@ -332,9 +332,10 @@ out("  Its irradiance at the 64 normals differs from the Probe's (Bayesian Monte
 out("  most " + agreement.map(({ n, worst }) => `${(100 * worst).toFixed(2)} % at N = ${n}`).join(", ") + ": the same quantity.");
 if (builds.length > 1) {
   out("- **Builds:** *plain*, the package's modules (`build.sh`: `opt-level = \"z\"`, fat LTO, one");
-  out("  codegen unit); *simd128*, the same with `RUSTFLAGS=\"-C target-feature=+simd128\"`; *o3*,");
-  out("  `opt-level = 3` (LLVM's loop and SLP vectorisers do not run at `\"z\"`); *o3-simd128*, both");
-  out("  (`bench/build.sh`). All are timed through the same `index.js`.");
+  out("  codegen unit, then `wasm-opt -Oz`); *simd128*, the same with");
+  out("  `RUSTFLAGS=\"-C target-feature=+simd128\"`; *o3*, `opt-level = 3` and `wasm-opt -O3` (LLVM's");
+  out("  loop and SLP vectorisers do not run at `\"z\"`); *o3-simd128*, both (`bench/build.sh`). All");
+  out("  are timed through the same `index.js`.");
 }
 out("- *spread*: the largest (max − min)/median of the repetitions' rates over the row's cases.");
 out();
