@@ -61,9 +61,11 @@
 //!   shows as the difference of two readings of one direction, which aliasing cannot fake
 //!   (A-SVGF's re-shading of last frame's samples). Each sentinel tracks one direction for 4
 //!   updates or more (the sentinels in turn, so that some are verified at every update), then
-//!   moves to the brightest reading of the latest update's rotated samples: a global change
-//!   moves the bright readings most, a light that switches off was bright, and no direction
-//!   stays unwatched. A reading is
+//!   moves to the brightest reading of the latest update's rotated samples, or returns to the
+//!   brightest reading verified since the last reset (the *spot*) where that is brighter and
+//!   no other sentinel watches it: a global change moves the bright readings most, and a
+//!   light that switches off was bright, even a lamp that a rotated ray hits in one update of
+//!   two. A reading is
 //!   *verified* once its re-read repeats it; a new reading that its re-read does not repeat
 //!   is decided by a third (two of three agree; no evidence either way).
 //! - **A sentinel's evidence** is the Bayes factor of the change `r = y − y₀` from its
@@ -386,7 +388,7 @@ pub type RgbTemporalProbe<const N: usize, F = Point, const S: usize = 0> =
 /// ([`crate::footprint`]). Any `N ≥ 1` works: the probe needs no baked tables.
 ///
 /// It holds its directions and three sets of 81 coefficients per channel (the sums, their
-/// rounding errors and the queries'): 4 272 bytes for `N = 64`, RGB, `S = 4`; 1 968 for
+/// rounding errors and the queries'): 4 296 bytes for `N = 64`, RGB, `S = 4`; 1 984 for
 /// `N = 64`, one channel, no sentinels, on a 64-bit host (a unit test pins both).
 ///
 /// # Examples
@@ -440,6 +442,9 @@ pub struct TemporalProbe<
     /// The brightest rotated sample seen in each octant since the last reset (brightness, in
     /// units of `2^scale`): what makes a reading novel.
     peaks: [f32; 8],
+    /// The brightest verified reading since the last reset and its direction (brightness 0:
+    /// none): a free slot returns to it unless the latest update read brighter.
+    spot: (Vec3, T),
     novel_confirmed: bool,
     /// The running 90th percentile of `(b − a)²/(a² + b²)` over pairs of readings of one
     /// direction (their brightness): 0 where readings repeat exactly.
@@ -536,6 +541,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             noise_prior_test: T::ZERO,
             slots: [reread::Slot::EMPTY; S],
             peaks: [0.0; 8],
+            spot: (Vec3::Z, T::ZERO),
             novel_confirmed: false,
             repeat_noise: 0.0,
             disagree_rate: reread::DISAGREE_FLOOR,
@@ -936,6 +942,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             };
         }
         self.slots = next;
+        self.remember_spot();
         self.learn_disagreements(compared, disagreements);
         self.novel_confirmed = !refuted && novel > 0.0;
         if !refuted {
@@ -947,6 +954,22 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             confirmed + fresh
         } else {
             confirmed
+        }
+    }
+
+    /// Keeps the brightest verified reading as the spot (refreshed where a slot verifies the
+    /// spot's own direction).
+    fn remember_spot(&mut self) {
+        use reread::{brightness, Kind};
+        for (slot, &d) in self.slots.iter().zip(&self.sentinel_directions) {
+            if slot.kind != Kind::Verified {
+                continue;
+            }
+            // The latest reading, not the one chosen for being the brightest: re-read later,
+            // a reading chosen as a maximum of noisy ones would read darker.
+            if d == self.spot.0 || brightness(slot.other) > brightness(self.spot.1) {
+                self.spot = (d, slot.other);
+            }
         }
     }
 
@@ -1049,6 +1072,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     fn update_peaks(&mut self, samples: &[T; N], restart: bool) {
         if restart {
             self.peaks = [0.0; 8];
+            self.spot.1 = T::ZERO;
         }
         for (d, &y) in self.directions.iter().zip(samples) {
             let p = &mut self.peaks[reread::octant(*d) as usize];
@@ -1108,6 +1132,25 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
                     best = Some(j);
                 }
             }
+            let spot = brightness(self.spot.1);
+            if spot > 0.0 && best.is_none_or(|b| spot > key[b]) {
+                let watched = (0..S).position(|i| self.sentinel_directions[i] == self.spot.0);
+                match watched {
+                    // The slot watching the spot stays on it.
+                    Some(i) if i == slot => {
+                        self.slots[slot].age = 0;
+                        continue;
+                    }
+                    Some(_) => {}
+                    None => {
+                        self.sentinel_directions[slot] = self.spot.0;
+                        let y = self.spot.1;
+                        self.slots[slot] =
+                            Slot { kind: Kind::New, reference: y, other: y, evidence: 0.0, age: 0 };
+                        continue;
+                    }
+                }
+            }
             let Some(j) = best else { continue };
             key[j] = -1.0;
             self.sentinel_directions[slot] = self.directions[j];
@@ -1156,6 +1199,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         for p in &mut self.peaks {
             *p = scale::ldexp_saturating(*p, k1);
         }
+        self.spot.1 = one(self.spot.1);
         self.irradiance_variance = two(self.irradiance_variance);
         self.scale = e;
     }

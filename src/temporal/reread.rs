@@ -5,7 +5,9 @@
 //! Each slot tracks one direction for [`TRACK`] updates or more (the slots in turn, so that
 //! some are verified at every update), then moves to the brightest of the latest update's
 //! rotated samples (a global change moves the bright readings most, and a light that
-//! switches off was bright). Its readings pass through states:
+//! switches off was bright), or to the *spot*, the brightest reading verified since the last
+//! reset, where that is brighter and unwatched: a small lamp that the rotated rays hit only
+//! now and then keeps a slot on it. Its readings pass through states:
 //! - *new*: a rotated sample's reading, not yet re-read; the re-read verifies it, or the two
 //!   disagree (*disputed*) and a third reading decides which was the outlier, without
 //!   evidence either way;
