@@ -136,6 +136,6 @@ fn the_state_size_is_pinned() {
     // The sums, their compensation and the queries' coefficients: three sets of 81 per
     // channel, beside the directions.
     use crate::footprint::Point;
-    assert_eq!(core::mem::size_of::<TemporalProbe<64, [f32; 3], Point, 4>>(), 4296);
-    assert_eq!(core::mem::size_of::<TemporalProbe<64>>(), 1984);
+    assert_eq!(core::mem::size_of::<TemporalProbe<64, [f32; 3], Point, 4>>(), 4584);
+    assert_eq!(core::mem::size_of::<TemporalProbe<64>>(), 2144);
 }
