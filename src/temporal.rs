@@ -127,13 +127,13 @@
 //! - **The price**: sentinels are rays that add nothing to the estimate. Measured
 //!   ([`eval/src/bin/temporal.rs`], [`docs/temporal.md`], held-out maps, `clamp` light),
 //!   1, 2, 4 sentinels of 16, 64, 256 rays detect a ×0.5 or a switch between maps within two
-//!   updates in 99–100 % of sequences (a ×10 or ×0.1 within one in 54–100 %), a ×1.3 in 58,
-//!   94, 100 % and a 30° turn of the light in 65, 93, 100 %, where the innovation alone
+//!   updates in 99–100 % of sequences (a ×10 or ×0.1 within one in 56–100 %), a ×1.3 in 67,
+//!   98, 100 % and a 30° turn of the light in 77, 98, 100 %, where the innovation alone
 //!   misses most switches between maps; a small lamp switching on (1 % of the sphere, as
-//!   bright as the rest of the light together) in 1, 33, 67 % (a ray of 64 hits it in one
-//!   update of two), and its switching off in 19, 60, 100 %. Static light stays at
-//!   0.97–1.13× the oracle's error after 64 updates, with 0.2, 0.7, 0.5 false resets per
-//!   1 000 static updates; with 1 % of the rays fireflies, 1.1, 3.4, 10.4.
+//!   bright as the rest of the light together) in 2, 35, 86 % (a ray of 64 hits it in one
+//!   update of two), and its switching off in 55, 99, 100 %. Static light stays at
+//!   1.06–1.13× the oracle's error after 64 updates, with 0.2, 1.3, 0.7 false resets per
+//!   1 000 static updates; with 1 % of the rays fireflies, 1.0, 4.7, 19.4.
 //!
 //! ```
 //! use sphere_quadrature::footprint::Point;
@@ -658,10 +658,10 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against), one channel, a budget
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
-    /// - `m4:temporal_update_S1 N=16`: 26 884 instructions (15 rotated, 1 sentinel)
-    /// - `m4:temporal_update_S2 N=64`: 113 420 instructions (62 rotated, 2 sentinels)
-    /// - `m4:temporal_update_S0 N=64`: 106 880 instructions (64 rotated)
-    /// - `m4:temporal_update_S4 N=256`: 608 560 instructions (252 rotated, 4 sentinels)
+    /// - `m4:temporal_update_S1 N=16`: 29 388 instructions (15 rotated, 1 sentinel)
+    /// - `m4:temporal_update_S2 N=64`: 121 120 instructions (62 rotated, 2 sentinels)
+    /// - `m4:temporal_update_S0 N=64`: 108 960 instructions (64 rotated)
+    /// - `m4:temporal_update_S4 N=256`: 636 600 instructions (252 rotated, 4 sentinels)
     ///
     /// # Examples
     /// ```
@@ -1440,9 +1440,9 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// # Cost
     /// Cortex-M4F instructions per call (as [`TemporalProbe::pool`]'s), one channel: the
     /// harmonics of degree `L` at the normal and a dot product.
-    /// - `m4:temporal_irradiance_S1 N=16`: 914 instructions (`L = 4`)
+    /// - `m4:temporal_irradiance_S1 N=16`: 924 instructions (`L = 4`)
     /// - `m4:temporal_irradiance_S2 N=64`: 1 445 instructions (`L = 6`)
-    /// - `m4:temporal_irradiance_S4 N=256`: 2 135 instructions (`L = 8`)
+    /// - `m4:temporal_irradiance_S4 N=256`: 2 125 instructions (`L = 8`)
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let mut y = [0.0f32; COEFFICIENTS];

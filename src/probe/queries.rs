@@ -16,7 +16,7 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_irradiance N=16`: 845 instructions
-    /// - `m4:probe_irradiance N=32`: 1 568 instructions
+    /// - `m4:probe_irradiance N=32`: 1 567 instructions
     /// - `m4:probe_irradiance N=64`: 2 921 instructions
     /// - `m4:probe_irradiance N=256`: 11 644 instructions
     /// - `m4:gaussian8_probe_irradiance N=64`: 2 961 instructions (`Gaussian<8>` footprint)
@@ -134,9 +134,9 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_masked_irradiance_variance_M16_m0 N=64`: 261 770 instructions (none missing)
-    /// - `m4:probe_masked_irradiance_variance_M8_m8 N=64`: 518 500 instructions (8 missing)
-    /// - `m4:probe_masked_irradiance_variance_M16_m16 N=64`: 547 410 instructions (16 missing)
+    /// - `m4:probe_masked_irradiance_variance_M16_m0 N=64`: 261 780 instructions (none missing)
+    /// - `m4:probe_masked_irradiance_variance_M8_m8 N=64`: 518 510 instructions (8 missing)
+    /// - `m4:probe_masked_irradiance_variance_M16_m16 N=64`: 547 400 instructions (16 missing)
     ///
     /// `M8`, `M16` in the names: the probe's capacity `M` for missing samples.
     ///

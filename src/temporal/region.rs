@@ -112,26 +112,33 @@ pub(super) fn readings<T: Radiance, const N: usize>(
     directions: &[Vec3; N],
     samples: &[T; N],
 ) -> [Option<T>; REGIONS] {
-    let centres: [Vec3; REGIONS] = core::array::from_fn(centre);
-    // Per region: Σ m·y, Σ m, and the heaviest sample's m, m·y and weight in the mean.
-    let mut acc = [(T::ZERO, 0.0f32, 0.0f32, T::ZERO, -1.0f32); REGIONS];
-    for (&x, &y) in directions.iter().zip(samples) {
+    // Regions o and 7 − o are opposite: one dot product serves both, and at most one of
+    // them holds a direction.
+    let centres: [Vec3; REGIONS / 2] = core::array::from_fn(centre);
+    // Per region: Σ m·y, Σ m, and the heaviest sample: its m, index and m·|y|.
+    let mut acc = [(T::ZERO, 0.0f32, 0.0f32, 0usize, -1.0f32); REGIONS];
+    for (j, (&x, &y)) in directions.iter().zip(samples).enumerate() {
         let b = size(y);
-        for (a, c) in acc.iter_mut().zip(&centres) {
-            let m = bump(x.dot(*c));
+        for (o, c) in centres.iter().enumerate() {
+            let t = x.dot(*c);
+            let (a, m) = if t >= 0.0 {
+                (&mut acc[o], bump(t))
+            } else {
+                (&mut acc[REGIONS - 1 - o], bump(-t))
+            };
             if m <= 0.0 {
                 continue;
             }
             a.0 = a.0.mul_add(y, m);
             a.1 += m;
             if m * b > a.4 {
-                (a.2, a.3, a.4) = (m, y.scale(m), m * b);
+                (a.2, a.3, a.4) = (m, j, m * b);
             }
         }
     }
-    acc.map(|(sum, total, heaviest, heaviest_y, _)| {
+    acc.map(|(sum, total, heaviest, j, _)| {
         let rest = total - heaviest;
-        (rest > 0.0).then(|| sum.add(heaviest_y.scale(-1.0)).scale(1.0 / rest))
+        (rest > 0.0).then(|| sum.mul_add(samples[j], -heaviest).scale(1.0 / rest))
     })
 }
 
