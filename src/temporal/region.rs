@@ -203,6 +203,10 @@ fn learn<T: Radiance>(region: &mut Region<T>, d: T) {
     region.mean = region.mean.mul_add(d, g);
     // While it learns, the spread is the largest deviation seen (the early means are
     // rough, so their deviations are large: a cautious start); then a running percentile.
+    // A region lit after a dark start deviates infinitely far: no spread learns that.
+    if !q.is_finite() {
+        return;
+    }
     region.spread = if region.learned <= LEARN {
         region.spread.max(q)
     } else if q > region.spread {
@@ -210,4 +214,45 @@ fn learn<T: Radiance>(region: &mut Region<T>, d: T) {
     } else {
         region.spread / SPREAD_DOWN
     };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Feeds `readings` to one region, returning the updates that confirmed a change.
+    fn run(readings: &[f32]) -> ([bool; 64], Region<f32>) {
+        let mut regions = [Region::<f32>::EMPTY; REGIONS];
+        let mut confirmed = [false; 64];
+        for (k, &y) in readings.iter().enumerate() {
+            let mut found = [None; REGIONS];
+            found[0] = Some(y);
+            confirmed[k] = weigh(&mut regions, &found) & 1 != 0;
+        }
+        (confirmed, regions[0])
+    }
+
+    #[test]
+    fn a_region_lit_after_a_dark_start_keeps_a_finite_spread() {
+        let mut readings = [1.0f32; 40];
+        readings[..3].fill(0.0);
+        let (confirmed, region) = run(&readings);
+        assert!(region.spread.is_finite(), "{region:?}");
+        assert!(!confirmed.iter().any(|&c| c), "{confirmed:?}");
+    }
+
+    #[test]
+    fn a_step_is_confirmed_on_its_second_update_and_noise_is_not() {
+        // A reading alternating ±5 % about 1, then ×2 from update 30 on.
+        let mut readings = [0.0f32; 40];
+        for (k, y) in readings.iter_mut().enumerate() {
+            let noise = if k % 2 == 0 { 1.05 } else { 0.95 };
+            *y = if k < 30 { noise } else { 2.0 * noise };
+        }
+        let (confirmed, _) = run(&readings);
+        let at: [usize; 1] = [31];
+        for (k, &c) in confirmed.iter().enumerate().take(40) {
+            assert_eq!(c, at.contains(&k), "update {k}: {confirmed:?}");
+        }
+    }
 }
