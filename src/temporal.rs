@@ -104,7 +104,7 @@
 //!   mean reading of each of eight overlapping regions fixed in the world ([`local_region`]),
 //!   the heaviest sample left out, and learns how far it strays; a region off by five times
 //!   that (and by a tenth of its level) twice in a row, the same way, is a change for
-//!   certain: the state restarts, and [`TemporalProbe::last_changed_regions`] names the
+//!   certain (with 64 rays or more: a region's reading must rest on a dozen samples or so): the state restarts, and [`TemporalProbe::last_changed_regions`] names the
 //!   regions. (Forgetting in the changed regions alone was measured and gave no gain over
 //!   the restart: module `region` says why.)
 //! - **Innovation**: the new update's projection of degrees `l ≤ 2` (every channel) against
@@ -658,10 +658,10 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against), one channel, a budget
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
-    /// - `m4:temporal_update_S1 N=16`: 29 388 instructions (15 rotated, 1 sentinel)
-    /// - `m4:temporal_update_S2 N=64`: 121 120 instructions (62 rotated, 2 sentinels)
-    /// - `m4:temporal_update_S0 N=64`: 108 960 instructions (64 rotated)
-    /// - `m4:temporal_update_S4 N=256`: 636 600 instructions (252 rotated, 4 sentinels)
+    /// - `m4:temporal_update_S1 N=16`: 28 860 instructions (15 rotated, 1 sentinel)
+    /// - `m4:temporal_update_S2 N=64`: 121 170 instructions (62 rotated, 2 sentinels)
+    /// - `m4:temporal_update_S0 N=64`: 108 970 instructions (64 rotated)
+    /// - `m4:temporal_update_S4 N=256`: 636 680 instructions (252 rotated, 4 sentinels)
     ///
     /// # Examples
     /// ```
@@ -1441,8 +1441,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (as [`TemporalProbe::pool`]'s), one channel: the
     /// harmonics of degree `L` at the normal and a dot product.
     /// - `m4:temporal_irradiance_S1 N=16`: 924 instructions (`L = 4`)
-    /// - `m4:temporal_irradiance_S2 N=64`: 1 445 instructions (`L = 6`)
-    /// - `m4:temporal_irradiance_S4 N=256`: 2 125 instructions (`L = 8`)
+    /// - `m4:temporal_irradiance_S2 N=64`: 1 444 instructions (`L = 6`)
+    /// - `m4:temporal_irradiance_S4 N=256`: 2 124 instructions (`L = 8`)
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let mut y = [0.0f32; COEFFICIENTS];

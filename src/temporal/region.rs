@@ -10,7 +10,9 @@
 //!
 //! - **The reading.** A region's reading is the bump-weighted mean of the update's rotated
 //!   samples, without the sample that weighs most in it: a firefly, or a single hit of a
-//!   lamp, moves it no further (the re-reads see those).
+//!   lamp, moves it no further (the re-reads see those). The rest must weigh [`WEIGHT`] or
+//!   more (a dozen samples or so): with fewer, in a path-traced room at `N = 16`, two readings
+//!   in a row strayed alike too often, and such a probe has no region test.
 //! - **What is usual.** The probe keeps each region's running mean reading (the mean of all
 //!   updates at first, then over the last 16 or so: [`GAIN`]) and a running 95th percentile
 //!   of the relative deviation `q = |y − ȳ|/|ȳ|` (channels summed), learned as the level
@@ -58,6 +60,10 @@ const FLAG: f32 = 5.0;
 const SPREAD_UP: f32 = 1.345_647;
 /// The spread's step down (`e^(1/64)`).
 const SPREAD_DOWN: f32 = 1.015_748;
+/// The least bump weight a region's reading must rest on (about 12 samples in the bump, whose
+/// mean weight is 1/3): fewer stray too far to be read twice alike by chance only rarely,
+/// and a probe of a few dozen rays has no region test.
+const WEIGHT: f32 = 4.0;
 /// A deviation below this share of the region's level is no change.
 const RELEVANT: f32 = 0.1;
 
@@ -107,7 +113,7 @@ impl<T: Radiance> Region<T> {
 }
 
 /// Each region's reading: the bump-weighted mean of the samples without the one that weighs
-/// most in it (`None` where fewer than two samples fall in the bump).
+/// most in it (`None` where the rest weigh less than [`WEIGHT`]).
 pub(super) fn readings<T: Radiance, const N: usize>(
     directions: &[Vec3; N],
     samples: &[T; N],
@@ -138,7 +144,7 @@ pub(super) fn readings<T: Radiance, const N: usize>(
     }
     acc.map(|(sum, total, heaviest, j, _)| {
         let rest = total - heaviest;
-        (rest > 0.0).then(|| sum.mul_add(samples[j], -heaviest).scale(1.0 / rest))
+        (rest >= WEIGHT).then(|| sum.mul_add(samples[j], -heaviest).scale(1.0 / rest))
     })
 }
 
