@@ -942,25 +942,37 @@ fn lamp_sky(d: Vec3, centre: Vec3, lit: bool) -> f32 {
     sky(d) + lamp
 }
 
+/// The lamp positions of the lamp tests.
+const LAMPS: [Vec3; 2] = [Vec3::new(0.6, 0.0, 0.8), Vec3::new(-0.48, 0.6, -0.64)];
+
+/// A probe after 40 updates of `light(d, lit)`, and the updates (within 4) until it reports a
+/// reset once the lamp switches to `!lit`.
+fn lamp_switch<const N: usize, const S: usize>(
+    light: impl Fn(Vec3, bool) -> f32,
+    lit: bool,
+    seed: u64,
+) -> (TemporalProbe<N, f32, sphere_quadrature::footprint::Point, S>, Option<usize>) {
+    let mut p = TemporalProbe::<N, f32, sphere_quadrature::footprint::Point, S>::new(seed);
+    for _ in 0..40 {
+        let (s, t) = (p.directions().map(|d| light(d, lit)), p.sentinels().map(|d| light(d, lit)));
+        p.pool(&s, &t).unwrap();
+    }
+    let after = (1..=4).find(|_| {
+        let s = p.directions().map(|d| light(d, !lit));
+        let t = p.sentinels().map(|d| light(d, !lit));
+        p.pool(&s, &t).unwrap() == Change::Reset
+    });
+    (p, after)
+}
+
 #[test]
 fn a_small_lamp_switching_off_is_seen_within_two_updates() {
     // A ray of 62 hits the lamp in about half the updates, so a sentinel must be watching it
     // when it goes off: the brightest verified reading keeps one. Without it, 3 of these 8
     // switches went unseen within four updates.
-    let centres = [Vec3::new(0.6, 0.0, 0.8), Vec3::new(-0.48, 0.6, -0.64)];
-    for (i, &centre) in centres.iter().enumerate() {
+    for (i, &centre) in LAMPS.iter().enumerate() {
         for seed in 0..4 {
-            let mut p = TemporalProbe::<62, f32, sphere_quadrature::footprint::Point, 2>::new(seed);
-            for _ in 0..40 {
-                let s = p.directions().map(|d| lamp_sky(d, centre, true));
-                let t = p.sentinels().map(|d| lamp_sky(d, centre, true));
-                p.pool(&s, &t).unwrap();
-            }
-            let after = (1..=4).find(|_| {
-                let s = p.directions().map(|d| lamp_sky(d, centre, false));
-                let t = p.sentinels().map(|d| lamp_sky(d, centre, false));
-                p.pool(&s, &t).unwrap() == Change::Reset
-            });
+            let (_, after) = lamp_switch::<62, 2>(|d, lit| lamp_sky(d, centre, lit), true, seed);
             assert!(after.is_some_and(|k| k <= 2), "lamp {i}, seed {seed}: seen after {after:?}");
         }
     }
@@ -989,21 +1001,10 @@ fn a_small_lamp_switching_on_is_seen_where_it_lights() {
     // Beside the spots the lamp's readings are not novel: the region test sees the mean of
     // the few rays that hit it rise twice in a row. Without it, 6 of these 8 switches went
     // unseen within four updates.
-    let centres = [Vec3::new(0.6, 0.0, 0.8), Vec3::new(-0.48, 0.6, -0.64)];
-    for (i, &centre) in centres.iter().enumerate() {
+    for (i, &centre) in LAMPS.iter().enumerate() {
         for seed in 0..4 {
-            let mut p =
-                TemporalProbe::<252, f32, sphere_quadrature::footprint::Point, 4>::new(seed);
-            for _ in 0..40 {
-                let s = p.directions().map(|d| spotted_sky(d, centre, false));
-                let t = p.sentinels().map(|d| spotted_sky(d, centre, false));
-                p.pool(&s, &t).unwrap();
-            }
-            let after = (1..=4).find(|_| {
-                let s = p.directions().map(|d| spotted_sky(d, centre, true));
-                let t = p.sentinels().map(|d| spotted_sky(d, centre, true));
-                p.pool(&s, &t).unwrap() == Change::Reset
-            });
+            let (p, after) =
+                lamp_switch::<252, 4>(|d, lit| spotted_sky(d, centre, lit), false, seed);
             assert!(after.is_some_and(|k| k <= 2), "lamp {i}, seed {seed}: seen after {after:?}");
             // Where the region test saw it, the lamp lies in a region it names.
             let regions = p.last_changed_regions();
