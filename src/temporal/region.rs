@@ -61,8 +61,8 @@ const SPREAD_UP: f32 = 1.345_647;
 /// The spread's step down (`e^(1/64)`).
 const SPREAD_DOWN: f32 = 1.015_748;
 /// The least bump weight a region's reading must rest on (about 12 samples in the bump, whose
-/// mean weight is 1/3): fewer stray too far to be read twice alike by chance only rarely,
-/// and a probe of a few dozen rays has no region test.
+/// mean weight is 1/3): readings of fewer samples stray alike twice in a row too often, and
+/// a probe of a few dozen rays has no region test.
 const WEIGHT: f32 = 4.0;
 /// A deviation below this share of the region's level is no change.
 const RELEVANT: f32 = 0.1;
