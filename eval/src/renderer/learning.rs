@@ -16,7 +16,7 @@ use crate::renderer_engine::{Gls, LobeFrame, Query, Reml, Rule};
 
 /// Fits `c(d²) = a·exp(−d²/l²)` to binned products by pair-count weighted least squares
 /// (`a` closed-form, `l` on a log grid then golden section): the seed's covariance fit, as
-/// `eval/src/bin/learn_hyperparameters.rs` does it. Returns `(a, l)`.
+/// `xtask/writers/src/bin/learn_hyperparameters.rs` does it. Returns `(a, l)`.
 fn fit_covariance(points: &[(f64, f64, f64)]) -> (f64, f64) {
     let eval = |l: f64| {
         let (mut see, mut sce) = (0.0, 0.0);
