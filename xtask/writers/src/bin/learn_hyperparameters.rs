@@ -45,7 +45,7 @@
 //! With `--write` it writes `tables/probe.txt` (`probe = N sigma lambda1 …`),
 //! `tables/bmc_smooth.txt` (`set = N l sigma`: the renderer's smooth-light preset, which a user
 //! selects with `SPHERE_QUADRATURE_BMC_TABLE`; the shipped `tables/bmc.txt` is learned on real
-//! maps by `eval/src/bin/renderer.rs --learn --write`) and the report `docs/hyperparameters.md`; without it,
+//! maps by `cargo xtask regen renderer-hyperparameters`) and the report `docs/hyperparameters.md`; without it,
 //! it only prints the report. Q depends only on the point set's dot products, so one Cholesky
 //! factor per (N, λ, σ′) serves every rotation.
 
