@@ -2,7 +2,7 @@
 # Flash cost of single calls on the Cortex-M4 (release, LTO): builds
 # examples/cortex-m4/src/bin/flash.rs once per case and once per base case, and prints
 # "# flash KEY N=n CODE DATA": the growth of `.text` (CODE) and of `.rodata` + `.data` (DATA)
-# from the base case to the case, in bytes. `cargo eval doc_numbers` checks the docs against
+# from the base case to the case, in bytes. `cargo writer doc_numbers` checks the docs against
 # these lines. Usage: .ci/m4-flash.sh > target/ci/m4-flash.txt
 set -euo pipefail
 cd "$(dirname "$0")/../examples/cortex-m4"

@@ -76,8 +76,8 @@ impl Spec {
     }
 }
 
-/// The learned hyperparameters `tables/glossy.txt` refers to (`err` rows of the renderer
-/// benchmark's `--learn`).
+/// The learned hyperparameters `tables/glossy.txt` refers to (`err` rows of
+/// `cargo xtask regen renderer-hyperparameters`).
 pub const LEARNED_FILE: &str = "tables/renderer_hyperparameters.txt";
 
 /// One learned row `err phongE N l sigma`.
@@ -146,7 +146,7 @@ pub fn interpolate(learned: &[Learned], n: usize, e: u32) -> Result<(f64, f64), 
     Ok((mix(a.l, b.l), mix(a.sigma, b.sigma)))
 }
 
-/// The optimal sample sets `optimal = N e` lines refer to (`eval/src/bin/optimal_sets.rs`).
+/// The optimal sample sets `optimal = N e` lines refer to (`xtask/writers/src/bin/optimal_sets.rs`).
 pub const OPTIMAL_FILE: &str = "tables/optimal_sets.txt";
 
 /// One optimal set of [`OPTIMAL_FILE`]: `set phongE N l sigma var_sf var_opt` and `N` lines

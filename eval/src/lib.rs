@@ -7,9 +7,10 @@
 //! (`scenario`, `api`). Each program takes what it needs:
 //! `use sphere_quadrature_eval::{cli, tiers};`.
 //!
-//! The library also holds the stages of the two largest programs, [`renderer`] and
-//! [`optimal_sets`] (their constants, options and a module per stage), so that their files in
-//! `src/bin/` keep only their documentation, command line and `main`.
+//! The library also holds the stages of the largest program, [`renderer`] (its constants,
+//! options and a module per stage), so that its file in `src/bin/` keeps only its
+//! documentation, command line and `main`, and the probe-trust engine, [`probe_trust`]. The
+//! writers of `xtask/writers/` (the programs that write library inputs) use this library too.
 
 /// The files of `src/common/`, re-exported at the crate root (they keep that folder, which the
 /// reports and tables cite).
@@ -43,6 +44,9 @@ pub mod api;
 /// The footprint renderer's model (the generator's prototype).
 pub mod fp;
 
-// The stages of `src/bin/renderer.rs` and `src/bin/optimal_sets.rs`.
-pub mod optimal_sets;
+// The stages of `src/bin/renderer.rs`.
 pub mod renderer;
+
+/// The engine and report of `src/bin/probe_trust.rs`, which `cargo writer probe_calibration`
+/// shares.
+pub mod probe_trust;

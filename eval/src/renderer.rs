@@ -8,7 +8,6 @@ use crate::renderer_engine::Brdf;
 pub mod evaluation;
 pub mod footprint;
 pub mod hyperparameters;
-pub mod learning;
 pub mod plans;
 pub mod report;
 pub mod scenes;
@@ -73,7 +72,7 @@ pub const TRUTH_TOL: f64 = 4e-9;
 pub const MIXTURE_SHARPNESS: f64 = 20.0;
 
 pub const HYPER_FILE: &str = "tables/renderer_hyperparameters.txt";
-/// The optimal sets of `bmc-opt` (`eval/src/bin/optimal_sets.rs`).
+/// The optimal sets of `bmc-opt` (`xtask/writers/src/bin/optimal_sets.rs`).
 pub const OPTIMAL_FILE: &str = "tables/optimal_sets.txt";
 /// Hyperparameter keys: the BMC-SF sample set each was learned on.
 pub const KEYS: [(&str, Brdf, f64); 10] = [
@@ -101,13 +100,16 @@ pub fn l_grid() -> Vec<f64> {
     (0..L_STEPS).map(|k| 0.01 * 2f64.powf(k as f64 / 2.0)).collect()
 }
 
+/// `x` to 4 decimals without trailing zeros (the hyperparameter file's and the report's `l`).
+pub fn fmt_g(x: f64) -> String {
+    format!("{:.4}", x).trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
 /// The program's options, as `src/bin/renderer.rs` parses them from its command line.
 #[derive(Clone, Debug)]
 pub struct Options {
     pub out: PathBuf,
     pub csv: Option<PathBuf>,
-    pub learn: bool,
-    pub write: bool,
     pub self_test: bool,
     pub hyper_file: PathBuf,
     pub hyper_method: String,

@@ -8,9 +8,12 @@
 //! cargo xtask list                   # the generators, their outputs and commands
 //! ```
 //!
-//! Each generator is the program that owns the computation (an evaluation program of `eval/`
-//! with its explicit write flag, or the bake test); this tool runs them in dependency order so
-//! that a change to an input is followed by every file downstream of it. `--check` keeps the
+//! Each generator is the program that owns the computation: a writer of `xtask/writers/`
+//! (`cargo writer NAME`, the programs that write library inputs and read nothing else's
+//! output but the maps and the measurements), a benchmark of `eval/` with its explicit write
+//! flag where the table is fitted by the benchmark's own run, or the bake test. This tool runs
+//! them in dependency order so that a change to an input is followed by every file downstream
+//! of it. `--check` keeps the
 //! committed bytes of every output in memory, runs the generators, compares, puts the committed
 //! bytes back (whatever happened), and fails with one line naming the files that differ.
 
@@ -38,28 +41,28 @@ const GENERATORS: &[Generator] = &[
     Generator {
         name: "hyperparameters",
         outputs: &["tables/probe.txt", "tables/bmc_smooth.txt", "docs/hyperparameters.md"],
-        command: &["cargo", "eval", "learn_hyperparameters", "--", "--write"],
+        command: &["cargo", "writer", "learn_hyperparameters", "--", "--write"],
         env: &[],
         after: "the maps",
     },
     Generator {
         name: "calibration",
         outputs: &["tables/probe.txt"],
-        command: &["cargo", "eval", "probe_trust", "--", "--write"],
+        command: &["cargo", "writer", "probe_calibration", "--", "--write"],
         env: &[],
         after: "hyperparameters (the families of tables/probe.txt)",
     },
     Generator {
         name: "renderer-hyperparameters",
         outputs: &["tables/renderer_hyperparameters.txt"],
-        command: &["cargo", "eval", "renderer", "--", "--learn", "--write"],
+        command: &["cargo", "writer", "renderer_hyperparameters", "--", "--write"],
         env: &[],
         after: "the maps",
     },
     Generator {
         name: "optimal-sets",
         outputs: &["tables/optimal_sets.txt", "docs/optimal_sets.md"],
-        command: &["cargo", "eval", "optimal_sets", "--", "--write", "--out", "docs"],
+        command: &["cargo", "writer", "optimal_sets", "--", "--write", "--out", "docs"],
         env: &[],
         after: "renderer-hyperparameters",
     },
@@ -73,14 +76,14 @@ const GENERATORS: &[Generator] = &[
     Generator {
         name: "sensor-readings",
         outputs: &["examples/cortex-m4/src/sensor_readings.rs"],
-        command: &["cargo", "eval", "sensor_readings", "--", "--write"],
+        command: &["cargo", "writer", "sensor_readings", "--", "--write"],
         env: &[],
         after: "sensor-priors (the crate's layout probes)",
     },
     Generator {
         name: "doc-numbers",
         outputs: &["src", "README.md", "docs/costs.md"],
-        command: &["cargo", "eval", "doc_numbers", "--", "--write"],
+        command: &["cargo", "writer", "doc_numbers", "--", "--write"],
         env: &[],
         after: "the Cortex-M4 measurements in target/ci/ (`.ci/run embedded`)",
     },

@@ -1,6 +1,7 @@
 //! Status: complete for issue #12 item 6: every estimator (`bmc-opt` once
-//! `tables/optimal_sets.txt` exists), the four tiers, `--learn` (REML, the seed's covariance
-//! fit and the error-minimising fit), `--csv`, `--quick`, `--self-test`, report and plot.
+//! `tables/optimal_sets.txt` exists), the four tiers, `--csv`, `--quick`, `--self-test`,
+//! report and plot. Its hyperparameters are learned by `cargo writer renderer_hyperparameters`
+//! (REML, the seed's covariance fit and the error-minimising fit).
 //! `bmc-sf` is the crate's own renderers; `bmc-sf-f64` the same model on the host engine.
 //!
 //! The renderer benchmark of issue #12 (item 6): per-query shading integrals on environment
@@ -11,8 +12,6 @@
 //! $R                           # ten bundled maps, target/renderer
 //! $R --out docs                # docs/renderer.md + .png
 //! $R --quick                   # CI smoke run (seconds)
-//! $R --learn                   # target/renderer/renderer_hyperparameters.txt
-//! $R --learn --write           # tables/renderer_hyperparameters.txt
 //! $R --self-test               # engine convergence checks
 //! $R a.hdr b.hdr --csv rows.csv
 //! ```
@@ -54,7 +53,7 @@
 //!   0.1, 0.3, 1} (what `Probe::update` does with its family): `Q`, its factor and `z` do not
 //!   depend on the map, so the selection costs O(N²) per member and query;
 //! - `bmc-opt`: the seed's BMC (no rough part) on the optimal set of `tables/optimal_sets.txt`
-//!   (`eval/src/bin/optimal_sets.rs`: the set minimising the model's posterior variance, in the lobe
+//!   (`xtask/writers/src/bin/optimal_sets.rs`: the set minimising the model's posterior variance, in the lobe
 //!   frame) with the hyperparameters it was optimised for;
 //! - `bmc-fp-pyramid`: the crate's footprint renderer `bmc::FootprintRenderer<N, B>` (N = 16,
 //!   32, 64, 128; the lobe-morphed SF set, each sample read through a normalised spherical
@@ -74,8 +73,8 @@
 //! `raw`, `clamp` (luminance ≤ 30× the map mean), `smooth` (clamp → 128×64 → SG blur of
 //! sharpness 10) and `synthetic` (10 seeded SG mixtures), as `eval/src/bin/accuracy.rs`.
 //! Hyperparameters `(l, σ′)` per (BRDF, N) are read from
-//! `tables/renderer_hyperparameters.txt` (written by `--learn --write` on the training maps' clamp
-//! tier: `err`, the grid point whose estimates have the smallest mean RMSE ratio to QMC on the
+//! `tables/renderer_hyperparameters.txt` (written by `cargo xtask regen renderer-hyperparameters`
+//! on the training maps' clamp tier: `err`, the grid point whose estimates have the smallest mean RMSE ratio to QMC on the
 //! same samples — what the crate bakes; `ml`, REML; `cov`, the seed's covariance fit; `--hyper`
 //! picks the rows the f64 estimators use); held-out figures exclude the training maps
 //! apartment, bridge, forest, lab.
@@ -97,8 +96,7 @@
 //! (tier, estimator, N, BRDF, map), and one row
 //! `coverage,<tier>,bmc-fp-pyramid,<n>,<brdf>,<map>,<fraction>` per (tier, N, BRDF, map) with
 //! a footprint renderer set (held-out maps and mixtures). The full run takes about 430 CPU
-//! seconds (most of it the footprint renderer's lookups; 2 threads), `--quick` under 30 s,
-//! `--learn` several CPU-minutes.
+//! seconds (most of it the footprint renderer's lookups; 2 threads), `--quick` under 30 s.
 //!
 //! [`rough_z`]: sphere_quadrature_eval::renderer::plans::rough_z
 
@@ -117,7 +115,6 @@ use plotters::style::{register_font, FontStyle};
 use reference::envmap::EnvMap;
 use sphere_quadrature_eval::renderer::evaluation::{evaluate, TierResult};
 use sphere_quadrature_eval::renderer::hyperparameters::parse_hyper;
-use sphere_quadrature_eval::renderer::learning::{fmt_g, hyper_file_text, learn, learn_err};
 use sphere_quadrature_eval::renderer::plans::plans;
 use sphere_quadrature_eval::renderer::report::{
     crate_table, footprint_tables, plot, seed_table, selection_table, targets, tier_tables,
@@ -125,8 +122,8 @@ use sphere_quadrature_eval::renderer::report::{
 use sphere_quadrature_eval::renderer::scenes::{truths, Light, Scene};
 use sphere_quadrature_eval::renderer::self_test::self_test;
 use sphere_quadrature_eval::renderer::{
-    l_grid, Options, BRDFS, CLAMP, ESTIMATORS, HYPER_FILE, KEYS, NS, OPTIMAL_FILE, SEED_QUERIES,
-    SEED_SYNTHETIC, SMOOTH, SYNTHETIC, TIERS,
+    fmt_g, Options, BRDFS, ESTIMATORS, HYPER_FILE, KEYS, NS, OPTIMAL_FILE, SEED_QUERIES,
+    SEED_SYNTHETIC, SYNTHETIC, TIERS,
 };
 
 /// renderer: the BMC renderer benchmark of issue #12 (item 6)
@@ -163,15 +160,6 @@ struct Cli {
     /// bmc-fp-pyramid queries only (default 8)
     #[arg(long, value_name = "Q", verbatim_doc_comment)]
     exact_queries: Option<usize>,
-    /// Learn (l, σ′) per (BRDF, N) on the training maps' clamp tier (REML, the
-    /// seed's covariance fit, and the error-minimising fit) and write the
-    /// hyperparameter file into --out (with --write: the --hyper-file)
-    #[arg(long, verbatim_doc_comment)]
-    learn: bool,
-    /// With --learn: write the learned rows to --hyper-file (by default
-    /// tables/renderer_hyperparameters.txt)
-    #[arg(long, requires = "learn", conflicts_with = "quick", verbatim_doc_comment)]
-    write: bool,
     /// Hyperparameter file (default tables/renderer_hyperparameters.txt)
     #[arg(long, value_name = "FILE")]
     hyper_file: Option<PathBuf>,
@@ -198,8 +186,6 @@ fn parse_args() -> Options {
     Options {
         out: c.out.unwrap_or_else(|| root.join("target/renderer")),
         csv: c.csv,
-        learn: c.learn,
-        write: c.write,
         self_test: c.self_test,
         hyper_file: c.hyper_file.unwrap_or_else(|| root.join(HYPER_FILE)),
         hyper_method: c.hyper_method,
@@ -235,55 +221,8 @@ fn main() -> Result<(), Box<dyn Error>> {
     let clamped: Vec<EnvMap> = raw.iter().map(compare::clamped).collect();
     let queries = engine::queries(o.queries, SEED_QUERIES);
 
-    if o.learn {
-        let mut learned = learn(&o, &names, &clamped, &queries);
-        if learned.is_empty() {
-            return Err("no training maps among the inputs".into());
-        }
-        // The error-minimising fit on the training maps' clamp and smooth tiers, for the sets
-        // the crate bakes (cosine-morphed for diffuse, lobe-morphed for Phong).
-        let mut training: Vec<Scene> = Vec::new();
-        for (n, m) in names.iter().zip(&clamped) {
-            if TRAINING_MAPS.contains(&n.as_str()) {
-                training.push(Scene::map(CLAMP, n, m.clone()));
-                training.push(Scene::map(SMOOTH, n, tiers::smooth(m)));
-            }
-        }
-        for &(key, _, _) in KEYS.iter().filter(|k| k.0 != "diffuse") {
-            for ((_, fit), lr) in NS
-                .iter()
-                .zip(learn_err(&o, key, &training, &queries))
-                .zip(learned.iter_mut().filter(|lr| lr.key == key))
-            {
-                lr.err = Some(fit);
-            }
-        }
-        let text = hyper_file_text(&learned, &o, &names, queries.len());
-        let path =
-            if o.write { o.hyper_file.clone() } else { o.out.join("renderer_hyperparameters.txt") };
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir)?;
-        }
-        std::fs::write(&path, &text)?;
-        print!("{text}");
-        // The REML surfaces, for the record.
-        let mut md = String::new();
-        for lr in &learned {
-            let _ = writeln!(md, "{} N = {}: ℓ − ℓ_max over l (rows) × σ′ (columns)", lr.key, lr.n);
-            let best = lr.surface.iter().flatten().copied().fold(f64::NEG_INFINITY, f64::max);
-            for (a, row) in lr.surface.iter().enumerate() {
-                let cells: Vec<String> = row.iter().map(|v| format!("{:9.1}", v - best)).collect();
-                let _ = writeln!(md, "  l = {:.4}: {}", l_grid()[a], cells.join(" "));
-            }
-        }
-        std::fs::create_dir_all(&o.out)?;
-        std::fs::write(o.out.join("renderer_reml_surfaces.txt"), md)?;
-        eprintln!("wrote {} ({:.1} s)", path.display(), start.elapsed().as_secs_f64());
-        return Ok(());
-    }
-
     let hyper_text = hyper_text.ok_or(format!(
-        "cannot read {}: run with --learn --write first (see --help)",
+        "cannot read {}: run `cargo xtask regen renderer-hyperparameters` first",
         o.hyper_file.display()
     ))?;
     let h = parse_hyper(&hyper_text, &o.hyper_method)?;
@@ -306,7 +245,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     }
     eprintln!("scenes built ({:.1} s)", start.elapsed().as_secs_f64());
 
-    // bmc-opt's sets, when the table exists (`eval/src/bin/optimal_sets.rs` writes it).
+    // bmc-opt's sets, when the table exists (`xtask/writers/src/bin/optimal_sets.rs` writes it).
     let optimal_sets = match std::fs::read_to_string(root.join(OPTIMAL_FILE)) {
         Ok(text) => optimal::parse(&text).map_err(|e| format!("{OPTIMAL_FILE}: {e}"))?,
         Err(_) => {

@@ -1,5 +1,5 @@
 //! The optimal BMC sample sets of `tables/optimal_sets.txt` (issue #12 item 4, the seed's
-//! step 2), written by `eval/src/bin/optimal_sets.rs`, and their loader for the renderer.
+//! step 2), written by `xtask/writers/src/bin/optimal_sets.rs`, and their loader for the renderer.
 //!
 //! # Format
 //! `#` starts a comment; blank lines are skipped. Each set is a line

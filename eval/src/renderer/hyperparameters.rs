@@ -63,6 +63,6 @@ pub fn key_sf(brdf: Brdf) -> String {
 
 pub fn hyper(h: &HyperMap, key: &str, n: usize) -> Result<Hyper, String> {
     h.get(&(key.to_string(), n)).copied().ok_or_else(|| {
-        format!("no hyperparameters for ({key}, N = {n}): run with --learn --write (see --help)")
+        format!("no hyperparameters for ({key}, N = {n}): run `cargo xtask regen renderer-hyperparameters`")
     })
 }

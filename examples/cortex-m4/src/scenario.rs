@@ -4,7 +4,7 @@
 //! for `eval/src/bin/device_scenario.rs`); `no_std`, no allocation.
 //!
 //! The photodiode readings of the sensor part (and the noisy ones of the sensor-layout part)
-//! are generated on the host (`eval/src/bin/sensor_readings.rs`) into `sensor_readings.rs`,
+//! are generated on the host (`xtask/writers/src/bin/sensor_readings.rs`) into `sensor_readings.rs`,
 //! next to this file.
 
 use core::fmt::Arguments;

@@ -5,7 +5,7 @@
 //! `black_box` inputs (unset: none). `.ci/m4-flash.sh` builds every case and its base case
 //! (nothing, or the object the call needs, such as `Probe::new`) and prints the differences
 //! of `.text` (code) and of `.rodata` + `.data` (tables and constants) as lines
-//! `# flash KEY N=n CODE DATA` for `cargo eval doc_numbers`, which checks the rustdoc
+//! `# flash KEY N=n CODE DATA` for `cargo writer doc_numbers`, which checks the rustdoc
 //! `flash:` lines and the README against them.
 //!
 //! ```text

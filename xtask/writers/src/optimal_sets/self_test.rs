@@ -8,9 +8,9 @@ use super::hyperparameters::Hypers;
 use super::objective::{brdf_of, sf_start, Problem, Target};
 use super::optimiser::{jitter, round_f32};
 use super::{FD_STEP, OPT_DENSITY, SEED, THETA_NODES};
-use crate::optimal::{self, unit, OptimalSet};
-use crate::renderer_engine as engine;
-use crate::renderer_engine::{Brdf, Gls, LobeFrame, Rule};
+use sphere_quadrature_eval::optimal::{self, unit, OptimalSet};
+use sphere_quadrature_eval::renderer_engine as engine;
+use sphere_quadrature_eval::renderer_engine::{Brdf, Gls, LobeFrame, Rule};
 
 pub fn self_test(hypers: &Hypers) -> Result<(), Box<dyn Error>> {
     let mut failures = 0;

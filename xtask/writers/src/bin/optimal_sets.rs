@@ -4,12 +4,12 @@
 //! (format: `common/optimal.rs`, which the renderer loads).
 //!
 //! ```text
-//! cargo eval optimal_sets                     # target/eval/optimal_sets/optimal_sets.txt
-//! cargo eval optimal_sets -- --write          # tables/optimal_sets.txt
-//! cargo eval optimal_sets -- --write --out docs   # and docs/optimal_sets.md
-//! cargo eval optimal_sets -- --check tables/optimal_sets.txt   # CI
-//! cargo eval optimal_sets -- --self-test      # gradient vs differences
-//! cargo eval optimal_sets -- --only phong50 --n 32   # one set (target/)
+//! cargo writer optimal_sets                     # target/eval/optimal_sets/optimal_sets.txt
+//! cargo writer optimal_sets -- --write          # tables/optimal_sets.txt
+//! cargo writer optimal_sets -- --write --out docs   # and docs/optimal_sets.md
+//! cargo writer optimal_sets -- --check tables/optimal_sets.txt   # CI
+//! cargo writer optimal_sets -- --self-test      # gradient vs differences
+//! cargo writer optimal_sets -- --only phong50 --n 32   # one set (target/)
 //! ```
 //!
 //! # Model (as `common/renderer_engine.rs`)
@@ -54,11 +54,11 @@
 //! to f32 (renormalised, rounded again), and `var_sf`, `var_opt` are computed in f64 with the
 //! engine's closed-form `zᵢ` (`Rule::kernel_means`) from the stored numbers.
 //!
-//! [`THETA_NODES`]: sphere_quadrature_eval::optimal_sets::THETA_NODES
-//! [`OPT_DENSITY`]: sphere_quadrature_eval::optimal_sets::OPT_DENSITY
-//! [`kernel_mean_mean`]: sphere_quadrature_eval::optimal_sets::objective::kernel_mean_mean
-//! [`STALL_TOL`]: sphere_quadrature_eval::optimal_sets::STALL_TOL
-//! [`STALL`]: sphere_quadrature_eval::optimal_sets::STALL
+//! [`THETA_NODES`]: xtask_writers::optimal_sets::THETA_NODES
+//! [`OPT_DENSITY`]: xtask_writers::optimal_sets::OPT_DENSITY
+//! [`kernel_mean_mean`]: xtask_writers::optimal_sets::objective::kernel_mean_mean
+//! [`STALL_TOL`]: xtask_writers::optimal_sets::STALL_TOL
+//! [`STALL`]: xtask_writers::optimal_sets::STALL
 
 use sphere_quadrature_eval::{cli, parallel};
 
@@ -69,17 +69,17 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use clap::Parser;
-use sphere_quadrature_eval::optimal_sets::check::check;
-use sphere_quadrature_eval::optimal_sets::hyperparameters::Hypers;
-use sphere_quadrature_eval::optimal_sets::optimiser::{cpu_seconds, optimise, Outcome};
-use sphere_quadrature_eval::optimal_sets::output::{report, table_text, SWEEP, SWEEP_SIGMAS};
-use sphere_quadrature_eval::optimal_sets::self_test::self_test;
-use sphere_quadrature_eval::optimal_sets::{Options, HYPER_FILE, KEYS, NS, TABLE_FILE};
+use xtask_writers::optimal_sets::check::check;
+use xtask_writers::optimal_sets::hyperparameters::Hypers;
+use xtask_writers::optimal_sets::optimiser::{cpu_seconds, optimise, Outcome};
+use xtask_writers::optimal_sets::output::{report, table_text, SWEEP, SWEEP_SIGMAS};
+use xtask_writers::optimal_sets::self_test::self_test;
+use xtask_writers::optimal_sets::{Options, HYPER_FILE, KEYS, NS, TABLE_FILE};
 
 /// optimal_sets: optimal BMC sample sets (issue #12 item 4): minimise the model's posterior
 /// variance over N directions per (N, BRDF) and write them as a table
 #[derive(Parser)]
-#[command(bin_name = "cargo eval optimal_sets --", verbatim_doc_comment)]
+#[command(bin_name = "cargo writer optimal_sets --", verbatim_doc_comment)]
 struct Cli {
     /// Where to write the sets (default target/eval/optimal_sets/optimal_sets.txt)
     #[arg(long, value_name = "FILE", conflicts_with = "write")]

@@ -3,8 +3,9 @@
 //! ```text
 //! (cd examples/cortex-m4 && cargo run --release) > target/ci/m4-libm.txt
 //! .ci/m4-flash.sh > target/ci/m4-flash.txt
-//! cargo eval doc_numbers                # check the docs (CI)
-//! cargo eval doc_numbers -- --write     # rewrite them from the measurements
+//! cargo writer doc_numbers                # check the docs (CI)
+//! cargo writer doc_numbers -- --write     # rewrite them from the measurements
+//! cargo xtask regen doc-numbers           # the rewrite, in the pipeline's order
 //! ```
 //!
 //! Two kinds of place quote a measurement:
@@ -36,7 +37,7 @@ use sphere_quadrature_eval::cli;
 /// Check (or rewrite) the Cortex-M4 instruction counts and flash sizes quoted in the rustdoc of
 /// `src/`, README.md and docs/costs.md against the device's output.
 #[derive(Parser)]
-#[command(bin_name = "cargo eval doc_numbers --")]
+#[command(bin_name = "cargo writer doc_numbers --")]
 struct Args {
     /// The Cortex-M4 scenario's output with the `libm` backend
     /// (`cd examples/cortex-m4 && cargo run --release`).

@@ -8,8 +8,8 @@ use reference::rng::Rng;
 
 use super::objective::{brdf_of, sf_start, Problem};
 use super::{Options, ARMIJO, MAX_MOVE, MEMORY, SEED, STALL, STALL_TOL};
-use crate::optimal::{self, unit, OptimalSet};
-use crate::renderer_engine::Brdf;
+use sphere_quadrature_eval::optimal::{self, unit, OptimalSet};
+use sphere_quadrature_eval::renderer_engine::Brdf;
 
 fn norm2(v: &[[f64; 3]]) -> f64 {
     v.iter().map(|a| a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sum()
@@ -240,7 +240,7 @@ pub fn optimise(
 
 /// `path` relative to the crate root when it lies inside it.
 pub fn rel(path: &Path) -> String {
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
+    let root = sphere_quadrature_eval::cli::repo_root();
     path.strip_prefix(root).unwrap_or(path).display().to_string()
 }
 

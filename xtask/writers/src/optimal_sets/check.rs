@@ -6,8 +6,8 @@ use std::time::Instant;
 
 use super::objective::{brdf_of, sf_start, Problem};
 use super::{CHECK_TOL, UNIT_TOL};
-use crate::optimal;
-use crate::parallel::parallel_map;
+use sphere_quadrature_eval::optimal;
+use sphere_quadrature_eval::parallel::parallel_map;
 
 /// Recomputes every set of `path`; `Err` lists the failures.
 pub fn check(path: &Path, threads: usize) -> Result<(), Box<dyn Error>> {

@@ -1,7 +1,7 @@
 //! The hyperparameters a set is optimised for: the `err` rows of
 //! `tables/renderer_hyperparameters.txt`, interpolated between keys as `build.rs` does.
 
-use crate::{gen, optimal};
+use sphere_quadrature_eval::{gen, optimal};
 
 /// One `err` row: key, N, l, σ′.
 type HyperRow = (String, usize, f64, f64);

@@ -2,9 +2,10 @@
 //! item 2; seed "Learn the hyperparameters").
 //!
 //! ```text
-//! cargo eval learn_hyperparameters                 # print the report
-//! cargo eval learn_hyperparameters -- --write      # and write the tables
-//! cargo eval learn_hyperparameters -- a.hdr b.hdr   # other maps (`--maps a.hdr b.hdr` too)
+//! cargo writer learn_hyperparameters                 # print the report
+//! cargo writer learn_hyperparameters -- --write      # and write the tables
+//! cargo writer learn_hyperparameters -- a.hdr b.hdr   # other maps (`--maps a.hdr b.hdr` too)
+//! cargo xtask regen hyperparameters                   # the write, in the pipeline's order
 //! ```
 //!
 //! Model: k(x, x′) = σ_f²·exp(−|x − x′|²/l²) + σ_n²δ on unit vectors, |x − x′|² = 2 − 2x·x′,
@@ -44,7 +45,7 @@
 //! With `--write` it writes `tables/probe.txt` (`probe = N sigma lambda1 …`),
 //! `tables/bmc_smooth.txt` (`set = N l sigma`: the renderer's smooth-light preset, which a user
 //! selects with `SPHERE_QUADRATURE_BMC_TABLE`; the shipped `tables/bmc.txt` is learned on real
-//! maps by `eval/src/bin/renderer.rs --learn --write`) and the report `docs/hyperparameters.md`; without it,
+//! maps by `cargo xtask regen renderer-hyperparameters`) and the report `docs/hyperparameters.md`; without it,
 //! it only prints the report. Q depends only on the point set's dot products, so one Cholesky
 //! factor per (N, λ, σ′) serves every rotation.
 
@@ -434,7 +435,7 @@ struct RenderResult {
 /// learn_hyperparameters: learns the Gaussian-process hyperparameters of Bayesian Monte Carlo
 /// offline (issue #6): prints the report; --write also rewrites tables/ and the docs
 #[derive(Parser)]
-#[command(bin_name = "cargo eval learn_hyperparameters --", verbatim_doc_comment)]
+#[command(bin_name = "cargo writer learn_hyperparameters --", verbatim_doc_comment)]
 struct Args {
     /// Equirectangular .hdr training maps (default: apartment, bridge, forest and lab in
     /// examples/envmaps/)
@@ -488,8 +489,8 @@ fn main() {
     emit!(rep);
     emit!(
         rep,
-        "Written by `cargo eval learn_hyperparameters -- --write` \
-         (`eval/src/bin/learn_hyperparameters.rs`; its module docs explain the method)."
+        "Written by `cargo xtask regen hyperparameters` \
+         (`xtask/writers/src/bin/learn_hyperparameters.rs`; its module docs explain the method)."
     );
     emit!(rep);
     emit!(
@@ -992,8 +993,8 @@ fn main() {
     emit!(rep, "## Rerun");
     emit!(rep);
     emit!(rep, "```text");
-    emit!(rep, "cargo eval learn_hyperparameters             # report only");
-    emit!(rep, "cargo eval learn_hyperparameters -- --write  # and write tables/probe.txt, tables/bmc_smooth.txt, this file");
+    emit!(rep, "cargo writer learn_hyperparameters             # report only");
+    emit!(rep, "cargo writer learn_hyperparameters -- --write  # and write tables/probe.txt, tables/bmc_smooth.txt, this file");
     emit!(rep, "```");
     emit!(rep);
     emit!(rep, "The default run took {secs:.0} s (release, one thread).");
@@ -1035,7 +1036,7 @@ fn main() {
 fn probe_table(results: &[ProbeResult], names: &[String]) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Probe-form Gaussian-process hyperparameters (issue #6), written by");
-    let _ = writeln!(s, "# `cargo eval learn_hyperparameters -- --write`; do not edit by hand.");
+    let _ = writeln!(s, "# `cargo xtask regen hyperparameters`; do not edit by hand.");
     let _ = writeln!(s, "# `probe = N sigma lambda1 lambda2 ...`, one line per N, N strictly increasing; `#` starts");
     let _ = writeln!(s, "# a comment. N: spherical Fibonacci sphere samples. sigma: σ′ = σ_n/σ_f shared by the family.");
     let _ = writeln!(
@@ -1120,7 +1121,7 @@ fn bmc_table(results: &[RenderResult]) -> String {
         "# exp(−|x − x′|²/l²) (sharpness λ = 2/l²). sigma: σ′ = σ_n/σ_f, the noise (nugget) ratio."
     );
     let _ = writeln!(s, "#");
-    let _ = writeln!(s, "# LEARNED by `cargo eval learn_hyperparameters -- --write`: REML maximum");
+    let _ = writeln!(s, "# LEARNED by `cargo xtask regen hyperparameters`: REML maximum");
     let _ = writeln!(
         s,
         "# likelihood over l ∈ {{{}}} × σ′ ∈ {{{}}} on {DRAWS} synthetic",

@@ -1,9 +1,9 @@
 //! The objective: the model's posterior variance of a set and its analytic gradient.
 
 use super::{CUT, OPT_DENSITY, THETA_NODES};
-use crate::optimal;
-use crate::renderer_engine as engine;
-use crate::renderer_engine::{Brdf, Gls, LobeFrame, Query, Rule};
+use sphere_quadrature_eval::optimal;
+use sphere_quadrature_eval::renderer_engine as engine;
+use sphere_quadrature_eval::renderer_engine::{Brdf, Gls, LobeFrame, Query, Rule};
 
 /// The brdf of a key.
 pub fn brdf_of(key: &str) -> Result<Brdf, String> {
