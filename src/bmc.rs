@@ -27,12 +27,12 @@
 //! `build.rs` solves in f64 (Cholesky with one step of iterative refinement; generator
 //! `gen/bmc.rs`, sets in `tables/bmc.txt`) and bakes `w` rounded once to f32, one `static`
 //! array per size. Only the baked sizes compile: `N` ∈ {16, 32, 64, 80, 128, 256}. The
-//! hyperparameters are **learned** offline on real maps (`eval/src/bin/renderer.rs --learn`:
+//! hyperparameters are **learned** offline on real maps (`cargo writer renderer_hyperparameters`:
 //! the (l, σ′) whose estimates have the smallest RMSE ratio to QMC-SF over the clamp and
 //! smooth tiers of four training maps; the report is [`docs/renderer.md`]). On point-sampled
 //! real lighting this renderer ties QMC-SF on the same samples; for light as smooth as
 //! mixtures of spherical Gaussians of sharpness 2…20, the preset `tables/bmc_smooth.txt`
-//! (uniform set, learned by [`eval/src/bin/learn_hyperparameters.rs`]) is many times better than
+//! (uniform set, learned by [`xtask/writers/src/bin/learn_hyperparameters.rs`]) is many times better than
 //! QMC-SF ([`docs/hyperparameters.md`]) — select it with the variable below. For a probe
 //! that shares its samples among many normals, see [`crate::probe`].
 //!
@@ -102,7 +102,7 @@
 //! to a NaN estimate.
 //!
 //! [`docs/renderer.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/renderer.md
-//! [`eval/src/bin/learn_hyperparameters.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/learn_hyperparameters.rs
+//! [`xtask/writers/src/bin/learn_hyperparameters.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/xtask/writers/src/bin/learn_hyperparameters.rs
 //! [`docs/hyperparameters.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/hyperparameters.md
 //! [`tests/bmc/bmc.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/bmc/bmc.rs
 //! [`eval/src/bin/renderer.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/renderer.rs

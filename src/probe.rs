@@ -41,7 +41,7 @@
 //!   `clamp` tier of the held-out maps). Every variance the probe reports is therefore
 //!   multiplied by a per-member factor [`Member::calibration`] (irradiance; glossy at lobe
 //!   sharpness μ = 7, 22, 102, linear in `ln μ` between), fitted offline so that 95 % of the
-//!   errors on the training maps fall within 2σ ([`eval/src/bin/probe_trust.rs`] writes the
+//!   errors on the training maps fall within 2σ ([`xtask/writers/src/bin/probe_calibration.rs`] writes the
 //!   `calibration = …` lines of `tables/probe.txt`; [`docs/probe_trust.md`]). On the held-out
 //!   maps, with the f64 engine of that program, 2σ then holds for 94–99 % of the `clamp`
 //!   queries and 96–100 % of the `smooth` ones at N = 16 … 256 (irradiance and Phong
@@ -223,7 +223,7 @@
 //! - A [`Selection::Member`] index outside the family: [`Error::InvalidMember`].
 //! - Before the first update every query returns zero irradiance and zero variance.
 //!
-//! [`eval/src/bin/probe_trust.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/probe_trust.rs
+//! [`xtask/writers/src/bin/probe_calibration.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/xtask/writers/src/bin/probe_calibration.rs
 //! [`docs/probe_trust.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/probe_trust.md
 //! [`docs/accuracy.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/accuracy.md
 //! [`docs/glossy.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/glossy.md

@@ -24,7 +24,7 @@
 //! sample spacing, the aliasing of point samples of a real map) whose integral the set's own
 //! QMC rule estimates, `Σ max(0, n·xᵢ)/N·εᵢ`: `z` becomes `z + σ′²q`. So the weights tend to
 //! QMC-SF's as σ′ grows and to plain BMC's as σ′ → 0 (`gen/glossy.rs`). `(l, σ′)` per
-//! `(N, e)` are learned on real maps (`eval/src/bin/renderer.rs --learn`, the `err` rows of
+//! `(N, e)` are learned on real maps (`cargo writer renderer_hyperparameters`, the `err` rows of
 //! `tables/renderer_hyperparameters.txt`: the smallest geometric-mean RMSE ratio to QMC-SF over
 //! the clamp and smooth tiers of four training maps), interpolated in `ln e` for exponents
 //! that were not learned ([`GlossyRenderer::hyperparameters`]). Accuracy on held-out maps:
@@ -45,7 +45,7 @@
 //!
 //! # Optimal sets
 //! `GlossyRenderer<N, E, Optimal>` samples the optimal set of `(N, e)` instead (the
-//! directions minimising the model's posterior variance; [`eval/src/bin/optimal_sets.rs`],
+//! directions minimising the model's posterior variance; [`xtask/writers/src/bin/optimal_sets.rs`],
 //! [`docs/optimal_sets.md`]), with plain BMC weights for the `(l, σ′)` it was optimised for.
 //! It is many times better than the Fibonacci set on smooth light and no better on
 //! point-sampled real maps ([`docs/renderer.md`], estimator `bmc-opt`).
@@ -72,7 +72,7 @@
 //!
 //! [`tests/bmc/glossy.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/bmc/glossy.rs
 //! [`docs/renderer.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/renderer.md
-//! [`eval/src/bin/optimal_sets.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/optimal_sets.rs
+//! [`xtask/writers/src/bin/optimal_sets.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/xtask/writers/src/bin/optimal_sets.rs
 //! [`docs/optimal_sets.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/optimal_sets.md
 
 use super::{scaled, Size};
@@ -155,7 +155,7 @@ pub trait SampleSet: sealed::Kind {}
 pub struct Fibonacci;
 
 /// The optimal set of `tables/optimal_sets.txt` for `(N, e)`: the `N` directions that minimise
-/// the model's posterior variance ([`eval/src/bin/optimal_sets.rs`]), with plain BMC
+/// the model's posterior variance ([`xtask/writers/src/bin/optimal_sets.rs`]), with plain BMC
 /// weights for the `(l, σ′)` it was optimised for. Baked for the pairs of the `optimal = N e`
 /// lines of `tables/glossy.txt` ([`BAKED_OPTIMAL_SETS`]); `12·N` more bytes of directions.
 ///
@@ -176,7 +176,7 @@ pub struct Fibonacci;
 /// # Ok::<(), sphere_quadrature::Error>(())
 /// ```
 ///
-/// [`eval/src/bin/optimal_sets.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/optimal_sets.rs
+/// [`xtask/writers/src/bin/optimal_sets.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/xtask/writers/src/bin/optimal_sets.rs
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Optimal;
