@@ -169,15 +169,16 @@ impl Mat3 {
     #[must_use]
     pub fn uniform(u: [f32; 3]) -> Self {
         let tau = core::f32::consts::TAU;
-        let r1 = math::sqrt(1.0 - u[0]);
-        let r2 = math::sqrt(u[0]);
         let (a, b) = (tau * u[1], tau * u[2]);
-        Self::from_quaternion([
-            r1 * math::sin(a),
-            r1 * math::cos(a),
-            r2 * math::sin(b),
-            r2 * math::cos(b),
-        ])
+        Self::shoemake(u[0], (math::sin(a), math::cos(a)), (math::sin(b), math::cos(b)))
+    }
+
+    /// Shoemake's rotation from `u₀` and the sines and cosines `(sin, cos)` of the two
+    /// angles.
+    fn shoemake(u0: f32, a: (f32, f32), b: (f32, f32)) -> Self {
+        let r1 = math::sqrt(1.0 - u0);
+        let r2 = math::sqrt(u0);
+        Self::from_quaternion([r1 * a.0, r1 * a.1, r2 * b.0, r2 * b.1])
     }
 
     /// `Ok` when the matrix is a valid rotation: every entry finite, `MᵀM = I` entry by entry
@@ -325,5 +326,33 @@ impl RotationSequence {
     pub fn next_rotation(&mut self) -> Mat3 {
         let u = [self.next_f32(), self.next_f32(), self.next_f32()];
         Mat3::uniform(u)
+    }
+
+    /// [`Self::next_rotation`] from the same draws, with the angles' sines and cosines by
+    /// [`math::sin_cos_turns`] of the exact turns: equal to it to f32 rounding, and many
+    /// times cheaper where `libm`'s `sin` runs in software f64 (Cortex-M4F).
+    pub(crate) fn next_rotation_turns(&mut self) -> Mat3 {
+        let u0 = self.next_f32();
+        // The 24 bits `next_f32` keeps, as a phase in turns × 2⁶⁴.
+        let mut turn = || (self.next_u64() >> 40) << 40;
+        let (a, b) = (turn(), turn());
+        Mat3::shoemake(u0, math::sin_cos_turns(a), math::sin_cos_turns(b))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rotations_by_turns_are_the_sequence_s_rotations_to_f32_rounding() {
+        let (mut a, mut b) = (RotationSequence::new(11), RotationSequence::new(11));
+        for _ in 0..2000 {
+            let (x, y) = (a.next_rotation(), b.next_rotation_turns());
+            assert_eq!(y.validate_rotation(), Ok(()));
+            for (rx, ry) in x.rows.iter().zip(&y.rows) {
+                assert!((*rx - *ry).length() < 1e-6, "{x:?} {y:?}");
+            }
+        }
     }
 }

@@ -284,35 +284,49 @@ const RECURRENCE: [(f32, f32); 36] = [
     (3.0178044, 0.2581989), (4.1231055, 0.0),
 ];
 
-/// The first index of order `m` in [`RECURRENCE`].
-const RECURRENCE_START: [usize; MAX_DEGREE + 1] = [0, 8, 15, 21, 26, 30, 33, 35, 36];
-
 /// Real spherical harmonics `Y_lm(u)` of degrees `l ≤ degree` at index `l(l + 1) + m`, for
 /// `u` of unit length: orthonormal, without the Condon–Shortley phase (the basis of
 /// [`crate::sh`]).
 fn basis(degree: usize, u: Vec3, out: &mut [f32; COEFFICIENTS]) {
+    for_each_basis(degree, u, |i, v| {
+        if let Some(o) = out.get_mut(i) {
+            *o = v;
+        }
+    });
+}
+
+/// Calls `f(l(l + 1) + m, Y_lm(u))` for every degree `l ≤ degree` and order `m` of
+/// [`basis`], so that a projection accumulates without storing the basis.
+#[inline(always)]
+fn for_each_basis(degree: usize, u: Vec3, mut f: impl FnMut(usize, f32)) {
     // C_m + i·S_m = (x + i·y)^m carries the azimuth and the sinᵐθ.
     let (mut c, mut s) = (1.0f32, 0.0f32);
-    for m in 0..=degree {
+    let mut start = 0;
+    for (m, &sectoral) in SECTORAL.iter().enumerate().take(degree + 1) {
         if m > 0 {
             (c, s) = (c * u.x - s * u.y, s * u.x + c * u.y);
         }
-        let mut put = |l: usize, q: f32| {
-            let i = l * (l + 1);
-            if m == 0 {
-                out[i] = q;
-            } else {
-                out[i + m] = q * c;
-                out[i - m] = q * s;
-            }
-        };
-        let (mut q2, mut q1) = (0.0f32, SECTORAL[m]);
-        put(m, q1);
-        for (l, &(a, b)) in (m + 1..=degree).zip(&RECURRENCE[RECURRENCE_START[m]..]) {
+        let (mut q2, mut q1) = (0.0f32, sectoral);
+        let mut i = m * (m + 1);
+        if m == 0 {
+            f(i, q1);
+        } else {
+            f(i + m, q1 * c);
+            f(i - m, q1 * s);
+        }
+        let recurrence = RECURRENCE.get(start..start + (degree - m)).unwrap_or(&[]);
+        for (l, &(a, b)) in (m + 1..).zip(recurrence) {
             let q = a * (u.z * q1 - b * q2);
             (q2, q1) = (q1, q);
-            put(l, q);
+            i += 2 * l;
+            if m == 0 {
+                f(i, q);
+            } else {
+                f(i + m, q * c);
+                f(i - m, q * s);
+            }
         }
+        start += MAX_DEGREE - m;
     }
 }
 
@@ -351,6 +365,14 @@ const fn degree_for(n: usize) -> usize {
     } else {
         k
     }
+}
+
+/// The spherical Fibonacci set of `N` points, unrotated, evaluated at compile time (`12·N`
+/// bytes of flash): bit for bit [`SphericalFibonacci::points`].
+struct BaseSet<const N: usize>;
+
+impl<const N: usize> BaseSet<N> {
+    const POINTS: [Vec3; N] = SphericalFibonacci::<N>::new().dynamic().unrotated_points::<N>();
 }
 
 /// What [`TemporalProbe::pool`] did with the old evidence.
@@ -414,7 +436,7 @@ pub type RgbTemporalProbe<const N: usize, F = Point, const S: usize = 0> =
 /// ([`crate::footprint`]). Any `N ≥ 1` works: the probe needs no baked tables.
 ///
 /// It holds its directions and three sets of 81 coefficients per channel (the sums, their
-/// rounding errors and the queries'): 4 584 bytes for `N = 64`, RGB, `S = 4`; 2 144 for
+/// rounding errors and the queries'): 4 680 bytes for `N = 64`, RGB, `S = 4`; 2 240 for
 /// `N = 64`, one channel, no sentinels, on a 64-bit host (a unit test pins both).
 ///
 /// # Examples
@@ -639,11 +661,14 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         self.degree
     }
 
+    /// Rotates the set for the next update: the unrotated set (evaluated at compile time)
+    /// times a fresh rotation, orthonormal by construction (Shoemake's, from a unit
+    /// quaternion).
     fn rotate(&mut self) {
-        // A rotation from the sequence is orthonormal; on the impossible refusal the probe
-        // keeps the unrotated set, which is valid too.
-        let set = SphericalFibonacci::<N>::new();
-        self.directions = set.with_rotation(self.rotations.next_rotation()).unwrap_or(set).points();
+        let r = self.rotations.next_rotation_turns();
+        for (d, &x) in self.directions.iter_mut().zip(&BaseSet::<N>::POINTS) {
+            *d = r * x;
+        }
     }
 
     /// Takes this update's samples (radiance in [`TemporalProbe::directions`], in order) and
@@ -780,10 +805,10 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         };
         // Where the light changed in part of the sphere (module `region`): a change for
         // certain.
-        let local = if first || probability >= 0.5 {
+        let local = if first || probability >= 0.5 || !region::tested(N) {
             0
         } else {
-            let found = region::readings(&self.directions, samples);
+            let found = region::readings(&self.directions, samples, &self.regions);
             region::weigh(&mut self.regions, &found)
         };
         if local != 0 {
@@ -1090,7 +1115,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     }
 
     /// This update's brightest rotated sample, if it is novel: brighter than
-    /// [`reread::NOVELTY`] times the brightest one its octant has seen since the last reset,
+    /// [`reread::novelty`] times the brightest one its octant has seen since the last reset,
     /// and carrying over a tenth of the state's level (a change of 10 % always matters).
     /// Its index and the evidence its confirmation brings: `ln(k + 1)` for the `k` updates
     /// that saw nothing so bright there, plus `ln(ratio/NOVELTY)`.
@@ -1272,13 +1297,13 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         let count = (self.degree + 1) * (self.degree + 1);
         let mut p = [T::ZERO; COEFFICIENTS];
         let mean = samples.iter().fold(T::ZERO, |a, &y| a.add(y)).scale(1.0 / N as f32);
-        let mut y_lm = [0.0f32; COEFFICIENTS];
         for (&x, &y) in self.directions.iter().zip(samples) {
-            basis(self.degree, x, &mut y_lm);
             let centred = y.add(mean.scale(-1.0));
-            for (pi, &b) in p[1..count].iter_mut().zip(&y_lm[1..count]) {
-                *pi = pi.mul_add(centred, b);
-            }
+            for_each_basis(self.degree, x, |i, b| {
+                if let Some(pi) = p.get_mut(i) {
+                    *pi = pi.mul_add(centred, b);
+                }
+            });
         }
         let weight = 4.0 * PI / N as f32;
         for pi in &mut p[1..count] {
