@@ -132,8 +132,8 @@
 //!   misses most switches between maps; a small lamp switching on (1 % of the sphere, as
 //!   bright as the rest of the light together) in 2, 35, 86 % (a ray of 64 hits it in one
 //!   update of two), and its switching off in 55, 99, 100 %. Static light stays at
-//!   1.06–1.13× the oracle's error after 64 updates, with 0.2, 1.3, 0.7 false resets per
-//!   1 000 static updates; with 1 % of the rays fireflies, 1.0, 4.7, 19.4.
+//!   1.03–1.13× the oracle's error after 64 updates, with 0.2, 0.9, 0.6 false resets per
+//!   1 000 static updates; with 1 % of the rays fireflies, 1.0, 3.6, 12.7.
 //!
 //! ```
 //! use sphere_quadrature::footprint::Point;
@@ -683,10 +683,10 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against), one channel, a budget
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
-    /// - `m4:temporal_update_S1 N=16`: 28 860 instructions (15 rotated, 1 sentinel)
-    /// - `m4:temporal_update_S2 N=64`: 121 170 instructions (62 rotated, 2 sentinels)
-    /// - `m4:temporal_update_S0 N=64`: 108 970 instructions (64 rotated)
-    /// - `m4:temporal_update_S4 N=256`: 636 680 instructions (252 rotated, 4 sentinels)
+    /// - `m4:temporal_update_S1 N=16`: 15 936 instructions (15 rotated, 1 sentinel)
+    /// - `m4:temporal_update_S2 N=64`: 88 520 instructions (62 rotated, 2 sentinels)
+    /// - `m4:temporal_update_S0 N=64`: 74 220 instructions (64 rotated)
+    /// - `m4:temporal_update_S4 N=256`: 465 120 instructions (252 rotated, 4 sentinels)
     ///
     /// # Examples
     /// ```
@@ -1465,9 +1465,9 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// # Cost
     /// Cortex-M4F instructions per call (as [`TemporalProbe::pool`]'s), one channel: the
     /// harmonics of degree `L` at the normal and a dot product.
-    /// - `m4:temporal_irradiance_S1 N=16`: 924 instructions (`L = 4`)
-    /// - `m4:temporal_irradiance_S2 N=64`: 1 444 instructions (`L = 6`)
-    /// - `m4:temporal_irradiance_S4 N=256`: 2 124 instructions (`L = 8`)
+    /// - `m4:temporal_irradiance_S1 N=16`: 948 instructions (`L = 4`)
+    /// - `m4:temporal_irradiance_S2 N=64`: 1 381 instructions (`L = 6`)
+    /// - `m4:temporal_irradiance_S4 N=256`: 1 920 instructions (`L = 8`)
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let mut y = [0.0f32; COEFFICIENTS];

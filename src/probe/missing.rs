@@ -198,9 +198,9 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_masked_update_M8_m0 N=64`: 90 920 instructions (none missing)
+    /// - `m4:probe_masked_update_M8_m0 N=64`: 90 900 instructions (none missing)
     /// - `m4:probe_masked_update_M8_m8 N=64`: 297 460 instructions (8 missing)
-    /// - `m4:probe_masked_update_M16_m16 N=64`: 573 860 instructions (16 missing)
+    /// - `m4:probe_masked_update_M16_m16 N=64`: 573 820 instructions (16 missing)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):

@@ -45,7 +45,7 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_update_one_member N=16`: 1 274 instructions (one member)
-    /// - `m4:probe_update_one_member N=32`: 11 880 instructions (one member)
+    /// - `m4:probe_update_one_member N=32`: 11 876 instructions (one member)
     /// - `m4:probe_update_one_member N=64`: 31 080 instructions (one member)
     /// - `m4:probe_update_one_member N=256`: 274 880 instructions (one member)
     ///
