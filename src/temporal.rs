@@ -343,6 +343,13 @@ fn degree_for_footprint(degree: usize, inverse_gain: &[f32; MAX_DEGREE + 1]) -> 
     degree
 }
 
+/// `p[i] += v` (nothing past the end).
+fn add_at<T: Radiance>(p: &mut [T; COEFFICIENTS], i: usize, v: T) {
+    if let Some(pi) = p.get_mut(i) {
+        *pi = pi.add(v);
+    }
+}
+
 /// Whether a footprint's parameter is one [`Kind::gain`] accepts: `1..=MAX_PARAMETER`.
 const fn valid_footprint(kind: Kind) -> bool {
     match kind {
@@ -1294,16 +1301,58 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// The projection of this update's samples: `p₀₀ = √(4π)·Ȳ`,
     /// `p_lm = (4π/N)·Σ (Yⱼ − Ȳ)·Y_lm(xⱼ)`.
     fn project(&self, samples: &[T; N]) -> [T; COEFFICIENTS] {
-        let count = (self.degree + 1) * (self.degree + 1);
+        let degree = self.degree;
+        let count = (degree + 1) * (degree + 1);
         let mut p = [T::ZERO; COEFFICIENTS];
         let mean = samples.iter().fold(T::ZERO, |a, &y| a.add(y)).scale(1.0 / N as f32);
-        for (&x, &y) in self.directions.iter().zip(samples) {
-            let centred = y.add(mean.scale(-1.0));
-            for_each_basis(self.degree, x, |i, b| {
-                if let Some(pi) = p.get_mut(i) {
-                    *pi = pi.mul_add(centred, b);
+        // By chunks of samples, sample-innermost: each coefficient's sum over a chunk stays in
+        // a register, and the sample's weight rides on its azimuth term, `(Yⱼ − Ȳ)·(x + iy)ᵐ`.
+        const CHUNK: usize = 16;
+        for (directions, ys) in self.directions.chunks(CHUNK).zip(samples.chunks(CHUNK)) {
+            let n = directions.len();
+            let (mut z, mut x, mut y) = ([0.0f32; CHUNK], [0.0f32; CHUNK], [0.0f32; CHUNK]);
+            // wc + i·ws = (Yⱼ − Ȳ)·(x + iy)ᵐ, per channel.
+            let (mut wc, mut ws) = ([T::ZERO; CHUNK], [T::ZERO; CHUNK]);
+            for (j, (d, &v)) in directions.iter().zip(ys).enumerate().take(CHUNK) {
+                (z[j], x[j], y[j]) = (d.z, d.x, d.y);
+                wc[j] = v.add(mean.scale(-1.0));
+            }
+            let mut start = 0;
+            for (m, &sectoral) in SECTORAL.iter().enumerate().take(degree + 1) {
+                if m > 0 {
+                    let terms = wc.iter_mut().zip(&mut ws).zip(x.iter().zip(&y)).take(n);
+                    for ((c, s), (&xj, &yj)) in terms {
+                        (*c, *s) = (c.scale(xj).add(s.scale(-yj)), s.scale(xj).add(c.scale(yj)));
+                    }
                 }
-            });
+                // Degree l = m: Q_m^m is the constant `sectoral`.
+                let sum = |w: &[T; CHUNK]| w.iter().take(n).fold(T::ZERO, |a, &t| a.add(t));
+                let mut i = m * (m + 1);
+                if m > 0 {
+                    add_at(&mut p, i + m, sum(&wc).scale(sectoral));
+                    add_at(&mut p, i - m, sum(&ws).scale(sectoral));
+                }
+                let (mut q1, mut q2) = ([sectoral; CHUNK], [0.0f32; CHUNK]);
+                let recurrence = RECURRENCE.get(start..start + (degree - m)).unwrap_or(&[]);
+                for (l, &(a, b)) in (m + 1..).zip(recurrence) {
+                    i += 2 * l;
+                    let (mut c, mut s) = (T::ZERO, T::ZERO);
+                    let per_sample = q1.iter_mut().zip(&mut q2).zip(&z).zip(wc.iter().zip(&ws));
+                    for (((q1j, q2j), &zj), (&cj, &sj)) in per_sample.take(n) {
+                        let q = a * (zj * *q1j - b * *q2j);
+                        (*q2j, *q1j) = (*q1j, q);
+                        c = c.mul_add(cj, q);
+                        if m > 0 {
+                            s = s.mul_add(sj, q);
+                        }
+                    }
+                    add_at(&mut p, i + m, c);
+                    if m > 0 {
+                        add_at(&mut p, i - m, s);
+                    }
+                }
+                start += MAX_DEGREE - m;
+            }
         }
         let weight = 4.0 * PI / N as f32;
         for pi in &mut p[1..count] {

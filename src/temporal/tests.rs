@@ -138,3 +138,47 @@ fn the_state_size_is_pinned() {
     assert_eq!(core::mem::size_of::<TemporalProbe<64, [f32; 3], Point, 4>>(), 4680);
     assert_eq!(core::mem::size_of::<TemporalProbe<64>>(), 2240);
 }
+
+/// The projection of `f` at the probe's directions in f64 from the textbook harmonics.
+fn projection_f64<const N: usize>(
+    probe: &TemporalProbe<N>,
+    f: impl Fn(Vec3) -> f32,
+) -> [f64; COEFFICIENTS] {
+    let d = probe.directions();
+    let ys = d.map(|x| f64::from(f(x)));
+    let mean = ys.iter().sum::<f64>() / N as f64;
+    let mut p = [0.0; COEFFICIENTS];
+    p[0] = mean * (4.0 * core::f64::consts::PI).sqrt();
+    for l in 1..=probe.degree() {
+        for m in -(l as i64)..=l as i64 {
+            let v = d.iter().zip(&ys).map(|(x, &y)| {
+                let v = [f64::from(x.x), f64::from(x.y), f64::from(x.z)];
+                (y - mean) * textbook(l, m, v)
+            });
+            let i = ((l * (l + 1)) as i64 + m) as usize;
+            p[i] = v.sum::<f64>() * 4.0 * core::f64::consts::PI / N as f64;
+        }
+    }
+    p
+}
+
+#[test]
+fn the_projection_is_the_textbook_sum_in_chunks_and_at_every_size() {
+    fn check<const N: usize>() {
+        let f = |x: Vec3| 1.0 + x.x - 0.5 * x.y * x.z + 2.0 * x.z * x.z * x.x + x.y.powi(5);
+        for seed in 0..4 {
+            let probe = TemporalProbe::<N>::new(seed);
+            let want = projection_f64(&probe, f);
+            let got = probe.project(&probe.directions().map(f));
+            for (i, (&g, &w)) in got.iter().zip(&want).enumerate() {
+                let g = f64::from(g);
+                assert!((g - w).abs() < 2e-5 * (1.0 + w.abs()), "N = {N}, {i}: {g} vs {w}");
+            }
+        }
+    }
+    check::<1>();
+    check::<15>();
+    check::<16>();
+    check::<40>();
+    check::<252>();
+}
