@@ -329,8 +329,9 @@ impl RotationSequence {
     }
 
     /// [`Self::next_rotation`] from the same draws, with the angles' sines and cosines by
-    /// [`math::sin_cos_turns`] of the exact turns: equal to it to f32 rounding, and many
-    /// times cheaper where `libm`'s `sin` runs in software f64 (Cortex-M4F).
+    /// [`math::sin_cos_turns`] of the exact turns: within 10⁻⁶ of the exact rotation of those
+    /// draws on either math backend (as `next_rotation` is with `libm`), and many times
+    /// cheaper where `libm`'s `sin` runs in software f64 (Cortex-M4F).
     pub(crate) fn next_rotation_turns(&mut self) -> Mat3 {
         let u0 = self.next_f32();
         // The 24 bits `next_f32` keeps, as a phase in turns × 2⁶⁴.
@@ -345,13 +346,31 @@ mod tests {
     use super::*;
 
     #[test]
-    fn rotations_by_turns_are_the_sequence_s_rotations_to_f32_rounding() {
-        let (mut a, mut b) = (RotationSequence::new(11), RotationSequence::new(11));
+    fn rotations_by_turns_are_the_exact_rotations_of_the_sequence_s_draws() {
+        let (mut draws, mut turns) = (RotationSequence::new(11), RotationSequence::new(11));
         for _ in 0..2000 {
-            let (x, y) = (a.next_rotation(), b.next_rotation_turns());
+            let u = [draws.next_f32(), draws.next_f32(), draws.next_f32()].map(f64::from);
+            let y = turns.next_rotation_turns();
             assert_eq!(y.validate_rotation(), Ok(()));
-            for (rx, ry) in x.rows.iter().zip(&y.rows) {
-                assert!((*rx - *ry).length() < 1e-6, "{x:?} {y:?}");
+            // Shoemake's rotation of the same draws in f64.
+            let tau = 2.0 * core::f64::consts::PI;
+            let (r1, r2) = ((1.0 - u[0]).sqrt(), u[0].sqrt());
+            let [x, yq, z, w] = [
+                r1 * (tau * u[1]).sin(),
+                r1 * (tau * u[1]).cos(),
+                r2 * (tau * u[2]).sin(),
+                r2 * (tau * u[2]).cos(),
+            ];
+            let exact = [
+                [1.0 - 2.0 * (yq * yq + z * z), 2.0 * (x * yq - w * z), 2.0 * (x * z + w * yq)],
+                [2.0 * (x * yq + w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (yq * z - w * x)],
+                [2.0 * (x * z - w * yq), 2.0 * (yq * z + w * x), 1.0 - 2.0 * (x * x + yq * yq)],
+            ];
+            for (row, want) in y.rows.iter().zip(&exact) {
+                let got = [row.x, row.y, row.z].map(f64::from);
+                for (g, e) in got.iter().zip(want) {
+                    assert!((g - e).abs() < 1e-6, "{y:?} {exact:?}");
+                }
             }
         }
     }

@@ -85,6 +85,110 @@ pub(super) fn weigh((x, dark): (f32, bool), spread: f32) -> (f32, f32) {
     }
 }
 
+/// Drift: a level that moves steadily leaves the pooled state behind by about
+/// `g·(w + 1)/2` for a drift `g` (in `ln` per update) and a state of `w` updates, which no
+/// single update shows. Levels here are trimmed means ([`trimmed_mean`]), the state's the
+/// same pooling of the updates' trimmed levels (so that the brightest sample's skew cancels).
+/// The probe keeps the running mean `z̄` of the lag standardised by its noise,
+/// `z = (update/state − 1)/(σ·√(1 + 1/w))` (relative, not in logs: a mean of levels has the
+/// mean level, a mean of their logs does not), each `z` clipped to ±[`CLIP`] (an outlier
+/// moves it little), with `σ` the updates' own relative level noise, learned from their
+/// changes from one update to the next (`σ² ≈ E[d²]/2`). A drift is a change of the light
+/// like any other, as rare as the hazard `h` says: where `z̄` lies beyond
+/// `k = √(2·ln(1/h)) + 1` standard errors (its evidence, `z̄²/2se²`, beyond the prior odds,
+/// and one more for the drift fitted and the heavy tails of aliasing; `k ≈ 3.9` at the
+/// default hazard), the drift beyond that noise is `g = 2·(|z̄| − k·se)·σ·√(1 + 1/w)/(w + 1)`
+/// and the state pools no more than the `w* = ∛(2σ²/g²)` updates that minimise its level
+/// error `g²w²/4 + σ²/w`. Elsewhere static light pools as before.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Drift {
+    /// The last update's level.
+    last: f32,
+    /// The updates' levels pooled as the state pools them.
+    pooled: f32,
+    /// The running mean of `d²/2` for `d` the relative change of level between updates.
+    noise: f32,
+    /// The running mean of the clipped standardised lag `z`.
+    lag: f32,
+    /// Updates observed (saturating), and since the last reset.
+    count: u16,
+    since: u16,
+}
+
+/// The lag's gain (about 15 updates' memory) and the noise's (31).
+const LAG_GAIN: f32 = 1.0 / 8.0;
+const NOISE_GAIN: f32 = 1.0 / 16.0;
+/// The standard errors a drift must add to the prior odds' (for the drift fitted, and for the
+/// heavy tails of aliasing).
+const OCCAM: f32 = 1.0;
+/// A standardised lag is clipped to this.
+const CLIP: f32 = 4.0;
+
+impl Drift {
+    pub(super) const EMPTY: Self =
+        Self { last: 0.0, pooled: 0.0, noise: 0.0, lag: 0.0, count: 0, since: 0 };
+
+    /// Pools an update's level `update` into the state's, the old times `keep`.
+    pub(super) fn pool(&mut self, keep: f32, update: f32) {
+        self.pooled = self.pooled * keep + update;
+    }
+
+    /// Observes an update's level `update` against the state of `w` updates (a level of 0 or
+    /// less teaches nothing).
+    pub(super) fn observe(&mut self, update: f32, w: f32) {
+        let state = if w > 0.0 { self.pooled / w } else { 0.0 };
+        if !(update > 0.0 && state > 0.0 && update.is_finite() && state.is_finite()) {
+            return;
+        }
+        if self.count > 0 {
+            let d = (update - self.last) / state;
+            let n = f32::from(self.count);
+            self.noise += (0.5 * d * d - self.noise) * (1.0 / n).max(NOISE_GAIN);
+        }
+        self.last = update;
+        self.count = self.count.saturating_add(1);
+        if self.noise > 0.0 {
+            let scale = crate::math::sqrt(self.noise * (1.0 + 1.0 / w));
+            let z = ((update / state - 1.0) / scale).clamp(-CLIP, CLIP);
+            self.since = self.since.saturating_add(1);
+            let gain = (1.0 / f32::from(self.since)).max(LAG_GAIN);
+            self.lag += (z - self.lag) * gain;
+        }
+    }
+
+    /// The most old evidence (in updates) a state of `w` updates should keep under the drift
+    /// seen, for a prior log odds `prior_log_odds` of a change: `w* − 1`, or infinity where no
+    /// drift is significant.
+    pub(super) fn cap(&self, w: f32, prior_log_odds: f32) -> f32 {
+        // The standard error of the running mean of independent z (`1/√15` for the gain).
+        let se = crate::math::sqrt(LAG_GAIN / (2.0 - LAG_GAIN));
+        let k = crate::math::sqrt(2.0 * (-prior_log_odds).max(0.0)) + OCCAM;
+        if u32::from(self.since) < HISTORY || self.lag.abs() <= k * se {
+            return f32::INFINITY;
+        }
+        // The lag beyond its noise: a barely significant one caps little.
+        let beyond = self.lag.abs() - k * se;
+        let g = 2.0 * beyond * crate::math::sqrt(self.noise * (1.0 + 1.0 / w)) / (w + 1.0);
+        let best = crate::math::powf(2.0 * self.noise / (g * g), 1.0 / 3.0);
+        (best - 1.0).max(0.0)
+    }
+
+    /// After a reset to an update of level `update`: the state lags no more.
+    pub(super) fn restart(&mut self, update: f32) {
+        (self.lag, self.since) = (0.0, 0);
+        if update > 0.0 && update.is_finite() {
+            self.last = update;
+            self.count = self.count.max(1);
+        }
+    }
+
+    /// Levels rescaled by `2^k`.
+    pub(super) fn rescale(&mut self, k: i32) {
+        self.last = super::scale::ldexp_saturating(self.last, k);
+        self.pooled = super::scale::ldexp_saturating(self.pooled, k);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -139,5 +243,56 @@ mod tests {
         assert_eq!(distance(0.0, 1e-30), distance(0.0, 1.0));
         assert!(!distance(1e-31, 1e-30).1);
         assert_eq!(distance(0.0, 0.0), (0.0, false));
+    }
+
+    /// Runs `levels` through a drift estimator pooled as the probe pools (no other
+    /// forgetting); returns the mean weight over the second half and the share of updates
+    /// whose cap was below 64 (the probe's prior keeps about 64 updates anyway).
+    fn pool_levels(levels: &[f32]) -> (f32, f32) {
+        let (mut drift, mut w, mut capped, mut late) = (Drift::EMPTY, 0.0f32, 0u32, 0.0f32);
+        for (k, &level) in levels.iter().enumerate() {
+            let cap = drift.cap(w, -4.143_135);
+            let kept = w.min(cap);
+            if w > 0.0 {
+                drift.observe(level, w);
+                capped += u32::from(cap < 64.0);
+            }
+            drift.pool(if w > 0.0 { kept / w } else { 0.0 }, level);
+            w = kept + 1.0;
+            if 2 * k >= levels.len() {
+                late += w;
+            }
+        }
+        let n = levels.len() as f32;
+        (2.0 * late / n, capped as f32 / (n - 1.0))
+    }
+
+    /// Lognormal noise of `sigma` from a fixed sequence, with a sun hit (×1.5) one update in
+    /// ten: skewed, as the trimmed levels of a map with a sun are.
+    fn noisy(k: u32, sigma: f32) -> f32 {
+        let mut r = crate::RotationSequence::new(u64::from(k));
+        let (u, v, hit) = (r.next_f32().max(1e-7), r.next_f32(), r.next_f32());
+        let normal = crate::math::sqrt(-2.0 * crate::math::ln(u))
+            * crate::math::cos(core::f32::consts::TAU * v);
+        crate::math::exp(sigma * normal) * if hit < 0.1 { 1.5 } else { 1.0 }
+    }
+
+    #[test]
+    fn static_levels_pool_without_a_cap() {
+        let levels: [f32; 4000] = core::array::from_fn(|k| noisy(k as u32, 0.05));
+        let (_, capped) = pool_levels(&levels);
+        assert!(capped < 0.01, "capped {capped}");
+    }
+
+    #[test]
+    fn a_steady_drift_pools_a_short_window() {
+        // 1 % per update: pooling everything would lag by a factor e^(0.01·w/2) (a mean
+        // weight of 300 over the second half); the best window for σ = 0.05 (and the sun's
+        // skew) is ∛(2σ²/g²) ≈ 3.7 updates, and the drift beyond the noise estimates a few
+        // times that.
+        let levels: [f32; 400] =
+            core::array::from_fn(|k| crate::math::exp(0.01 * k as f32) * noisy(k as u32, 0.05));
+        let (w, capped) = pool_levels(&levels);
+        assert!((3.0..40.0).contains(&w) && capped > 0.1, "w = {w}, capped {capped}");
     }
 }

@@ -135,8 +135,8 @@ fn the_state_size_is_pinned() {
     // The sums, their compensation and the queries' coefficients: three sets of 81 per
     // channel, beside the directions.
     use crate::footprint::Point;
-    assert_eq!(core::mem::size_of::<TemporalProbe<64, [f32; 3], Point, 4>>(), 4680);
-    assert_eq!(core::mem::size_of::<TemporalProbe<64>>(), 2240);
+    assert_eq!(core::mem::size_of::<TemporalProbe<64, [f32; 3], Point, 4>>(), 4696);
+    assert_eq!(core::mem::size_of::<TemporalProbe<64>>(), 2256);
 }
 
 /// The projection of `f` at the probe's directions in f64 from the textbook harmonics.
