@@ -113,9 +113,9 @@
 //!   update's level against the state's, in units of its own noise; a lag beyond its noise
 //!   by more than the hazard's odds is a drift, and the state then pools no more updates
 //!   than minimise its level's error under that drift (bias against noise), without a reset
-//!   (module `level`). On the training maps this cut the error / the best of hysteresis 0.9
-//!   and DDGI at `k = 64` under a drift of 1 % per update from 1.21/2.40/3.50 to
-//!   1.06/1.73/2.01 at `N = 16/64/256` (`clamp`), with static light unchanged.
+//!   (module `level`). On the held-out maps of [`docs/temporal.md`], under a drift of 1 % per
+//!   update, the error / the best of hysteresis and DDGI at `k = 16` is 1.09, 1.27, 1.11 at
+//!   `N = 16, 64, 256` on `clamp` light and 0.98, 0.10, 0.05 on `smooth` light.
 //! - **Innovation**: the new update's projection of degrees `l ≤ 2` (every channel) against
 //!   the state's mean, `d = p − p̄`: variance `v·(1 + 1/k)` on static light, more by twice each
 //!   degree's power when the light is new, both multivariate Student t of 3 degrees of
@@ -702,10 +702,10 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against), one channel, a budget
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
-    /// - `m4:temporal_update_S1 N=16`: 15 936 instructions (15 rotated, 1 sentinel)
-    /// - `m4:temporal_update_S2 N=64`: 88 520 instructions (62 rotated, 2 sentinels)
-    /// - `m4:temporal_update_S0 N=64`: 74 220 instructions (64 rotated)
-    /// - `m4:temporal_update_S4 N=256`: 465 120 instructions (252 rotated, 4 sentinels)
+    /// - `m4:temporal_update_S1 N=16`: 11 620 instructions (15 rotated, 1 sentinel)
+    /// - `m4:temporal_update_S2 N=64`: 59 210 instructions (62 rotated, 2 sentinels)
+    /// - `m4:temporal_update_S0 N=64`: 38 790 instructions (64 rotated)
+    /// - `m4:temporal_update_S4 N=256`: 255 520 instructions (252 rotated, 4 sentinels)
     ///
     /// # Examples
     /// ```
@@ -1537,8 +1537,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// # Cost
     /// Cortex-M4F instructions per call (as [`TemporalProbe::pool`]'s), one channel: the
     /// harmonics of degree `L` at the normal and a dot product.
-    /// - `m4:temporal_irradiance_S1 N=16`: 948 instructions (`L = 4`)
-    /// - `m4:temporal_irradiance_S2 N=64`: 1 381 instructions (`L = 6`)
+    /// - `m4:temporal_irradiance_S1 N=16`: 955 instructions (`L = 4`)
+    /// - `m4:temporal_irradiance_S2 N=64`: 1 401 instructions (`L = 6`)
     /// - `m4:temporal_irradiance_S4 N=256`: 1 920 instructions (`L = 8`)
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;

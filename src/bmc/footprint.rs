@@ -780,7 +780,7 @@ where
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (as [`estimate`](Self::estimate)):
-    /// - `m4:footprint_renderer_estimate_with_variance N=64`: 29 632 instructions (e = 50, one
+    /// - `m4:footprint_renderer_estimate_with_variance N=64`: 29 640 instructions (e = 50, one
     ///   channel, 8 × 4 models, 24 contrasts)
     pub fn estimate_with_variance<T: Radiance>(
         &self,

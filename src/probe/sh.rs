@@ -115,7 +115,7 @@ where
     /// - `m4:probe_radiance_sh_variance N=16`: 353 974 instructions (soft f64)
     /// - `m4:probe_radiance_sh_variance N=32`: 935 488 instructions (soft f64)
     /// - `m4:probe_radiance_sh_variance N=64`: 2 787 870 instructions (soft f64)
-    /// - `m4:probe_radiance_sh_variance N=256`: 33 647 320 instructions (soft f64)
+    /// - `m4:probe_radiance_sh_variance N=256`: 33 647 360 instructions (soft f64)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):

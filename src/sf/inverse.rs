@@ -279,7 +279,7 @@ impl FibonacciPoints {
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:nearest_index N=256`: 2 704 instructions (`SphericalFibonacci`)
-    /// - `m4:nearest_index N=4096`: 2 508 instructions (`SphericalFibonacci`)
+    /// - `m4:nearest_index N=4096`: 2 507 instructions (`SphericalFibonacci`)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
