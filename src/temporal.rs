@@ -702,10 +702,10 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against), one channel, a budget
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
-    /// - `m4:temporal_update_S1 N=16`: 11 620 instructions (15 rotated, 1 sentinel)
-    /// - `m4:temporal_update_S2 N=64`: 59 210 instructions (62 rotated, 2 sentinels)
-    /// - `m4:temporal_update_S0 N=64`: 38 790 instructions (64 rotated)
-    /// - `m4:temporal_update_S4 N=256`: 255 520 instructions (252 rotated, 4 sentinels)
+    /// - `m4:temporal_update_S1 N=16`: 11 604 instructions (15 rotated, 1 sentinel)
+    /// - `m4:temporal_update_S2 N=64`: 59 200 instructions (62 rotated, 2 sentinels)
+    /// - `m4:temporal_update_S0 N=64`: 38 780 instructions (64 rotated)
+    /// - `m4:temporal_update_S4 N=256`: 255 400 instructions (252 rotated, 4 sentinels)
     ///
     /// # Examples
     /// ```
@@ -726,24 +726,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
     pub fn pool(&mut self, samples: &[T; N], sentinels: &[T; S]) -> Result<Change, Error> {
         let (original_samples, original_sentinels) = (samples, sentinels);
-        let channels = |&y: &T| (0..T::CHANNELS).map(move |c| y.channel(c));
-        let peak = scale::peak_bits(samples.iter().chain(sentinels).flat_map(channels))
-            .ok_or(Error::InvalidRadiance)?;
+        let own = self.enter_units(samples, sentinels)?;
         let first = self.weight <= 0.0;
-        // Work in units of the state's scale, rescaled when the samples leave its window.
-        // Samples far below it are taken at it for the change test; if the old evidence is
-        // then dropped, the state restarts at the samples' own scale (`own`).
-        let mut own = None;
-        if peak > 0 {
-            let e = math::binade(f32::from_bits(peak));
-            if first && (e - self.scale).abs() > SCALE_WINDOW {
-                self.scale = e;
-            } else if e - self.scale > SCALE_WINDOW {
-                self.rescale(e);
-            } else if e - self.scale < -SCALE_WINDOW {
-                own = Some(e);
-            }
-        }
         let (scaled, scaled_sentinels);
         let (mut samples, mut sentinels) = (samples, sentinels);
         if self.scale != 0 {
@@ -751,8 +735,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             scaled_sentinels = in_units(sentinels, self.scale);
             (samples, sentinels) = (&scaled, &scaled_sentinels);
         }
-        let degree = self.degree;
-        let count = (degree + 1) * (degree + 1);
+        let count = (self.degree + 1) * (self.degree + 1);
         let (mut p, mut v1, mut v1_test) = self.project_with_noise(samples);
         let w = self.weight;
         let mut innovation = [T::ZERO; COEFFICIENTS];
@@ -761,46 +744,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             for (d, (&pi, &si)) in innovation.iter_mut().zip(p.iter().zip(&self.sum)).take(count) {
                 *d = pi.add(si.scale(-1.0 / w));
             }
-            // Innovation of the degrees l ≤ 2 (all channels) against v·(1 + 1/k) (static) or
-            // that plus twice the degree's power (new light), both multivariate Student t of
-            // TAIL degrees of freedom: an aliasing outlier inflates every coefficient of its
-            // update together.
-            let vt = self.noise_with(self.noise_prior_test);
-            let (mut z0, mut z1, mut log_det, mut q) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
-            for ch in 0..T::CHANNELS {
-                let vc = vt.channel(ch);
-                // A floor of 10⁻⁵ of the mean level: rounding is not a change.
-                let floor = 1e-5 * self.sum[0].channel(ch) / w;
-                let s0 = vc * (1.0 + 1.0 / w) + floor * floor;
-                for l in 0..=2usize {
-                    let range = l * l..(l + 1) * (l + 1);
-                    let mean_power = sum_squares(&self.sum[range.clone()]).channel(ch)
-                        / (w * w * (2 * l + 1) as f32);
-                    let psi = 2.0 * (mean_power - vc / w).max(vc / w);
-                    let ss = sum_squares(&innovation[range]).channel(ch);
-                    let m = (2 * l + 1) as f32;
-                    if s0 > 0.0 {
-                        z0 += ss / s0;
-                        z1 += ss / (s0 + psi);
-                        log_det += m * math::ln_1p(psi / s0);
-                        q += m;
-                    } else if ss > 0.0 {
-                        // No noise: any change is certain.
-                        z0 = f32::INFINITY;
-                    } else if psi > 0.0 {
-                        // No noise and an exact repeat: no change.
-                        log_det = f32::INFINITY;
-                    }
-                }
-            }
-            log_bf_rotated = if z0 == f32::INFINITY {
-                f32::INFINITY
-            } else if log_det == f32::INFINITY {
-                f32::NEG_INFINITY
-            } else {
-                -0.5 * log_det
-                    - 0.5 * (TAIL + q) * (math::ln_1p(z1 / TAIL) - math::ln_1p(z0 / TAIL))
-            };
+            log_bf_rotated = self.innovation_evidence(&innovation);
             // Re-reads: evidence for a change only (module `reread`).
             let second_moment = sum_squares(samples).scale(1.0 / N as f32);
             log_bf_sentinel = self.weigh_rereads(sentinels, second_moment);
@@ -824,46 +768,24 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         };
         // Where the light changed in part of the sphere (module `region`): a change for
         // certain.
-        let local = if first || probability >= 0.5 || !region::tested(N) {
-            0
-        } else {
-            let found = region::readings(&self.directions, samples, &self.regions);
-            region::weigh(&mut self.regions, &found)
-        };
-        if local != 0 {
+        self.last_regions =
+            if first || probability >= 0.5 { 0 } else { self.weigh_regions(samples) };
+        if self.last_regions != 0 {
             probability = 1.0;
         }
         if probability >= 0.5 {
             self.regions = [region::Region::EMPTY; region::REGIONS];
         }
-        self.last_regions = local;
-        // Forget the old evidence by the probability of a change, then pool the new update.
-        // Evidence for a change (a sentinel's, or without sentinels the innovation's): the
-        // mixture of "changed" (the new update alone) and "unchanged" (pooled with the old
-        // evidence) collapsed to one pooled state with the same mean, so the old evidence
-        // keeps the weight w' with w'/(w' + 1) = (1 − π)·w/(w + 1). Otherwise (π at most the
-        // hazard): the old weight times 1 − π. (Collapsing at every update would cap the
-        // weight at 1/√π: static light with weak evidence, such as a bright spot's aliasing,
-        // would never pool.)
         let novelty =
             if S >= reread::NOVEL_REREADS && !first { self.novelty(samples) } else { None };
         let confirmed = if S == 0 { log_bf_rotated > 0.0 } else { probability >= 0.5 };
-        let kept = if first {
-            0.0
-        } else if confirmed {
-            (1.0 - probability) * w / (1.0 + probability * w)
-        } else {
-            (1.0 - probability) * w
-        };
-        // Under drift, no more old evidence than the drift leaves current (module `level`).
-        let kept = kept.min(self.drift.cap(w, self.prior_log_odds));
+        let kept = if first { 0.0 } else { self.kept_weight(probability, confirmed) };
         let mut level_now = level::trimmed_mean(samples);
         if probability >= 0.5 {
             self.drift.restart(level_now);
         } else {
             self.drift.observe(level_now, w);
         }
-        let keep = if w > 0.0 { kept / w } else { 0.0 };
         let (restart_samples, restart_sentinels);
         if let (Some(e), true) = (own, kept <= 0.0) {
             // The old evidence is dropped and the new is far smaller: restart at its scale.
@@ -874,47 +796,9 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             (p, v1, v1_test) = self.project_with_noise(samples);
             level_now = level::trimmed_mean(samples);
         }
-        if kept > 0.0 {
-            let innovation_squares = sum_squares(&innovation[..count]);
-            self.scatter =
-                self.scatter.scale(keep).add(innovation_squares.scale(kept / (kept + 1.0)));
-            self.dof = self.dof * keep + count as f32;
-        } else {
-            self.scatter = T::ZERO;
-            self.dof = 0.0;
-        }
-        // Compensated (Kahan) summation: `sum` stays within an ulp or two of the exact sum
-        // however many updates it pools, `sum_error` holds what its rounding lost.
-        let terms = self.sum.iter_mut().zip(&mut self.sum_error).zip(&p).take(count);
-        for ((s, e), &pi) in terms {
-            let old = s.scale(keep);
-            let y = pi.add(e.scale(-keep));
-            let t = old.add(y);
-            *e = t.add(old.scale(-1.0)).add(y.scale(-1.0));
-            *s = t;
-        }
-        self.drift.pool(keep, level_now);
-        self.noise_prior = self.noise_prior.scale(keep).add(v1);
-        self.noise_prior_test = self.noise_prior_test.scale(keep).add(v1_test);
-        self.weight = kept + 1.0;
-
+        self.pool_projection(&p, (v1, v1_test), &innovation, kept, level_now);
         if S > 0 {
-            if probability >= 0.5 {
-                // Every reading is of the new light: the slots start again from it.
-                for (slot, &y) in self.slots.iter_mut().zip(sentinels) {
-                    if slot.kind != reread::Kind::Empty && slot.kind != reread::Kind::Verified {
-                        *slot = reread::Slot {
-                            kind: reread::Kind::New,
-                            reference: y,
-                            other: y,
-                            evidence: 0.0,
-                            age: 0,
-                        };
-                    }
-                }
-            }
-            self.update_peaks(samples, probability >= 0.5 || first);
-            self.choose_rereads(samples, novelty);
+            self.move_sentinels(samples, sentinels, probability >= 0.5, first, novelty);
         }
         self.last_change_probability = if first { 0.0 } else { probability };
         self.last_evidence = (raw_rotated, log_bf_sentinel);
@@ -928,6 +812,166 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         } else {
             Change::Blended
         })
+    }
+
+    /// Checks the samples and sentinel readings (all finite) and moves the state to units
+    /// that hold them: rescaled when they leave its window upwards, or at a first update;
+    /// samples far below it return their own scale (`Some(e)`), where the state restarts if
+    /// the old evidence is then dropped (until then they are taken at the state's).
+    fn enter_units(&mut self, samples: &[T; N], sentinels: &[T; S]) -> Result<Option<i32>, Error> {
+        let channels = |&y: &T| (0..T::CHANNELS).map(move |c| y.channel(c));
+        let peak = scale::peak_bits(samples.iter().chain(sentinels).flat_map(channels))
+            .ok_or(Error::InvalidRadiance)?;
+        let first = self.weight <= 0.0;
+        let mut own = None;
+        if peak > 0 {
+            let e = math::binade(f32::from_bits(peak));
+            if first && (e - self.scale).abs() > SCALE_WINDOW {
+                self.scale = e;
+            } else if e - self.scale > SCALE_WINDOW {
+                self.rescale(e);
+            } else if e - self.scale < -SCALE_WINDOW {
+                own = Some(e);
+            }
+        }
+        Ok(own)
+    }
+
+    /// The innovation's log Bayes factor of a change: the degrees `l ≤ 2` (all channels) of
+    /// `innovation` against `v·(1 + 1/k)` (static) or that plus twice the degree's power (new
+    /// light), both multivariate Student t of `TAIL` degrees of freedom (an aliasing outlier
+    /// inflates every coefficient of its update together).
+    fn innovation_evidence(&self, innovation: &[T; COEFFICIENTS]) -> f32 {
+        let w = self.weight;
+        let vt = self.noise_with(self.noise_prior_test);
+        let (mut z0, mut z1, mut log_det, mut q) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
+        for ch in 0..T::CHANNELS {
+            let vc = vt.channel(ch);
+            // A floor of 10⁻⁵ of the mean level: rounding is not a change.
+            let floor = 1e-5 * self.sum[0].channel(ch) / w;
+            let s0 = vc * (1.0 + 1.0 / w) + floor * floor;
+            for l in 0..=2usize {
+                let range = l * l..(l + 1) * (l + 1);
+                let mean_power = sum_squares(&self.sum[range.clone()]).channel(ch)
+                    / (w * w * (2 * l + 1) as f32);
+                let psi = 2.0 * (mean_power - vc / w).max(vc / w);
+                let ss = sum_squares(&innovation[range]).channel(ch);
+                let m = (2 * l + 1) as f32;
+                if s0 > 0.0 {
+                    z0 += ss / s0;
+                    z1 += ss / (s0 + psi);
+                    log_det += m * math::ln_1p(psi / s0);
+                    q += m;
+                } else if ss > 0.0 {
+                    // No noise: any change is certain.
+                    z0 = f32::INFINITY;
+                } else if psi > 0.0 {
+                    // No noise and an exact repeat: no change.
+                    log_det = f32::INFINITY;
+                }
+            }
+        }
+        if z0 == f32::INFINITY {
+            f32::INFINITY
+        } else if log_det == f32::INFINITY {
+            f32::NEG_INFINITY
+        } else {
+            -0.5 * log_det - 0.5 * (TAIL + q) * (math::ln_1p(z1 / TAIL) - math::ln_1p(z0 / TAIL))
+        }
+    }
+
+    /// The regions where this update confirms a local change (module `region`), tested where
+    /// the probe has directions enough.
+    fn weigh_regions(&mut self, samples: &[T; N]) -> u8 {
+        if !region::tested(N) {
+            return 0;
+        }
+        let found = region::readings(&self.directions, samples, &self.regions);
+        region::weigh(&mut self.regions, &found)
+    }
+
+    /// The old evidence's weight after an update with change probability `probability`, under
+    /// drift no more than the drift leaves current (module `level`). For a change
+    /// (`confirmed`: a sentinel's evidence, or without sentinels the innovation's) the mixture
+    /// of "changed" (the new update alone) and "unchanged" (pooled with the old evidence)
+    /// collapsed to one pooled state with the same mean, so the old evidence keeps the weight
+    /// `w′` with `w′/(w′ + 1) = (1 − π)·w/(w + 1)`. Otherwise (π at most the hazard): the old
+    /// weight times `1 − π`. (Collapsing at every update would cap the weight at `1/√π`:
+    /// static light with weak evidence, such as a bright spot's aliasing, would never pool.)
+    fn kept_weight(&self, probability: f32, confirmed: bool) -> f32 {
+        let w = self.weight;
+        let kept = if confirmed {
+            (1.0 - probability) * w / (1.0 + probability * w)
+        } else {
+            (1.0 - probability) * w
+        };
+        kept.min(self.drift.cap(w, self.prior_log_odds))
+    }
+
+    /// Pools this update's projection `p` (its noise estimates `v₁`, `v̄₁`, its `innovation`
+    /// and trimmed level `level_now`) into the state, the old evidence keeping weight `kept`.
+    fn pool_projection(
+        &mut self,
+        p: &[T; COEFFICIENTS],
+        (v1, v1_test): (T, T),
+        innovation: &[T; COEFFICIENTS],
+        kept: f32,
+        level_now: f32,
+    ) {
+        let count = (self.degree + 1) * (self.degree + 1);
+        let w = self.weight;
+        let keep = if w > 0.0 { kept / w } else { 0.0 };
+        if kept > 0.0 {
+            let innovation_squares = sum_squares(&innovation[..count]);
+            self.scatter =
+                self.scatter.scale(keep).add(innovation_squares.scale(kept / (kept + 1.0)));
+            self.dof = self.dof * keep + count as f32;
+        } else {
+            self.scatter = T::ZERO;
+            self.dof = 0.0;
+        }
+        // Compensated (Kahan) summation: `sum` stays within an ulp or two of the exact sum
+        // however many updates it pools, `sum_error` holds what its rounding lost.
+        let terms = self.sum.iter_mut().zip(&mut self.sum_error).zip(p).take(count);
+        for ((s, e), &pi) in terms {
+            let old = s.scale(keep);
+            let y = pi.add(e.scale(-keep));
+            let t = old.add(y);
+            *e = t.add(old.scale(-1.0)).add(y.scale(-1.0));
+            *s = t;
+        }
+        self.drift.pool(keep, level_now);
+        self.noise_prior = self.noise_prior.scale(keep).add(v1);
+        self.noise_prior_test = self.noise_prior_test.scale(keep).add(v1_test);
+        self.weight = kept + 1.0;
+    }
+
+    /// After an update: the slots start again from the readings at a change (`changed`), the
+    /// octants' peaks learn the samples, and the free slots choose what they re-read next.
+    fn move_sentinels(
+        &mut self,
+        samples: &[T; N],
+        sentinels: &[T; S],
+        changed: bool,
+        first: bool,
+        novelty: Option<(usize, f32)>,
+    ) {
+        if changed {
+            // Every reading is of the new light: the slots start again from it.
+            for (slot, &y) in self.slots.iter_mut().zip(sentinels) {
+                if slot.kind != reread::Kind::Empty && slot.kind != reread::Kind::Verified {
+                    *slot = reread::Slot {
+                        kind: reread::Kind::New,
+                        reference: y,
+                        other: y,
+                        evidence: 0.0,
+                        age: 0,
+                    };
+                }
+            }
+        }
+        self.update_peaks(samples, changed || first);
+        self.choose_rereads(samples, novelty);
     }
 
     /// The log Bayes factor (positive part, summed over the channels) of a change from the
@@ -1538,7 +1582,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (as [`TemporalProbe::pool`]'s), one channel: the
     /// harmonics of degree `L` at the normal and a dot product.
     /// - `m4:temporal_irradiance_S1 N=16`: 955 instructions (`L = 4`)
-    /// - `m4:temporal_irradiance_S2 N=64`: 1 401 instructions (`L = 6`)
+    /// - `m4:temporal_irradiance_S2 N=64`: 1 400 instructions (`L = 6`)
     /// - `m4:temporal_irradiance_S4 N=256`: 1 920 instructions (`L = 8`)
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
