@@ -118,8 +118,8 @@ pub(super) struct Region<T> {
     spread: f32,
     /// Updates learned since the last reset (saturating).
     learned: u16,
-    /// The deviation of the last update and where its reading's heaviest remaining sample
-    /// lay, if it flagged the region.
+    /// The deviation of the last update and its reading's [`Reading::at`], if it flagged the
+    /// region.
     flagged: Option<(T, Vec3)>,
 }
 
@@ -153,10 +153,7 @@ pub(super) fn readings<T: Radiance, const N: usize>(
     // them holds a direction.
     let centres: [Vec3; REGIONS / 2] = core::array::from_fn(centre);
     let means = regions.each_ref().map(|r| size(r.mean));
-    // Per region: Σ m·y, Σ m, the heaviest sample (its m, index and m·|y|), and the index
-    // and m·(|y| − |ȳ|) of the brightest above the mean; the heaviest's own.
-    let mut acc =
-        [(T::ZERO, 0.0f32, 0.0f32, 0usize, -1.0f32, 0usize, f32::NEG_INFINITY, 0.0f32); REGIONS];
+    let mut acc = [Accumulator::<T>::EMPTY; REGIONS];
     for (j, (&x, &y)) in directions.iter().zip(samples).enumerate() {
         let b = size(y);
         for (o, c) in centres.iter().enumerate() {
@@ -166,27 +163,58 @@ pub(super) fn readings<T: Radiance, const N: usize>(
             if m <= 0.0 {
                 continue;
             }
-            a.0 = a.0.mul_add(y, m);
-            a.1 += m;
+            a.sum = a.sum.mul_add(y, m);
+            a.total += m;
             let (key, above) = (m * b, m * (b - means[r]));
-            if key > a.4 {
+            if key > a.heaviest.key {
                 // The old heaviest joins the rest.
-                if a.7 > a.6 {
-                    (a.5, a.6) = (a.3, a.7);
+                if a.heaviest.above > a.brightest.1 {
+                    a.brightest = (a.heaviest.index, a.heaviest.above);
                 }
-                (a.2, a.3, a.4, a.7) = (m, j, key, above);
-            } else if above > a.6 {
-                (a.5, a.6) = (j, above);
+                a.heaviest = Heaviest { m, index: j, key, above };
+            } else if above > a.brightest.1 {
+                a.brightest = (j, above);
             }
         }
     }
-    acc.map(|(sum, total, heaviest, j, _, next, _, _)| {
-        let rest = total - heaviest;
+    acc.map(|a| {
+        let rest = a.total - a.heaviest.m;
         (rest >= WEIGHT).then(|| Reading {
-            value: sum.mul_add(samples[j], -heaviest).scale(1.0 / rest),
-            at: directions[next],
+            value: a.sum.mul_add(samples[a.heaviest.index], -a.heaviest.m).scale(1.0 / rest),
+            at: directions[a.brightest.0],
         })
     })
+}
+
+/// One region's sums over an update's samples.
+#[derive(Clone, Copy)]
+struct Accumulator<T> {
+    /// `Σ m·y` and `Σ m`.
+    sum: T,
+    total: f32,
+    /// The sample that weighs most (`m·|y|`).
+    heaviest: Heaviest,
+    /// Among the rest, the index and `m·(|y| − |ȳ|)` of the one most above the mean.
+    brightest: (usize, f32),
+}
+
+/// The sample of a region that weighs most: its bump weight, index, `m·|y|` and
+/// `m·(|y| − |ȳ|)`.
+#[derive(Clone, Copy)]
+struct Heaviest {
+    m: f32,
+    index: usize,
+    key: f32,
+    above: f32,
+}
+
+impl<T: Radiance> Accumulator<T> {
+    const EMPTY: Self = Self {
+        sum: T::ZERO,
+        total: 0.0,
+        heaviest: Heaviest { m: 0.0, index: 0, key: -1.0, above: 0.0 },
+        brightest: (0, f32::NEG_INFINITY),
+    };
 }
 
 /// Weighs one update's region readings: learns the regions, and returns the regions where
@@ -236,7 +264,7 @@ fn flags<T: Radiance>(d: T, spread: f32, mean: T) -> bool {
     q > FLAG * spread && q > RELEVANT
 }
 
-/// Whether deviation `d` of a reading whose heaviest remaining sample lay at `at` repeats
+/// Whether deviation `d` of a reading brightened most at `at` ([`Reading::at`]) repeats
 /// deviation `b` of the previous one (at `before`): the same way (their channels' dot
 /// product), and, for a brightening, from the same place (within [`REPEAT_ANGLE`]): two
 /// outliers in a row brighten a region from unrelated places, a lamp from its own.
@@ -276,7 +304,7 @@ mod tests {
         run_at(readings, |_| Vec3::Z)
     }
 
-    /// [`run`] with the heaviest remaining sample of update `k` at `at(k)`.
+    /// [`run`] with update `k`'s reading brightened most at `at(k)`.
     fn run_at(readings: &[f32], at: impl Fn(usize) -> Vec3) -> ([bool; 64], Region<f32>) {
         let mut regions = [Region::<f32>::EMPTY; REGIONS];
         let mut confirmed = [false; 64];
