@@ -297,20 +297,13 @@ const RECURRENCE: [(f32, f32); 36] = [
 /// `u` of unit length: orthonormal, without the Condon–Shortley phase (the basis of
 /// [`crate::sh`]).
 fn basis(degree: usize, u: Vec3, out: &mut [f32; COEFFICIENTS]) {
-    for_each_basis(degree, u, |i, v| {
+    let mut put = |i: usize, v: f32| {
         if let Some(o) = out.get_mut(i) {
             *o = v;
         }
-    });
-}
-
-/// Calls `f(l(l + 1) + m, Y_lm(u))` for every degree `l ≤ degree` and order `m` of
-/// [`basis`], so that a projection accumulates without storing the basis.
-#[inline(always)]
-fn for_each_basis(degree: usize, u: Vec3, mut f: impl FnMut(usize, f32)) {
+    };
     // C_m + i·S_m = (x + i·y)^m carries the azimuth and the sinᵐθ.
     let (mut c, mut s) = (1.0f32, 0.0f32);
-    let mut start = 0;
     for (m, &sectoral) in SECTORAL.iter().enumerate().take(degree + 1) {
         if m > 0 {
             (c, s) = (c * u.x - s * u.y, s * u.x + c * u.y);
@@ -318,25 +311,30 @@ fn for_each_basis(degree: usize, u: Vec3, mut f: impl FnMut(usize, f32)) {
         let (mut q2, mut q1) = (0.0f32, sectoral);
         let mut i = m * (m + 1);
         if m == 0 {
-            f(i, q1);
+            put(i, q1);
         } else {
-            f(i + m, q1 * c);
-            f(i - m, q1 * s);
+            put(i + m, q1 * c);
+            put(i - m, q1 * s);
         }
-        let recurrence = RECURRENCE.get(start..start + (degree - m)).unwrap_or(&[]);
-        for (l, &(a, b)) in (m + 1..).zip(recurrence) {
+        for (l, &(a, b)) in (m + 1..).zip(recurrence(m, degree)) {
             let q = a * (u.z * q1 - b * q2);
             (q2, q1) = (q1, q);
             i += 2 * l;
             if m == 0 {
-                f(i, q);
+                put(i, q);
             } else {
-                f(i + m, q * c);
-                f(i - m, q * s);
+                put(i + m, q * c);
+                put(i - m, q * s);
             }
         }
-        start += MAX_DEGREE - m;
     }
+}
+
+/// The [`RECURRENCE`] pairs of order `m` for the degrees `m < l ≤ degree`.
+fn recurrence(m: usize, degree: usize) -> &'static [(f32, f32)] {
+    // Order m starts after the orders below it, each with MAX_DEGREE − k pairs.
+    let start = m * MAX_DEGREE - m * m.saturating_sub(1) / 2;
+    RECURRENCE.get(start..start + degree.saturating_sub(m)).unwrap_or(&[])
 }
 
 /// The degree capped below the first degree whose irradiance gain after deconvolution,
@@ -737,6 +735,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         }
         let count = (self.degree + 1) * (self.degree + 1);
         let (mut p, mut v1, mut v1_test) = self.project_with_noise(samples);
+        let mut level_now = level::trimmed_mean(samples);
         let w = self.weight;
         let mut innovation = [T::ZERO; COEFFICIENTS];
         let (mut log_bf_rotated, mut log_bf_sentinel) = (0.0f32, 0.0f32);
@@ -749,7 +748,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             let second_moment = sum_squares(samples).scale(1.0 / N as f32);
             log_bf_sentinel = self.weigh_rereads(sentinels, second_moment);
             if S > 0 {
-                log_bf_sentinel += self.weigh_level(samples);
+                log_bf_sentinel += self.weigh_level(level_now);
             }
         }
         // With sentinels the innovation alone does not forget: aliasing can fake it, and an
@@ -780,7 +779,6 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
             if S >= reread::NOVEL_REREADS && !first { self.novelty(samples) } else { None };
         let confirmed = if S == 0 { log_bf_rotated > 0.0 } else { probability >= 0.5 };
         let kept = if first { 0.0 } else { self.kept_weight(probability, confirmed) };
-        let mut level_now = level::trimmed_mean(samples);
         if probability >= 0.5 {
             self.drift.restart(level_now);
         } else {
@@ -1126,13 +1124,13 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
         reread::brightness(self.sum[0]) / (self.weight * SQRT_4PI)
     }
 
-    /// The level test's evidence of a change (module `level`), 0 before the spread is
-    /// learned; learns the spread.
-    fn weigh_level(&mut self, samples: &[T; N]) -> f32 {
+    /// The level test's evidence of a change for an update of trimmed level `update` (module
+    /// `level`), 0 before the spread is learned; learns the spread.
+    fn weigh_level(&mut self, update: f32) -> f32 {
         let state = self.mean_level();
         // Against a state of `w` updates the distance strays `√(1 + 1/w)` times as far as
         // against a noiseless one: the spread is learned, and tested, without that factor.
-        let (x, dark) = level::distance(level::trimmed_mean(samples), state);
+        let (x, dark) = level::distance(update, state);
         let x = x / math::sqrt(1.0 + 1.0 / self.weight);
         let (evidence, spread) = level::weigh((x, dark), self.level_spread);
         self.level_spread = spread;
@@ -1384,7 +1382,6 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
                 (z[j], x[j], y[j]) = (d.z, d.x, d.y);
                 wc[j] = v.add(mean.scale(-1.0));
             }
-            let mut start = 0;
             for (m, &sectoral) in SECTORAL.iter().enumerate().take(degree + 1) {
                 if m > 0 {
                     let terms = wc.iter_mut().zip(&mut ws).zip(x.iter().zip(&y)).take(n);
@@ -1400,8 +1397,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
                     add_at(&mut p, i - m, sum(&ws).scale(sectoral));
                 }
                 let (mut q1, mut q2) = ([sectoral; CHUNK], [0.0f32; CHUNK]);
-                let recurrence = RECURRENCE.get(start..start + (degree - m)).unwrap_or(&[]);
-                for (l, &(a, b)) in (m + 1..).zip(recurrence) {
+                for (l, &(a, b)) in (m + 1..).zip(recurrence(m, degree)) {
                     i += 2 * l;
                     let (mut c, mut s) = (T::ZERO, T::ZERO);
                     let per_sample = q1.iter_mut().zip(&mut q2).zip(&z).zip(wc.iter().zip(&ws));
@@ -1418,7 +1414,6 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
                         add_at(&mut p, i - m, s);
                     }
                 }
-                start += MAX_DEGREE - m;
             }
         }
         let weight = 4.0 * PI / N as f32;
