@@ -181,7 +181,7 @@
 //! (`LayoutProbe<K, f32>`), cosine photodiodes on the faces of a cube (`K = 6`) and on the
 //! directions of `Probe::<16, f32, CosinePower<1>>` (`K = 16`), [`Prior::ENVIRONMENT`], a
 //! relative noise of 1 % and readings of a real environment map:
-//! - `m4:layout_init K=6`: 81 920 instructions ([`LayoutProbe::new`])
+//! - `m4:layout_init K=6`: 81 900 instructions ([`LayoutProbe::new`])
 //! - `m4:layout_init K=16`: 364 680 instructions
 //! - `m4:layout_update K=6`: 4 260 instructions ([`LayoutProbe::update`])
 //! - `m4:layout_update K=16`: 18 000 instructions

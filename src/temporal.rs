@@ -700,10 +700,10 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against), one channel, a budget
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
-    /// - `m4:temporal_update_S1 N=16`: 11 604 instructions (15 rotated, 1 sentinel)
-    /// - `m4:temporal_update_S2 N=64`: 59 200 instructions (62 rotated, 2 sentinels)
-    /// - `m4:temporal_update_S0 N=64`: 38 780 instructions (64 rotated)
-    /// - `m4:temporal_update_S4 N=256`: 255 400 instructions (252 rotated, 4 sentinels)
+    /// - `m4:temporal_update_S1 N=16`: 11 208 instructions (15 rotated, 1 sentinel)
+    /// - `m4:temporal_update_S2 N=64`: 57 470 instructions (62 rotated, 2 sentinels)
+    /// - `m4:temporal_update_S0 N=64`: 38 950 instructions (64 rotated)
+    /// - `m4:temporal_update_S4 N=256`: 248 040 instructions (252 rotated, 4 sentinels)
     ///
     /// # Examples
     /// ```
@@ -1576,9 +1576,9 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// # Cost
     /// Cortex-M4F instructions per call (as [`TemporalProbe::pool`]'s), one channel: the
     /// harmonics of degree `L` at the normal and a dot product.
-    /// - `m4:temporal_irradiance_S1 N=16`: 955 instructions (`L = 4`)
-    /// - `m4:temporal_irradiance_S2 N=64`: 1 400 instructions (`L = 6`)
-    /// - `m4:temporal_irradiance_S4 N=256`: 1 920 instructions (`L = 8`)
+    /// - `m4:temporal_irradiance_S1 N=16`: 972 instructions (`L = 4`)
+    /// - `m4:temporal_irradiance_S2 N=64`: 1 423 instructions (`L = 6`)
+    /// - `m4:temporal_irradiance_S4 N=256`: 1 948 instructions (`L = 8`)
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let mut y = [0.0f32; COEFFICIENTS];
