@@ -166,6 +166,8 @@ const SIZES: [usize; 4] = [16, 32, 64, 128];
 #[derive(Clone, Copy, Default)]
 struct Tally {
     sq: f64,
+    /// The squared errors of the estimate made with the tier's noise term.
+    sq_noise: f64,
     truth: f64,
     count: usize,
     covered: usize,
@@ -181,6 +183,7 @@ impl Tally {
         }
         let err = plain.0 - truth;
         self.sq += err * err;
+        self.sq_noise += (noisy.0 - truth).powi(2);
         self.truth += truth;
         self.count += 1;
         self.covered += usize::from(err.abs() <= 2.0 * plain.1.max(0.0).sqrt());
@@ -189,6 +192,10 @@ impl Tally {
 
     fn rel_err(&self) -> f64 {
         (self.sq / self.count as f64).sqrt() / (self.truth / self.count as f64)
+    }
+
+    fn rel_err_noise(&self) -> f64 {
+        (self.sq_noise / self.count as f64).sqrt() / (self.truth / self.count as f64)
     }
 
     fn coverage(&self) -> f64 {
@@ -461,8 +468,9 @@ fn main() -> Result<(), Box<dyn Error>> {
                     let (r, c, cn) = (x.rel_err(), x.coverage(), x.coverage_noise());
                     let _ = writeln!(csv, "precision,{name},{tn},{n},{map},{r:.6e},{c:.4}");
                     if HAS_NOISE[e] {
+                        let rn = x.rel_err_noise();
                         let _ =
-                            writeln!(csv, "precision,{name}+noise,{tn},{n},{map},{r:.6e},{cn:.4}");
+                            writeln!(csv, "precision,{name}+noise,{tn},{n},{map},{rn:.6e},{cn:.4}");
                     }
                 }
             }
@@ -492,8 +500,9 @@ fn main() -> Result<(), Box<dyn Error>> {
          `fp16` η = 2⁻¹¹/√3 = {:.3e} and σ = 2⁻²⁴/√12; `srgb8` η = Δ(1)/√12 = {:.3e} and \
          σ = {:.3e}/k, the least σ with which σ² + η²v² bounds the rounding variance Δ(v)²/12 \
          of an 8-bit code at every linear value v ∈ [0, 1] of the exposed lookup (Δ(v) the \
-         curve's step at v). `probe` and `probe-footprint` have no noise term: their two \
-         coverage columns are the same.\n",
+         curve's step at v). `probe` and `probe-footprint` have no noise term. With it, the \
+         renderer's weights are the same (only its variance grows); the layout's fit takes the \
+         noise into its model, so its estimate changes too.\n",
         2f64.powi(-11) / 3f64.sqrt(),
         envelope.1,
         envelope.0
@@ -520,6 +529,18 @@ fn main() -> Result<(), Box<dyn Error>> {
     let mean_err = |e: usize, k: usize, i: usize| -> f64 {
         held.iter().map(|&m| results[m][e][k][i].rel_err()).sum::<f64>() / held.len() as f64
     };
+    // With the noise term: the mean error and the mean of per-map ratios to `f32`.
+    let with_noise = |e: usize, k: usize, i: usize| -> (f64, f64) {
+        let r = |m: usize| &results[m][e][k][i];
+        let n = held.len() as f64;
+        let err = held.iter().map(|&m| r(m).rel_err_noise()).sum::<f64>() / n;
+        let ratio = held
+            .iter()
+            .map(|&m| r(m).rel_err_noise() / results[m][e][0][i].rel_err_noise())
+            .sum::<f64>()
+            / n;
+        (err, ratio)
+    };
     let ratios = |e: usize, k: usize, i: usize| -> (f64, f64, f64, String) {
         let per: Vec<f64> = held
             .iter()
@@ -536,9 +557,9 @@ fn main() -> Result<(), Box<dyn Error>> {
         writeln!(md, "## `{name}`\n")?;
         writeln!(
             md,
-            "| N | tier | error | ratio (mean of maps) | ratio of means | worst map | 2σ | 2σ with noise term |"
+            "| N | tier | error | ratio (mean of maps) | ratio of means | worst map | 2σ | with the noise term: error | ratio (mean of maps) | 2σ |"
         )?;
-        writeln!(md, "| ---: | --- | ---: | ---: | ---: | --- | ---: | ---: |")?;
+        writeln!(md, "| ---: | --- | ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: |")?;
         for (i, n) in SIZES.iter().enumerate() {
             if pooled(e, 0, i).count == 0 {
                 continue;
@@ -546,7 +567,13 @@ fn main() -> Result<(), Box<dyn Error>> {
             for (k, tier) in TIERS.iter().enumerate() {
                 let p = pooled(e, k, i);
                 let (mean, of_means, worst, wmap) = ratios(e, k, i);
-                let noise = if HAS_NOISE[e] { pct(p.coverage_noise()) } else { "—".to_string() };
+                let noise = if HAS_NOISE[e] {
+                    let (err, ratio) = with_noise(e, k, i);
+                    let ratio = if k == 0 { "—".to_string() } else { format!("{ratio:.3}") };
+                    format!("{} | {ratio} | {}", pct(err), pct(p.coverage_noise()))
+                } else {
+                    "— | — | —".to_string()
+                };
                 let failed =
                     if p.failed > 0 { format!(" ({} failed)", p.failed) } else { String::new() };
                 let rs = if k == 0 {

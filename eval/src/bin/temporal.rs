@@ -71,6 +71,9 @@
 //! it reported as a reset, `π ≥ ½`);
 //! `detect,<tier>,<n>,<scenario>,<map>,<within1>,<within2>,<within4>,<never>` (shares of the
 //! changes, `two-changes` its second and `two-changes-switch` its first);
+//! `reach,<tier>,<n>,<scenario>,<map>,<one1>,<one2>,<one4>,<two1>,<two2>,<two4>` (the changes
+//! confined to the lamp's disc: shares of them where at least one, and at least two, of the
+//! probe's rays fell in the disc within 1, 2, 4 updates);
 //! `false,<tier>,<n>,<scenario>,<map>,<resets>,<updates>` (the scenarios without a change) and
 //! `coverage,<tier>,<n>,<scenario>,<map>,<within_2_sigma>,<queries>`.
 
@@ -162,6 +165,7 @@ struct Args {
     /// Rows temporal,<scenario>,<tier>,<method>,<n>,<k>,<map>,<rel_rmse>,
     /// resets,<tier>,<method>,<n>,<map>,<false_resets>,<updates>,
     /// detect,<tier>,<n>,<scenario>,<map>,<within1>,<within2>,<within4>,<never>,
+    /// reach,<tier>,<n>,<scenario>,<map>,<one1>,<one2>,<one4>,<two1>,<two2>,<two4>,
     /// false,<tier>,<n>,<scenario>,<map>,<resets>,<updates> and
     /// coverage,<tier>,<n>,<scenario>,<map>,<within_2_sigma>,<queries>
     #[arg(long, value_name = "FILE", verbatim_doc_comment)]
@@ -412,11 +416,28 @@ impl<'a> Light<'a> {
 #[derive(Clone, Copy, Debug)]
 enum Region {
     Everywhere,
-    #[allow(dead_code)] // read by a local detection, which the probe does not report yet
-    Cap {
-        centre: Vec3,
-        cos_radius: f32,
-    },
+    Cap { centre: Vec3, cos_radius: f32 },
+}
+
+impl Region {
+    /// Whether the world-frame direction `d` lies in the region.
+    fn contains(&self, d: Vec3) -> bool {
+        match *self {
+            Region::Everywhere => true,
+            Region::Cap { centre, cos_radius } => centre.dot(d) >= cos_radius,
+        }
+    }
+}
+
+/// The change a sequence is in: its slot, where the light changed, its update, when the
+/// probe detected it, and how many of the probe's rays fell in the region within 1, 2 and
+/// 4 updates of it.
+struct Open {
+    slot: usize,
+    region: Region,
+    at: usize,
+    found: Option<usize>,
+    rays_in: [usize; 3],
 }
 
 /// Whether the probe's report at an update detects a change of the light in `region`: today
@@ -583,12 +604,17 @@ fn firefly(key: u64, update: usize, set: u64, ray: usize) -> bool {
 }
 
 /// Counts of the changes of one slot the probe detected within 1, 2, 4 updates, or never
-/// (before the next change or the end), of all.
+/// (before the next change or the end), of all; for the changes confined to a cap (the
+/// lamp's), those where at least one (`reach[0]`) and at least two (`reach[1]`) of the
+/// probe's rays (rotated directions and sentinels) fell in the cap within 1, 2, 4 updates,
+/// of `capped`: what point rays could have seen.
 #[derive(Clone, Copy, Default)]
 struct Detections {
     within: [usize; 3],
     never: usize,
     all: usize,
+    reach: [[usize; 3]; 2],
+    capped: usize,
 }
 
 impl Detections {
@@ -598,6 +624,19 @@ impl Detections {
         }
         self.never += o.never;
         self.all += o.all;
+        for r in 0..2 {
+            for i in 0..3 {
+                self.reach[r][i] += o.reach[r][i];
+            }
+        }
+        self.capped += o.capped;
+    }
+
+    /// Shares of the capped changes with at least one and at least two rays in the cap
+    /// within 1, 2, 4 updates (`None` without a capped change).
+    fn reach_shares(&self) -> Option<[[f64; 3]; 2]> {
+        let d = self.capped as f64;
+        (self.capped > 0).then(|| self.reach.map(|r| r.map(|x| x as f64 / d)))
     }
 
     fn shares(&self) -> [f64; 4] {
@@ -708,19 +747,25 @@ fn run_sequence<const N: usize, const NR: usize, const S: usize>(
     let mut oracle = vec![[0.0f64; 3]; q];
     let mut oracle_bmc = vec![[0.0f64; 3]; q];
     let mut oracle_count = 0usize;
-    // The open change: its slot, where it changed, its update, and when the probe detected it.
-    let mut open: Option<(usize, Region, usize, Option<usize>)> = None;
-    let close = |open: Option<(usize, Region, usize, Option<usize>)>, curve: &mut Curve| {
-        if let Some((slot, _, _, found)) = open {
-            let d = &mut curve.detections[slot];
+    let mut open: Option<Open> = None;
+    let close = |open: Option<Open>, curve: &mut Curve| {
+        if let Some(o) = open {
+            let d = &mut curve.detections[o.slot];
             d.all += 1;
-            match found {
+            match o.found {
                 Some(k) => {
                     for (i, bar) in [1, 2, 4].into_iter().enumerate() {
                         d.within[i] += usize::from(k <= bar);
                     }
                 }
                 None => d.never += 1,
+            }
+            if matches!(o.region, Region::Cap { .. }) {
+                d.capped += 1;
+                for i in 0..3 {
+                    d.reach[0][i] += usize::from(o.rays_in[i] >= 1);
+                    d.reach[1][i] += usize::from(o.rays_in[i] >= 2);
+                }
             }
         }
     };
@@ -738,7 +783,7 @@ fn run_sequence<const N: usize, const NR: usize, const S: usize>(
         };
         if let Some((slot, region)) = step.change {
             close(open.take(), curve);
-            open = Some((slot, region, t, None));
+            open = Some(Open { slot, region, at: t, found: None, rays_in: [0; 3] });
             oracle_count = 0;
             if step.measured == Some(0) {
                 let before = &steps[t - 1].truth;
@@ -759,10 +804,18 @@ fn run_sequence<const N: usize, const NR: usize, const S: usize>(
             std::array::from_fn(|j| lookup(&temporal.directions()[j], 1, j));
         let sentinels: [[f32; 3]; S] =
             std::array::from_fn(|j| lookup(&temporal.sentinels()[j], 2, j));
+        if let Some(o) = &mut open {
+            let k = t - o.at + 1;
+            let rays = temporal.directions().iter().chain(temporal.sentinels());
+            let inside = rays.filter(|&&d| o.region.contains(d)).count();
+            for (i, bar) in [1, 2, 4].into_iter().enumerate() {
+                o.rays_in[i] += if k <= bar { inside } else { 0 };
+            }
+        }
         let change = temporal.pool(&rotated, &sentinels).expect("finite samples");
-        if let Some((_, region, at, found @ None)) = &mut open {
-            if detects(change, region) {
-                *found = Some(t - *at + 1);
+        if let Some(o) = &mut open {
+            if o.found.is_none() && detects(change, &o.region) {
+                o.found = Some(t - o.at + 1);
             }
         }
         if t > 0 && step.change.is_none() && change == Change::Reset {
@@ -832,7 +885,7 @@ fn run_sequence<const N: usize, const NR: usize, const S: usize>(
         }
         // k counted from the last change, else from the start of the measured updates.
         let k = match (&open, step.measured) {
-            (Some((_, _, at, _)), _) => Some(t - at),
+            (Some(o), _) => Some(t - o.at),
             (None, Some(k)) => Some(k),
             (None, None) => None,
         };
@@ -1093,6 +1146,13 @@ fn csv_rows(
                         "detect,{},{n},{name},{},{a:.4},{b:.4},{d:.4},{e:.4}",
                         TIERS[t], names[m]
                     );
+                    if let Some([one, two]) = c.detections[slot].reach_shares() {
+                        let _ = writeln!(
+                            s,
+                            "reach,{},{n},{name},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4}",
+                            TIERS[t], names[m], one[0], one[1], one[2], two[0], two[1], two[2]
+                        );
+                    }
                 }
             }
             for (sc, name) in SCENARIOS.iter().enumerate() {
@@ -1579,6 +1639,53 @@ fn summary(
         }
     }
     let _ = writeln!(md);
+    reach(md, names, ns, jobs, results, t, held);
+}
+
+/// What point rays could see of the changes confined to a cap (the lamp's disc): beside the
+/// probe's detections, the share of sequences where at least one and at least two of its
+/// rays fell in the disc within 1, 2, 4 updates.
+fn reach(
+    md: &mut String,
+    names: &[String],
+    ns: &[usize],
+    jobs: &[(usize, usize, usize, usize)],
+    results: &[Curve],
+    t: usize,
+    held: bool,
+) {
+    let _ = writeln!(
+        md,
+        "The lamp's disc (1 % of the sphere) against the probe's rays (its rotated directions and \
+         sentinels): the share of sequences where at least one, and at least two, of them fell in the \
+         disc within 1, 2, 4 updates of the change, beside the share the probe detected. A single \
+         bright ray is what a firefly also gives (`fireflies`: 1 % of rays, as many as the disc \
+         catches); the probe confirms a brightening only where it repeats at one place.\n"
+    );
+    let _ = writeln!(
+        md,
+        "| scenario | N | detected ≤ 1 | ≤ 2 | ≤ 4 | ≥ 1 ray in the disc ≤ 1 | ≤ 2 | ≤ 4 | ≥ 2 rays ≤ 1 | ≤ 2 | ≤ 4 |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|");
+    for (name, s, slot) in summary_rows() {
+        for &n in ns {
+            let mut d = Detections::default();
+            for c in select(jobs, results, names, t, n, s, held) {
+                d.add(&c.detections[slot]);
+            }
+            let Some(r) = d.reach_shares() else { continue };
+            let pct =
+                |x: &[f64]| x.iter().map(|x| format!("{:.0} %", 100.0 * x)).collect::<Vec<_>>();
+            let found = pct(&d.shares()[..3]).join(" | ");
+            let _ = writeln!(
+                md,
+                "| {name} | {n} | {found} | {} | {} |",
+                pct(&r[0]).join(" | "),
+                pct(&r[1]).join(" | ")
+            );
+        }
+    }
+    let _ = writeln!(md);
 }
 
 /// The summary's rows: (label, scenario index, detection slot).
@@ -1775,6 +1882,14 @@ mod tests {
                 assert_eq!(d.all, if slot < slots { sequences } else { 0 }, "{scenario}");
                 assert!(d.within[0] <= d.within[1] && d.within[1] <= d.within[2], "{scenario}");
                 assert!(d.within[2] + d.never <= d.all, "{scenario}");
+                // Only the lamp's changes lie in a cap; their ray counts are nested too
+                // (within 1 ⊆ 2 ⊆ 4, two rays ⊆ one).
+                let capped = if scenario.starts_with("lamp-") { d.all } else { 0 };
+                assert_eq!(d.capped, capped, "{scenario}");
+                for r in d.reach {
+                    assert!(r[0] <= r[1] && r[1] <= r[2] && r[2] <= d.capped, "{scenario}");
+                }
+                assert!((0..3).all(|i| d.reach[1][i] <= d.reach[0][i]), "{scenario}");
             }
             // Coverage: k ≥ 4 after each change (13 of the 16 updates between the two
             // changes of `two-changes`), else from the measured k = 4.
