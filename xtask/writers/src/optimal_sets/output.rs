@@ -174,14 +174,14 @@ pub fn report(
     );
     let _ = writeln!(
         w,
-        "| key | N | l | σ′ | from | V̄ | var_sf | var_sf/V̄ | var_opt | var_opt/V̄ | reduction | floor | var_sf/floor | time (s) |"
+        "| key | N | l | σ′ | from | V̄ | var_sf | var_sf/V̄ | var_opt | var_opt/V̄ | reduction | floor | var_sf/floor | time |"
     );
     let _ = writeln!(w, "|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for oc in outcomes {
         let s = &oc.set;
         let _ = writeln!(
             w,
-            "| {} | {} | {:.4} | {:.4} | {} | {:.4e} | {:.4e} | {:.4} | {:.4e} | {:.4} | **{:.3}×** | {:.4e} | {:.3} | {:.1} |",
+            "| {} | {} | {:.4} | {:.4} | {} | {:.4e} | {:.4e} | {:.4} | {:.4e} | {:.4} | **{:.3}×** | {:.4e} | {:.3} | {:.1} s |",
             s.key,
             s.n,
             s.l,
