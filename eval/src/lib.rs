@@ -50,3 +50,7 @@ pub mod renderer;
 /// The engine and report of `src/bin/probe_trust.rs`, which `cargo writer probe_calibration`
 /// shares.
 pub mod probe_trust;
+
+/// The sensor layouts, the crate's fit and the learned priors of `src/bin/sensors.rs`, which
+/// `cargo writer sensor_priors` shares.
+pub mod sensors;

@@ -69,7 +69,7 @@ const GENERATORS: &[Generator] = &[
     Generator {
         name: "sensor-priors",
         outputs: &["src/layout/learned.rs"],
-        command: &["cargo", "eval", "sensors", "--", "--write-priors"],
+        command: &["cargo", "writer", "sensor_priors", "--", "--write"],
         env: &[],
         after: "the maps",
     },
