@@ -529,17 +529,16 @@ fn main() -> Result<(), Box<dyn Error>> {
     let mean_err = |e: usize, k: usize, i: usize| -> f64 {
         held.iter().map(|&m| results[m][e][k][i].rel_err()).sum::<f64>() / held.len() as f64
     };
-    // With the noise term: the mean error and the mean of per-map ratios to `f32`.
-    let with_noise = |e: usize, k: usize, i: usize| -> (f64, f64) {
-        let r = |m: usize| &results[m][e][k][i];
+    // With the noise term: the mean error, and the mean and the largest of the per-map ratios
+    // to `f32`.
+    let with_noise = |e: usize, k: usize, i: usize| -> (f64, f64, f64) {
         let n = held.len() as f64;
-        let err = held.iter().map(|&m| r(m).rel_err_noise()).sum::<f64>() / n;
-        let ratio = held
+        let err = held.iter().map(|&m| results[m][e][k][i].rel_err_noise()).sum::<f64>() / n;
+        let per = held
             .iter()
-            .map(|&m| r(m).rel_err_noise() / results[m][e][0][i].rel_err_noise())
-            .sum::<f64>()
-            / n;
-        (err, ratio)
+            .map(|&m| results[m][e][k][i].rel_err_noise() / results[m][e][0][i].rel_err_noise());
+        let (sum, worst) = per.fold((0.0, f64::NEG_INFINITY), |(s, w), r| (s + r, w.max(r)));
+        (err, sum / n, worst)
     };
     let ratios = |e: usize, k: usize, i: usize| -> (f64, f64, f64, String) {
         let per: Vec<f64> = held
@@ -568,7 +567,7 @@ fn main() -> Result<(), Box<dyn Error>> {
                 let p = pooled(e, k, i);
                 let (mean, of_means, worst, wmap) = ratios(e, k, i);
                 let noise = if HAS_NOISE[e] {
-                    let (err, ratio) = with_noise(e, k, i);
+                    let (err, ratio, _) = with_noise(e, k, i);
                     let ratio = if k == 0 { "—".to_string() } else { format!("{ratio:.3}") };
                     format!("{} | {ratio} | {}", pct(err), pct(p.coverage_noise()))
                 } else {
@@ -595,12 +594,6 @@ fn main() -> Result<(), Box<dyn Error>> {
         }
         writeln!(md)?;
     }
-    // The worst map's ratio with the noise term.
-    let worst_with_noise = |e: usize, k: usize, i: usize| -> f64 {
-        held.iter()
-            .map(|&m| results[m][e][k][i].rel_err_noise() / results[m][e][0][i].rel_err_noise())
-            .fold(f64::NEG_INFINITY, f64::max)
-    };
     // Targets.
     writeln!(md, "## Targets\n")?;
     writeln!(
@@ -626,7 +619,8 @@ fn main() -> Result<(), Box<dyn Error>> {
             for &i in &sizes {
                 let (plain, _, plain_map, _) = ratios(e, k, i);
                 let (mean, w) = if HAS_NOISE[e] {
-                    (with_noise(e, k, i).1, worst_with_noise(e, k, i))
+                    let (_, mean, worst) = with_noise(e, k, i);
+                    (mean, worst)
                 } else {
                     (plain, plain_map)
                 };
