@@ -5,7 +5,7 @@
 // Per-degree and per-sensor loops read clearer with their indices.
 #![allow(clippy::needless_range_loop)]
 
-use crate::{cli, compare, parallel, tiers};
+use crate::{cli, tiers};
 
 use std::f64::consts::PI;
 use std::fmt::Write as _;
@@ -342,14 +342,7 @@ pub const LEARNED: &str = "src/layout/learned.rs";
 /// and the prior of light from above (below); in f64, rounded once to f32.
 pub fn learned_priors(threads: usize) -> Result<String, String> {
     let paths = cli::bundled_maps(&cli::TRAINING_MAPS);
-    let maps: Vec<[EnvMap; 2]> = parallel::parallel_map(&paths, threads, |_, p| {
-        let m = EnvMap::load(p).map_err(|e| format!("{}: {e}", p.display()))?;
-        let clamp = compare::clamped(&m);
-        let smooth = tiers::smooth(&clamp);
-        Ok::<_, String>([clamp, smooth])
-    })
-    .into_iter()
-    .collect::<Result<_, _>>()?;
+    let maps = tiers::load_clamp_smooth(&paths, threads)?;
     let average = |f: &dyn Fn(&EnvMap) -> Vec<f64>, t: usize| -> Vec<f64> {
         let all: Vec<Vec<f64>> = maps.iter().map(|m| f(&m[t])).collect();
         (0..all[0].len())

@@ -999,14 +999,7 @@ fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     let mut rng = Rng::new(SEED_NORMALS);
     let normals: Vec<[f64; 3]> = (0..args.normals).map(|_| rng.uniform_sphere()).collect();
     let names: Vec<String> = args.maps.iter().map(|p| cli::map_name(p)).collect();
-    let loaded: Vec<[EnvMap; 2]> = parallel::parallel_map(&args.maps, threads, |_, path| {
-        let map = EnvMap::load(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let clamp = compare::clamped(&map);
-        let smooth = tiers::smooth(&clamp);
-        Ok::<_, String>([clamp, smooth])
-    })
-    .into_iter()
-    .collect::<Result<_, _>>()?;
+    let loaded = tiers::load_clamp_smooth(&args.maps, threads)?;
     let mut grids: Vec<Grid> = Vec::new();
     for m in loaded.iter().flatten() {
         if !grids.iter().any(|g| g.size == (m.width, m.height)) {

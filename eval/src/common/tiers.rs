@@ -4,6 +4,7 @@
 //! mixtures with exact irradiance).
 
 use std::f64::consts::PI;
+use std::path::PathBuf;
 
 use reference::analytic::SgLight;
 use reference::envmap::EnvMap;
@@ -101,6 +102,18 @@ pub fn convolve(map: &EnvMap, sharpness: f64) -> EnvMap {
 /// normalised spherical Gaussian of sharpness 10.
 pub fn smooth(clamped: &EnvMap) -> EnvMap {
     convolve(&downsample(clamped, SMOOTH_WIDTH, SMOOTH_HEIGHT), SMOOTH_SHARPNESS)
+}
+
+/// The maps at `paths`, each as its `clamp` and `smooth` tiers, loaded on `threads` workers.
+pub fn load_clamp_smooth(paths: &[PathBuf], threads: usize) -> Result<Vec<[EnvMap; 2]>, String> {
+    crate::parallel::parallel_map(paths, threads, |_, path| {
+        let map = EnvMap::load(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let clamp = crate::compare::clamped(&map);
+        let smooth = smooth(&clamp);
+        Ok::<_, String>([clamp, smooth])
+    })
+    .into_iter()
+    .collect()
 }
 
 /// A `synthetic` tier light: a constant plus a sum of spherical Gaussians.
