@@ -40,10 +40,13 @@
 //! and 10⁻⁴ wherever the scaled answer is a normal f32, with the same decisions). A result is
 //! `±∞` only where it exceeds `f32::MAX` (the variances of readings spread over more than
 //! about 10¹⁹; a glossy lobe whose integral exceeds it), and 0 or subnormal only below the
-//! normal range. The spectrum times `c` gives the same values within 10⁻⁵ and
-//! [`LayoutProbe::signal_variance`] `1/c` times within 5·10⁻⁵ (the scale's search stops
-//! within 10⁻⁵ in `ln s`); its variances move as an ε change of the prior moves them
-//! ("Accuracy").
+//! normal range. A stream ([`LayoutProbe::pool`]) keeps its pooled readings in units of a
+//! power of two near the largest, so powers of two are exact below the normal range too:
+//! there the readings keep only the bits f32 has, and the answers are those of these
+//! readings, to the rounding of a sub-normal result. The spectrum times `c` gives the same
+//! values within 10⁻⁵ and [`LayoutProbe::signal_variance`] `1/c` times within 5·10⁻⁵ (the
+//! scale's search stops within 10⁻⁵ in `ln s`); its variances move as an ε change of the
+//! prior moves them ("Accuracy").
 //!
 //! # Cost
 //! [`LayoutProbe::new`] builds everything at run time, with no allocation: the `K × K`
@@ -56,9 +59,12 @@
 //! level `ν`, each update projects the readings (`K²` multiply-adds per channel), chooses
 //! `s` by restricted maximum likelihood in O(K) per trial, and forms the weights (`K²`).
 //! With a relative noise the sensors' noise levels differ: the scale is chosen with their
-//! mean `ν̄`, and the mean and the weights come from the exact system `s·C̃ + diag(νᵢ)`,
-//! factored once per channel (`LDLᵀ`, `K³/6` multiply-adds, no square roots); the variances
-//! take the noise at its mean level.
+//! mean `ν̄`, and the mean and the weights come from the exact system `s·C̃ + diag(νᵢ)`
+//! (`C̃` with the eigenvalues the model floors, as in the eigenbasis, so that a vanishing
+//! relative noise gives the answers without noise), factored once per channel (`LDLᵀ`,
+//! `K³/6` multiply-adds, no square roots) and each solve refined once with its residual
+//! summed in compensated arithmetic (`K²` exact products); the variances take the noise at
+//! its mean level.
 //! An irradiance query is `K` table lookups; its error bar is the exact direction average
 //! of the posterior variance, computed once per update; [`LayoutProbe::irradiance_variance`]
 //! is the exact variance at one normal, O(K²).
@@ -75,8 +81,8 @@
 //!   `squared_exponential(1)`, without noise; 2.4·10⁻² for readings no light can produce,
 //!   "Rounding"),
 //!   exact variances within 2·10⁻⁴ (cube, dome), the log likelihood within 10⁻⁶; with a
-//!   relative noise the weights solve an f32 system of condition about 10⁴, and values agree
-//!   within 2·10⁻⁴.
+//!   relative noise the weights solve an f32 system of condition about 10⁴, refined once,
+//!   and values agree within 9·10⁻⁷.
 //! - **Rounding**: one ulp on one reading of a light moves no value by more than 1.8·10⁻⁶ of
 //!   the largest and `s` by 4.9·10⁻⁵ (the layouts above and 64 Fibonacci sensors, with and
 //!   without noise). Readings that no light can produce (cosine sensors at antipodes that
@@ -181,35 +187,35 @@
 //! (`LayoutProbe<K, f32>`), cosine photodiodes on the faces of a cube (`K = 6`) and on the
 //! directions of `Probe::<16, f32, CosinePower<1>>` (`K = 16`), [`Prior::ENVIRONMENT`], a
 //! relative noise of 1 % and readings of a real environment map:
-//! - `m4:layout_init K=6`: 81 900 instructions ([`LayoutProbe::new`])
-//! - `m4:layout_init K=16`: 364 680 instructions
-//! - `m4:layout_update K=6`: 4 260 instructions ([`LayoutProbe::update`])
-//! - `m4:layout_update K=16`: 18 000 instructions
-//! - `m4:layout_update_rgb K=6`: 13 180 instructions (`LayoutProbe<6, [f32; 3]>`)
-//! - `m4:layout_update_rgb K=16`: 57 840 instructions (`LayoutProbe<16, [f32; 3]>`)
-//! - `m4:layout_update_absolute K=6`: 3 430 instructions (an absolute noise of 1 % of the
+//! - `m4:layout_init K=6`: 81 960 instructions ([`LayoutProbe::new`])
+//! - `m4:layout_init K=16`: 364 700 instructions
+//! - `m4:layout_update K=6`: 5 350 instructions ([`LayoutProbe::update`])
+//! - `m4:layout_update K=16`: 26 880 instructions
+//! - `m4:layout_update_rgb K=6`: 16 520 instructions (`LayoutProbe<6, [f32; 3]>`)
+//! - `m4:layout_update_rgb K=16`: 84 460 instructions (`LayoutProbe<16, [f32; 3]>`)
+//! - `m4:layout_update_absolute K=6`: 3 460 instructions (an absolute noise of 1 % of the
 //!   mean reading instead: no per-reading solve)
-//! - `m4:layout_update_absolute K=16`: 6 990 instructions
-//! - `m4:layout_update_exact K=6`: 1 290 instructions (no noise declared)
-//! - `m4:layout_update_exact K=16`: 4 150 instructions
-//! - `m4:layout_irradiance K=6`: 365 instructions ([`LayoutProbe::irradiance`])
+//! - `m4:layout_update_absolute K=16`: 7 000 instructions
+//! - `m4:layout_update_exact K=6`: 1 320 instructions (no noise declared)
+//! - `m4:layout_update_exact K=16`: 4 170 instructions
+//! - `m4:layout_irradiance K=6`: 366 instructions ([`LayoutProbe::irradiance`])
 //! - `m4:layout_irradiance K=16`: 795 instructions
 //! - `m4:layout_irradiance_variance K=6`: 635 instructions
 //!   ([`LayoutProbe::irradiance_variance`])
-//! - `m4:layout_irradiance_variance K=16`: 1 914 instructions
+//! - `m4:layout_irradiance_variance K=16`: 1 908 instructions
 //!
 //! Flash (release, LTO) that one call adds, the first on top of an empty program and the
 //! others on top of [`LayoutProbe::new`] (`K = 6`, one channel):
-//! - `flash:layout_new K=6`: 44 008 bytes of code and 320 bytes of tables
-//! - `flash:layout_update K=6`: 9 992 bytes of code and 20 bytes of tables
-//! - `flash:layout_irradiance K=6`: 4 200 bytes of code and 256 bytes of tables
-//! - `flash:layout_irradiance_variance K=6`: 3 976 bytes of code and 268 bytes of tables
+//! - `flash:layout_new K=6`: 44 832 bytes of code and 320 bytes of tables
+//! - `flash:layout_update K=6`: 11 664 bytes of code and 8 bytes of tables
+//! - `flash:layout_irradiance K=6`: 4 448 bytes of code and 256 bytes of tables
+//! - `flash:layout_irradiance_variance K=6`: 4 240 bytes of code and 268 bytes of tables
 //!
 //! RAM of the probe (`core::mem::size_of`), which [`LayoutProbe::new`] returns by value:
-//! - `ram:layout_f32 K=6`: 3 844 bytes (`LayoutProbe<6, f32>`)
-//! - `ram:layout_rgb K=6`: 3 996 bytes (`LayoutProbe<6, [f32; 3]>`)
-//! - `ram:layout_f32 K=16`: 7 216 bytes (`LayoutProbe<16, f32>`)
-//! - `ram:layout_rgb K=16`: 7 528 bytes (`LayoutProbe<16, [f32; 3]>`)
+//! - `ram:layout_f32 K=6`: 3 860 bytes (`LayoutProbe<6, f32>`)
+//! - `ram:layout_rgb K=6`: 4 012 bytes (`LayoutProbe<6, [f32; 3]>`)
+//! - `ram:layout_f32 K=16`: 7 232 bytes (`LayoutProbe<16, f32>`)
+//! - `ram:layout_rgb K=16`: 7 544 bytes (`LayoutProbe<16, [f32; 3]>`)
 //!
 //! [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
 
@@ -1135,7 +1141,8 @@ pub struct LayoutProbe<const K: usize, T: Radiance = f32> {
     profile: [f32; 9],
     /// Unit-scale `Cov(Yᵢ, E(n))` against `t = dᵢ·n` per distinct response.
     tables: [[f32; NODES]; MAX_RESPONSES],
-    /// The whitened covariance `C̃ = WCW` (unit scale).
+    /// The whitened covariance `C̃ = WCW` (unit scale), its floored eigenvalues raised to the
+    /// floor: the matrix of [`Self::vectors`] and [`Self::values`].
     covariance: [[f32; K]; K],
     /// Eigenvectors (columns) of the whitened covariance.
     vectors: [[f32; K]; K],
@@ -1185,8 +1192,11 @@ pub struct LayoutProbe<const K: usize, T: Radiance = f32> {
     /// Direction-averaged posterior variance per channel for `s = 1`.
     average_unit_variance: T,
     updated: bool,
-    /// The stream's pooled mean readings.
+    /// The stream's pooled mean readings, channel `c` in units of `2^stream_exponent[c]`.
     stream_mean: [T; K],
+    /// The power of two of each channel's pooled means: a power of two near the largest
+    /// mean or reading, so that pooling is exact under powers of two, below the normal range too.
+    stream_exponent: [i32; MAX_CHANNELS],
     /// Their weight (effective updates).
     stream_weight: f32,
     /// The prior probability of a change per stream update.

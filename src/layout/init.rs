@@ -371,7 +371,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             }
             i += 1;
         }
-        let covariance = cov;
+        let mut covariance = cov;
         let (mut values, vectors) = symmetric_eigen(cov);
         let mut top = 0.0f32;
         let mut j = 0;
@@ -391,16 +391,19 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         // dependent readings (duplicate sensors; antipodal cosine pairs, whose differences
         // see degree 1 only) keep the system solvable.
         let mut rank = 0;
+        let mut lift = [0.0f32; K];
         let mut j = 0;
         while j < K {
             // (A NaN eigenvalue, impossible from finite input, is floored too.)
             if values[j].is_nan() || values[j] <= FLOOR * top {
+                lift[j] = if values[j].is_nan() { FLOOR * top } else { FLOOR * top - values[j] };
                 values[j] = FLOOR * top;
             } else {
                 rank += 1;
             }
             j += 1;
         }
+        lift_floored(&mut covariance, &vectors, &lift);
         // M̃ = Vᵀ·avg[z zᵀ]·V. Degrees ≤ 2 carry nearly all of avg[z zᵀ], and a product of
         // matrices would lose the small eigenvalues' share of it to rounding: their part is
         // (1/4π)·Σ_lm c_l²·b̃_lm b̃_lmᵀ with b̃_lm = Vᵀ·(the whitened covariances of the
@@ -592,10 +595,37 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             average_unit_variance: T::ZERO,
             updated: false,
             stream_mean: [T::ZERO; K],
+            stream_exponent: [0; MAX_CHANNELS],
             stream_weight: 0.0,
             hazard: DEFAULT_HAZARD,
             last_change: 0.0,
             log_likelihood: 0.0,
         })
+    }
+}
+
+/// `C̃ + V·diag(lift)·Vᵀ`: the whitened covariance with the eigenvalues that the model floors
+/// raised to the floor (`lift` the rise per eigenvector, 0 for the others), the matrix that
+/// the eigenvalues in the probe describe. The relative-noise fit factors it: taken as it is,
+/// the floor would be lost (a rounded covariance of 64 sensors has eigenvalues far below it,
+/// some negative), and adding the floor to every eigenvalue instead damps the small ones
+/// that carry the light (at `K = 64` on real maps, 18 % more error than the floored model).
+/// The rise is small beside `C̃`: added to it, it loses no precision.
+const fn lift_floored<const K: usize>(c: &mut [[f32; K]; K], v: &[[f32; K]; K], lift: &[f32; K]) {
+    let mut e = 0;
+    while e < K {
+        if lift[e] > 0.0 {
+            let mut i = 0;
+            while i < K {
+                let vi = v[i][e] * lift[e];
+                let mut k = 0;
+                while k < K {
+                    c[i][k] += vi * v[k][e];
+                    k += 1;
+                }
+                i += 1;
+            }
+        }
+        e += 1;
     }
 }

@@ -1,7 +1,7 @@
 //! Updates: the fit of each channel (REML scale, GLS mean, weights), streams and channel
 //! combinations.
 
-use super::linalg::{ldl, ldl_solve, project, LogProduct};
+use super::linalg::{ldl, ldl_solve, project, refine, LogProduct};
 use super::*;
 
 impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
@@ -11,9 +11,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     pub fn update(&mut self, readings: &[T; K]) -> Result<(), Error> {
         check_readings(readings)?;
         self.stream_mean = *readings;
+        self.stream_exponent = [0; MAX_CHANNELS];
         self.stream_weight = 1.0;
         self.last_change = 0.0;
-        self.fit_all(readings, 1.0);
+        self.fit_all(readings, &self.stream_exponent.clone(), 1.0);
         Ok(())
     }
 
@@ -56,33 +57,34 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let w = self.stream_weight;
         if w <= 0.0 {
             self.stream_mean = *readings;
+            self.stream_exponent = [0; MAX_CHANNELS];
             self.stream_weight = 1.0;
             self.last_change = 1.0;
-            self.fit_all(readings, 1.0);
+            self.fit_all(readings, &[0; MAX_CHANNELS], 1.0);
             return Ok(Change::First);
         }
+        let old = self.stream_exponent;
+        // Each channel's new means in units of a power of two near the largest mean or reading.
+        let mut exponent = [0i32; MAX_CHANNELS];
         let mut log_bf = 0.0f32;
         for ch in 0..T::CHANNELS {
+            let old = old[ch.min(MAX_CHANNELS - 1)];
             // In units of a power of two near the largest reading, mean or noise: the
             // decision does not depend on the readings' units.
-            let mut top = 0.0f32;
+            let (mut top_mean, mut top_reading, mut top_noise) = (0.0f32, 0.0f32, 0.0f32);
             for i in 0..K {
-                let noise = self.absolute / self.whitening[i];
-                top = top
-                    .max(self.stream_mean[i].channel(ch).abs())
-                    .max(readings[i].channel(ch).abs())
-                    .max(noise);
+                top_mean = top_mean.max(self.stream_mean[i].channel(ch).abs());
+                top_reading = top_reading.max(readings[i].channel(ch).abs());
+                top_noise = top_noise.max(self.absolute / self.whitening[i]);
             }
-            let e = if top > 0.0 && top.is_finite() { libm::ilogbf(top) } else { 0 };
+            let data = binade(top_mean).map(|e| e + old).max(binade(top_reading));
+            exponent[ch.min(MAX_CHANNELS - 1)] = data.unwrap_or(0);
+            let e = data.max(binade(top_noise)).unwrap_or(0);
             let working = |v: f32| libm::scalbnf(v, -e);
-            let square_mean = self
-                .stream_mean
-                .iter()
-                .map(|m| working(m.channel(ch)) * working(m.channel(ch)))
-                .sum::<f32>()
-                / K as f32;
+            let mean = |i: usize| libm::scalbnf(self.stream_mean[i].channel(ch), old - e);
+            let square_mean = (0..K).map(|i| mean(i) * mean(i)).sum::<f32>() / K as f32;
             for i in 0..K {
-                let m = working(self.stream_mean[i].channel(ch));
+                let m = mean(i);
                 let r = working(readings[i].channel(ch)) - m;
                 let a = working(self.absolute / self.whitening[i]);
                 let noise = a * a + self.noise.relative * self.noise.relative * m * m;
@@ -96,13 +98,20 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let probability = logistic(log_odds(self.hazard) + log_bf);
         let kept = (1.0 - probability) * w / (1.0 + probability * w);
         let weight = kept + 1.0;
+        let (kept_share, new_share) = (kept / weight, 1.0 / weight);
         for (mean, &y) in self.stream_mean.iter_mut().zip(readings) {
-            *mean = mean.scale(kept / weight).add(y.scale(1.0 / weight));
+            *mean = from_channels(|ch| {
+                let (old, new) =
+                    (old[ch.min(MAX_CHANNELS - 1)], exponent[ch.min(MAX_CHANNELS - 1)]);
+                libm::scalbnf(mean.channel(ch), old - new) * kept_share
+                    + libm::scalbnf(y.channel(ch), -new) * new_share
+            });
         }
+        self.stream_exponent = exponent;
         self.stream_weight = weight;
         self.last_change = probability;
         let pooled = self.stream_mean;
-        self.fit_all(&pooled, weight);
+        self.fit_all(&pooled, &exponent, weight);
         Ok(if probability >= 0.5 { Change::Reset } else { Change::Blended })
     }
 
@@ -197,21 +206,27 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let norm = magnitude(&w);
         let noise = Noise { absolute: self.noise.absolute * norm, relative: self.noise.relative };
         let absolute = self.absolute * norm;
-        let readings: [f32; K] = core::array::from_fn(|i| {
-            (0..channels).map(|c| w[c] * self.stream_mean[i].channel(c)).sum::<f32>()
-        });
-        if readings.iter().any(|v| !v.is_finite()) || !absolute.is_finite() {
+        // The combined readings in units of the largest channel's power of two.
+        let exponent = self.stream_exponent[..channels].iter().copied().max().unwrap_or(0);
+        let terms = |i: usize| -> [f32; MAX_CHANNELS] {
+            core::array::from_fn(|c| {
+                let mean = self.stream_mean[i].channel(c);
+                if c < channels {
+                    w[c] * libm::scalbnf(mean, self.stream_exponent[c] - exponent)
+                } else {
+                    0.0
+                }
+            })
+        };
+        let readings: [f32; K] = core::array::from_fn(|i| terms(i)[..channels].iter().sum::<f32>());
+        // Finite in the readings' own units too.
+        let finite = |v: f32| v.is_finite() && libm::scalbnf(v, exponent).is_finite();
+        if readings.iter().any(|&v| !finite(v)) || !absolute.is_finite() {
             return Err(Error::InvalidWeights);
         }
         // The combined reading's relative noise: η·|(w_c·Y_c)_c|.
-        let magnitudes: [f32; K] = core::array::from_fn(|i| {
-            let mut v = [0.0f32; MAX_CHANNELS];
-            for c in 0..channels {
-                v[c] = w[c] * self.stream_mean[i].channel(c);
-            }
-            magnitude(&v)
-        });
-        if magnitudes.iter().any(|m| !(self.noise.relative * m).is_finite()) {
+        let magnitudes: [f32; K] = core::array::from_fn(|i| magnitude(&terms(i)));
+        if magnitudes.iter().any(|m| !finite(self.noise.relative * m)) {
             return Err(Error::InvalidWeights);
         }
         let mut probe = LayoutProbe::<K, f32> {
@@ -253,13 +268,15 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             average_unit_variance: 0.0,
             updated: false,
             stream_mean: readings,
+            stream_exponent: [exponent; MAX_CHANNELS],
             stream_weight: self.stream_weight,
             hazard: self.hazard,
             log_likelihood: 0.0,
             last_change: self.last_change,
         };
         if self.updated {
-            let fit = probe.fit(&readings, self.stream_weight.max(1.0), Some(&magnitudes));
+            let fit =
+                probe.fit(&readings, exponent, self.stream_weight.max(1.0), Some(&magnitudes));
             probe.alpha = fit.alpha;
             probe.beta = [fit.beta, 0.0];
             probe.unit = fit.unit;
@@ -275,7 +292,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
 
     /// Fits every channel of these (pooled) readings, whose noise variance is the layout's
     /// divided by `pooled`.
-    fn fit_all(&mut self, readings: &[T; K], pooled: f32) {
+    fn fit_all(&mut self, readings: &[T; K], exponent: &[i32; MAX_CHANNELS], pooled: f32) {
         let mut alpha = [[0.0f32; K]; MAX_CHANNELS];
         let mut beta = [0.0f32; MAX_CHANNELS];
         let mut unit = [0.0f32; MAX_CHANNELS];
@@ -286,7 +303,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let mut log_likelihood = 0.0f32;
         for ch in 0..T::CHANNELS.min(MAX_CHANNELS) {
             let y: [f32; K] = core::array::from_fn(|i| readings[i].channel(ch));
-            let fit = self.fit(&y, pooled, None);
+            let fit = self.fit(&y, exponent[ch], pooled, None);
             alpha[ch] = fit.alpha;
             beta[ch] = fit.beta;
             unit[ch] = fit.unit;
@@ -308,12 +325,19 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         self.updated = true;
     }
 
-    /// One channel's fit. `magnitude`: each reading's size for the relative noise (its
-    /// variance `η²·mᵢ²`, before pooling) where it is not `|yᵢ|` (a combination of channels).
-    fn fit(&self, y: &[f32; K], pooled: f32, magnitude: Option<&[f32; K]>) -> Fit<K> {
+    /// One channel's fit of readings `y` in units of `2^exponent`. `magnitude`: each reading's
+    /// size (same units) for the relative noise (its variance `η²·mᵢ²`, before pooling) where
+    /// it is not `|yᵢ|` (a combination of channels).
+    fn fit(
+        &self,
+        y: &[f32; K],
+        exponent: i32,
+        pooled: f32,
+        magnitude: Option<&[f32; K]>,
+    ) -> Fit<K> {
         // Work relative to a power of two 2ᵉ near the largest whitened reading (or the
         // absolute noise, if larger): every statistic below is then free of the units.
-        let mut top = self.absolute;
+        let mut top = 0.0f32;
         for i in 0..K {
             top = top.max(y[i].abs() * self.whitening[i]);
         }
@@ -324,7 +348,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 top = top.max((self.noise.relative * m[i] * self.whitening[i]).min(f32::MAX));
             }
         }
-        if top == 0.0 {
+        let Some(e) = binade(top).map(|e| e + exponent).max(binade(self.absolute)) else {
             // Every reading 0 without noise: an exact fit of zero.
             return Fit {
                 alpha: [0.0; K],
@@ -336,8 +360,8 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 average_unit_variance: self.unit_average(0.0, 0.0),
                 log_likelihood: f32::INFINITY,
             };
-        }
-        let e = libm::ilogbf(top);
+        };
+        let e = e.clamp(-149, 127);
         // 2ᵉ and 2⁻ᵉ are normal numbers for every e but the subnormal range's.
         let (unit, inv) = if e >= -126 {
             let unit = libm::scalbnf(1.0, e);
@@ -346,7 +370,10 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             (libm::scalbnf(1.0, e), 0.0)
         };
         let to_working = |v: f32| if inv != 0.0 { v * inv } else { libm::scalbnf(v, -e) };
-        let yw: [f32; K] = core::array::from_fn(|i| to_working(y[i] * self.whitening[i]));
+        // Values in units of 2^exponent (exactly the raw ones for exponent 0).
+        let from_units =
+            |v: f32| if exponent == 0 { to_working(v) } else { libm::scalbnf(v, exponent - e) };
+        let yw: [f32; K] = core::array::from_fn(|i| from_units(y[i] * self.whitening[i]));
         let z = project(&self.vectors, &yw);
         // Whitened noise variances ν_i = σ² + η²·(m_i/w_i)², and their mean ν̄ for the scale
         // and the variances.
@@ -358,7 +385,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             None => core::array::from_fn(|i| absolute + eta2 * yw[i] * yw[i]),
             Some(m) => core::array::from_fn(|i| {
                 // η first: η·mᵢ is within the unit, mᵢ alone may not be (or η = 0, ∞·0).
-                let r = to_working(eta * (m[i] * self.whitening[i]));
+                let r = from_units(eta * (m[i] * self.whitening[i]));
                 absolute + r * r / pooled
             }),
         };
@@ -538,21 +565,25 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         // system s·C̃ + diag(ν_i), factored once (the scale and the variances keep ν̄).
         if per_reading && s > 0.0 {
             let h_sensor = &self.basis_sensor;
-            let top = lam.iter().fold(0.0f32, |m, &v| m.max(v));
-            // The lower triangle is all the factorization reads.
+            // The lower triangle is all the factorization reads; the covariance holds the
+            // model's floor already (`init::lift_floored`).
             let mut a = [[0.0f32; K]; K];
             for (i, (row, cov)) in a.iter_mut().zip(&self.covariance).enumerate() {
                 for (x, c) in row[..=i].iter_mut().zip(cov) {
                     *x = s * c;
                 }
-                row[i] += nus[i] + s * FLOOR * top;
+                row[i] += nus[i];
             }
             let mut inverse = [0.0f32; K];
             if ldl(&mut a, &mut inverse) {
                 // Q = (s·C̃ + diag ν)⁻¹: β = hᵀQy/hᵀQh, and the weights Q(y − βh) = Qy − β·Qh.
-                let mut weights = ldl_solve(&a, &inverse, &yw);
+                let solve = |b: &[f32; K]| {
+                    let x = ldl_solve(&a, &inverse, b);
+                    refine(&self.covariance, s, &nus, (&a, &inverse), b, &x)
+                };
+                let mut weights = solve(&yw);
                 if p == 1 {
-                    let qh = ldl_solve(&a, &inverse, h_sensor);
+                    let qh = solve(h_sensor);
                     let hqh: f32 = h_sensor.iter().zip(&qh).map(|(x, q)| x * q).sum();
                     if hqh > 0.0 {
                         beta = h_sensor.iter().zip(&weights).map(|(x, q)| x * q).sum::<f32>() / hqh;
@@ -705,6 +736,11 @@ fn magnitude(v: &[f32; MAX_CHANNELS]) -> f32 {
     let e = libm::ilogbf(top);
     let sum: f32 = v.iter().map(|x| libm::scalbnf(*x, -e)).map(|x| x * x).sum();
     libm::scalbnf(math::sqrt(sum), e)
+}
+
+/// `⌊log₂ x⌋` of a positive, finite `x` (subnormals included), `None` otherwise.
+fn binade(x: f32) -> Option<i32> {
+    (x > 0.0 && x.is_finite()).then(|| math::binade(x))
 }
 
 fn check_readings<T: Radiance, const K: usize>(readings: &[T; K]) -> Result<(), Error> {

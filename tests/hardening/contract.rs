@@ -697,13 +697,20 @@ fn stream_light(k: usize, updates: usize, d: Vec3) -> f64 {
 /// A stream of [`Estimator::UPDATES`] updates at scale `c`, sample `bump` (in every update)
 /// one ulp up when given: the probe and its decisions.
 fn run_stream<E: Estimator>(c: f64, bump: Option<usize>) -> (E, Vec<String>) {
+    run_stream_lifted(c, 0, bump)
+}
+
+/// [`run_stream`] with every sample, once rounded to f32 at scale `c`, multiplied by `2^lift`
+/// (exact within the f32 range: a sub-normal sample keeps the bits it has).
+fn run_stream_lifted<E: Estimator>(c: f64, lift: i32, bump: Option<usize>) -> (E, Vec<String>) {
     let mut p = E::fresh();
     let mut decisions = Vec::new();
+    let lift = 2f64.powi(lift);
     for k in 0..E::UPDATES {
         let mut y: Vec<f32> = p
             .sample_directions()
             .iter()
-            .map(|&d| (stream_light(k, E::UPDATES, d) * c) as f32)
+            .map(|&d| (f64::from((stream_light(k, E::UPDATES, d) * c) as f32) * lift) as f32)
             .collect();
         if let Some(j) = bump {
             y[j] = f32::from_bits(y[j].to_bits() + 1);
@@ -739,31 +746,54 @@ fn probe_answers_scale<E: Estimator>() {
         let p = E::fresh();
         p.sample_directions().iter().map(|&d| 0.2 * light(d)).fold(f64::MAX, f64::min)
     };
+    let samples = E::fresh().sample_directions().len() as f64;
     for c in scales() {
         let (q, got_decisions) = run_stream::<E>(c, None);
         let what = format!("{} c = {c:e}", std::any::type_name::<E>());
         let exact = c.log2().fract() == 0.0;
         let subnormal = smallest * c < TINY;
-        let (tol_value, tol_variance) = match (exact, subnormal) {
-            (_, true) => (1e-3, 1e-2),
-            (true, false) => (1e-6, 1e-6),
-            (false, false) => (1e-5, 1e-4),
-        };
-        assert_eq!(got_decisions, decisions, "{what}: decisions");
         let (vq, wq) = answers(&q);
-        for (i, (&got, &want)) in vq.iter().zip(&values).enumerate() {
-            // Values near zero are as accurate as the others in absolute terms.
-            let want_c = want * c;
-            if (want.abs() / top) < 1e-3 {
+        if subnormal {
+            // Below the normal range a sample keeps only the bits f32 has there (2.5 % of the
+            // smallest sample here), which moves the answers far more than rounding does: they
+            // are those of the samples as rounded, which `2^lift` carries to the normal range
+            // exactly, up to the rounding of a sum of `samples` terms in the sub-normal range.
+            let lift = -c.log2().floor() as i32;
+            let (lifted, lifted_decisions) = run_stream_lifted::<E>(c, lift, None);
+            assert_eq!(got_decisions, lifted_decisions, "{what}: decisions of the rounded samples");
+            let back = 2f64.powi(-lift);
+            let ulp = f64::from(f32::from_bits(1));
+            for (i, (&got, &want)) in vq.iter().zip(&answers(&lifted).0).enumerate() {
+                let want = want * back;
                 assert!(
-                    !(got as f32).is_nan() && (got - want_c).abs() <= 1e-3 * top * c + TINY,
-                    "{what} value {i}: {got:e}, want {want_c:e}"
+                    !(got as f32).is_nan()
+                        && (got - want).abs() <= 1e-6 * want.abs() + samples * ulp,
+                    "{what} value {i}: {got:e}, want {want:e} (the rounded samples' answer)"
                 );
-            } else {
-                let tol = if exact { tol_value } else { tol_value + 2.0 * spread_values[i] };
-                check(got as f32, want_c, tol, &format!("{what} value {i}"));
+            }
+        } else {
+            let tol_value = if exact { 1e-6 } else { 1e-5 };
+            assert_eq!(got_decisions, decisions, "{what}: decisions");
+            for (i, (&got, &want)) in vq.iter().zip(&values).enumerate() {
+                // Values near zero are as accurate as the others in absolute terms.
+                let want_c = want * c;
+                if (want.abs() / top) < 1e-3 {
+                    assert!(
+                        !(got as f32).is_nan() && (got - want_c).abs() <= 1e-3 * top * c + TINY,
+                        "{what} value {i}: {got:e}, want {want_c:e}"
+                    );
+                } else {
+                    let tol = if exact { tol_value } else { tol_value + 2.0 * spread_values[i] };
+                    check(got as f32, want_c, tol, &format!("{what} value {i}"));
+                }
             }
         }
+        // Variances scale as c², which is below f32's range at every sub-normal scale here.
+        let tol_variance = match (exact, subnormal) {
+            (_, true) => 1e-2,
+            (true, false) => 1e-6,
+            (false, false) => 1e-4,
+        };
         for (i, (&got, &want)) in wq.iter().zip(&variances).enumerate() {
             let tol = if exact { tol_variance } else { tol_variance + 2.0 * spread_variances[i] };
             check_variance(got as f32, want * c * c, tol, &format!("{what} variance {i}"));
