@@ -335,20 +335,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         pooled: f32,
         magnitude: Option<&[f32; K]>,
     ) -> Fit<K> {
-        // Work relative to a power of two 2ᵉ near the largest whitened reading (or the
-        // absolute noise, if larger): every statistic below is then free of the units.
-        let mut top = 0.0f32;
-        for i in 0..K {
-            top = top.max(y[i].abs() * self.whitening[i]);
-        }
-        // A combination's relative noise may dwarf its readings (channels that cancel): the
-        // unit covers it too, so that the noise stays within f32 in working units.
-        if let Some(m) = magnitude {
-            for i in 0..K {
-                top = top.max((self.noise.relative * m[i] * self.whitening[i]).min(f32::MAX));
-            }
-        }
-        let Some(e) = binade(top).map(|e| e + exponent).max(binade(self.absolute)) else {
+        let Some(units) = self.working_unit(y, exponent, magnitude) else {
             // Every reading 0 without noise: an exact fit of zero.
             return Fit {
                 alpha: [0.0; K],
@@ -361,185 +348,18 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
                 log_likelihood: f32::INFINITY,
             };
         };
-        let e = e.clamp(-149, 127);
-        // 2ᵉ and 2⁻ᵉ are normal numbers for every e but the subnormal range's.
-        let (unit, inv) = if e >= -126 {
-            let unit = libm::scalbnf(1.0, e);
-            (unit, 1.0 / unit)
-        } else {
-            (libm::scalbnf(1.0, e), 0.0)
-        };
-        let to_working = |v: f32| if inv != 0.0 { v * inv } else { libm::scalbnf(v, -e) };
-        // Values in units of 2^exponent (exactly the raw ones for exponent 0).
-        let from_units =
-            |v: f32| if exponent == 0 { to_working(v) } else { libm::scalbnf(v, exponent - e) };
-        let yw: [f32; K] = core::array::from_fn(|i| from_units(y[i] * self.whitening[i]));
+        let yw: [f32; K] = core::array::from_fn(|i| units.of_readings(y[i] * self.whitening[i]));
         let z = project(&self.vectors, &yw);
-        // Whitened noise variances ν_i = σ² + η²·(m_i/w_i)², and their mean ν̄ for the scale
-        // and the variances.
-        let sigma = to_working(self.absolute);
-        let absolute = sigma * sigma / pooled;
-        let eta = self.noise.relative;
-        let eta2 = eta * eta / pooled;
-        let nus: [f32; K] = match magnitude {
-            None => core::array::from_fn(|i| absolute + eta2 * yw[i] * yw[i]),
-            Some(m) => core::array::from_fn(|i| {
-                // η first: η·mᵢ is within the unit, mᵢ alone may not be (or η = 0, ∞·0).
-                let r = from_units(eta * (m[i] * self.whitening[i]));
-                absolute + r * r / pooled
-            }),
-        };
-        let per_reading = eta2 > 0.0;
+        let nus = self.noise_variances(&units, &yw, pooled, magnitude);
+        let per_reading = self.noise.relative * self.noise.relative / pooled > 0.0;
         let nu = nus.iter().sum::<f32>() / K as f32;
         let p = self.mean_terms;
         let h = &self.basis[0];
-        let lam = &self.values;
-        // REML objective at s (and the GLS pieces).
-        let eval = |s: f32| -> (f32, f32, f32) {
-            // Returns (objective, beta, A = hᵀD⁻¹h).
-            let mut product = LogProduct::ONE;
-            let (mut zz, mut hz, mut hh) = (0.0f32, 0.0f32, 0.0f32);
-            for j in 0..K {
-                let d = s * lam[j] + nu;
-                product = product.times(d);
-                zz += z[j] * z[j] / d;
-                if p == 1 {
-                    hz += h[j] * z[j] / d;
-                    hh += h[j] * h[j] / d;
-                }
-            }
-            let logdet = product.ln();
-            if p == 1 && hh > 0.0 {
-                let beta = hz / hh;
-                (-0.5 * (logdet + math::ln(hh) + zz - hz * beta), beta, hh)
-            } else {
-                (-0.5 * (logdet + zz), 0.0, hh)
-            }
-        };
-        // Without noise the closed form s = r̃ᵀΛ⁻¹r̃/(K − p); with noise, where the search starts.
-        let noiseless = {
-            let (mut zz, mut hz, mut hh) = (0.0f32, 0.0f32, 0.0f32);
-            for j in 0..K {
-                let inv = 1.0 / lam[j];
-                zz += z[j] * z[j] * inv;
-                if p == 1 {
-                    hz += h[j] * z[j] * inv;
-                    hh += h[j] * h[j] * inv;
-                }
-            }
-            // The residual after the mean is a difference known to rounding, ε·r̃ᵀΛ⁻¹r̃ before
-            // the mean: readings that fit the mean exactly leave s at that level, not 0.
-            let q = if p == 1 && hh > 0.0 { zz - hz * hz / hh } else { zz };
-            let q = q.max(f32::EPSILON * zz);
-            // Degrees of freedom: the rank, not K (a duplicate sensor's copy says nothing new).
-            (q / self.rank.saturating_sub(p).max(1) as f32).max(0.0)
-        };
-        let s = if nu == 0.0 {
-            noiseless
-        } else {
-            // The root of the REML score in u = ln s by the Illinois variant of regula falsi:
-            // s·dℓ/ds = −½·s·Σ λ_j/d_j + ½·s·Q′-terms, no logarithms, O(K) per trial.
-            // The REML score, with every `1/d_j` taken as `c/d_j` (`c` the least `d_j`, or 1
-            // where the plain sums stay finite): `s·g·c²` has the sign of `s·dℓ/ds`, and
-            // readings far above a tiny noise (`1/d` near `1/ν`) no longer overflow its sums
-            // to `∞ − ∞`.
-            let score_at = |s: f32, c: f32| -> f32 {
-                let (mut tr, mut zz1, mut a, mut b, mut a1, mut b1) =
-                    (0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32);
-                for j in 0..K {
-                    let inv = c / (s * lam[j] + nu);
-                    let l_inv = lam[j] * inv;
-                    tr += l_inv;
-                    zz1 += z[j] * z[j] * l_inv * inv;
-                    if p == 1 {
-                        a += h[j] * h[j] * inv;
-                        b += h[j] * z[j] * inv;
-                        a1 += h[j] * h[j] * l_inv * inv;
-                        b1 += h[j] * z[j] * l_inv * inv;
-                    }
-                }
-                // dℓ/ds = −½·(Σ λ/d − A′/A·(−1)… ): with A′ = −a1, b′ = −b1,
-                // Q = Σ z²/d − b²/A, Q′ = −zz1 + (2b·b1·A − b²·a1)/A², taken through the GLS
-                // mean t = b/A (A and b reach 1/ν where the mean's direction has no prior
-                // variance: A² and b² would overflow for readings far above the noise).
-                // With the factor c: g·c² = (−tr + a1/a)·c + zz1 − 2t·b1 + t²·a1.
-                let mut linear = -tr;
-                let mut square = zz1;
-                if p == 1 && a > 0.0 {
-                    let t = b / a;
-                    linear += a1 / a;
-                    square += t * t * a1 - 2.0 * t * b1;
-                }
-                0.5 * s * (linear * c + square)
-            };
-            let score = |u: f32| -> f32 {
-                #[cfg(test)]
-                SCORES.with(|c| c.set(c.get() + 1));
-                let s = math::exp_accurate(u);
-                let plain = score_at(s, 1.0);
-                if plain.is_finite() {
-                    return plain;
-                }
-                let least = lam.iter().fold(f32::INFINITY, |c, &l| c.min(s * l + nu));
-                score_at(s, least)
-            };
-            // Noise only lowers the scale: a bracket just below the noiseless one first, and
-            // the wide one about the readings' spread where that fails.
-            let spread = z.iter().map(|v| v * v).sum::<f32>() / lam.iter().sum::<f32>();
-            let centre = math::ln(spread.max(nu * 1e-6).max(1e-30));
-            let start = math::ln(noiseless.max(nu * 1e-6).max(1e-30));
-            let (mut lo, mut hi) = (start - 3.0, start + 0.5);
-            let (mut f_lo, mut f_hi) = (score(lo), score(hi));
-            if f_lo <= 0.0 {
-                (hi, f_hi) = (lo, f_lo);
-                lo = hi.min(centre) - 14.0;
-                f_lo = score(lo);
-            } else if f_hi >= 0.0 {
-                (lo, f_lo) = (hi, f_hi);
-                hi = lo.max(centre) + 6.0;
-                f_hi = score(hi);
-            }
-            let u = if f_lo <= 0.0 {
-                lo
-            } else if f_hi >= 0.0 {
-                hi
-            } else {
-                let mut side = 0i8;
-                let mut u = 0.5 * (lo + hi);
-                for _ in 0..24 {
-                    let previous = u;
-                    u = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
-                    let f = score(u);
-                    if f > 0.0 {
-                        lo = u;
-                        f_lo = f;
-                        if side == 1 {
-                            f_hi *= 0.5;
-                        }
-                        side = 1;
-                    } else {
-                        hi = u;
-                        f_hi = f;
-                        if side == -1 {
-                            f_lo *= 0.5;
-                        }
-                        side = -1;
-                    }
-                    // Converged to f32 resolution: the bracket within a few ulps of u, or a
-                    // step that no longer moves u. (A looser stop made the scale, and through
-                    // it the values, jump with the rounding of the readings.)
-                    let ulps = 4.0 * f32::EPSILON * (1.0 + math::abs(u));
-                    if hi - lo < ulps || (u - previous).abs() < ulps || f == 0.0 {
-                        break;
-                    }
-                }
-                u
-            };
-            math::exp_accurate(u)
-        };
-        let d: [f32; K] = core::array::from_fn(|j| s * lam[j] + nu);
+        let noiseless = self.noiseless_scale(&z);
+        let s = if nu == 0.0 { noiseless } else { self.reml_scale(&z, nu, noiseless) };
+        let d: [f32; K] = core::array::from_fn(|j| s * self.values[j] + nu);
         let (objective, beta, _) = if s > 0.0 || nu > 0.0 {
-            eval(s)
+            self.reml_objective(&z, s, nu)
         } else {
             (
                 f32::INFINITY,
@@ -549,62 +369,34 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         };
         // Of the readings themselves: undo the working unit (each d_j scales by unit², A by
         // 1/unit²) and the whitening.
-        let log_likelihood = objective - (K - p) as f32 * math::ln(unit) + self.log_whitening.ln();
-        // r̃ = z − H̃ᵀβ; α (sensor space) = s·W·V·D⁻¹r̃.
-        let r: [f32; K] = core::array::from_fn(|j| {
-            let rj = z[j] - if p == 1 { h[j] * beta } else { 0.0 };
-            if d[j] > 0.0 {
-                rj / d[j]
-            } else {
-                0.0
-            }
-        });
-        let mut beta = beta;
-        let mut exact = None;
+        let log_likelihood =
+            objective - (K - p) as f32 * math::ln(units.unit) + self.log_whitening.ln();
         // Relative noise differs between sensors: the mean and the weights from the exact
-        // system s·C̃ + diag(ν_i), factored once (the scale and the variances keep ν̄).
-        if per_reading && s > 0.0 {
-            let h_sensor = &self.basis_sensor;
-            // The lower triangle is all the factorization reads; the covariance holds the
-            // model's floor already (`init::lift_floored`).
-            let mut a = [[0.0f32; K]; K];
-            for (i, (row, cov)) in a.iter_mut().zip(&self.covariance).enumerate() {
-                for (x, c) in row[..=i].iter_mut().zip(cov) {
-                    *x = s * c;
-                }
-                row[i] += nus[i];
-            }
-            let mut inverse = [0.0f32; K];
-            if ldl(&mut a, &mut inverse) {
-                // Q = (s·C̃ + diag ν)⁻¹: β = hᵀQy/hᵀQh, and the weights Q(y − βh) = Qy − β·Qh.
-                let solve = |b: &[f32; K]| {
-                    let x = ldl_solve(&a, &inverse, b);
-                    refine(&self.covariance, s, &nus, (&a, &inverse), b, &x)
-                };
-                let mut weights = solve(&yw);
-                if p == 1 {
-                    let qh = solve(h_sensor);
-                    let hqh: f32 = h_sensor.iter().zip(&qh).map(|(x, q)| x * q).sum();
-                    if hqh > 0.0 {
-                        beta = h_sensor.iter().zip(&weights).map(|(x, q)| x * q).sum::<f32>() / hqh;
-                        for i in 0..K {
-                            weights[i] -= beta * qh[i];
-                        }
+        // system s·C̃ + diag(ν_i) (the scale and the variances keep ν̄); otherwise in the
+        // eigenbasis, r̃ = z − H̃ᵀβ and the weights V·D⁻¹r̃.
+        let exact = if per_reading && s > 0.0 { self.exact_weights(&yw, &nus, s) } else { None };
+        let (weights, beta) = match exact {
+            Some((w, exact_beta)) => (w, exact_beta.unwrap_or(beta)),
+            None => {
+                let r: [f32; K] = core::array::from_fn(|j| {
+                    let rj = z[j] - if p == 1 { h[j] * beta } else { 0.0 };
+                    if d[j] > 0.0 {
+                        rj / d[j]
+                    } else {
+                        0.0
                     }
-                }
-                exact = Some(weights);
+                });
+                let weights = core::array::from_fn(|i| {
+                    let mut acc = 0.0f32;
+                    for j in 0..K {
+                        acc += self.vectors[i][j] * r[j];
+                    }
+                    acc
+                });
+                (weights, beta)
             }
-        }
-        let weights = match exact {
-            Some(w) => w,
-            None => core::array::from_fn(|i| {
-                let mut acc = 0.0f32;
-                for j in 0..K {
-                    acc += self.vectors[i][j] * r[j];
-                }
-                acc
-            }),
         };
+        // α (sensor space) = s·W·weights.
         let mut alpha = [0.0f32; K];
         for i in 0..K {
             alpha[i] = s * self.whitening[i] * weights[i];
@@ -615,16 +407,237 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         Fit {
             alpha,
             beta,
-            unit,
+            unit: units.unit,
             scale: s,
             nugget: nu,
-            average_variance: math::ldexp_variance(average.max(0.0) * self.variance_scale, 2 * e),
+            average_variance: math::ldexp_variance(
+                average.max(0.0) * self.variance_scale,
+                2 * units.e,
+            ),
             average_unit_variance: math::ldexp_variance(
                 average_unit.max(0.0) * self.variance_scale,
                 self.spectrum_exponent,
             ),
             log_likelihood,
         }
+    }
+
+    /// The working unit: a power of two 2ᵉ near the largest whitened reading (or the absolute
+    /// noise, if larger), relative to which every statistic of the fit is free of the units;
+    /// `None` for readings all 0 without noise.
+    fn working_unit(
+        &self,
+        y: &[f32; K],
+        exponent: i32,
+        magnitude: Option<&[f32; K]>,
+    ) -> Option<WorkingUnit> {
+        let mut top = 0.0f32;
+        for i in 0..K {
+            top = top.max(y[i].abs() * self.whitening[i]);
+        }
+        // A combination's relative noise may dwarf its readings (channels that cancel): the
+        // unit covers it too, so that the noise stays within f32 in working units.
+        if let Some(m) = magnitude {
+            for i in 0..K {
+                top = top.max((self.noise.relative * m[i] * self.whitening[i]).min(f32::MAX));
+            }
+        }
+        let e = binade(top).map(|e| e + exponent).max(binade(self.absolute))?;
+        let e = e.clamp(-149, 127);
+        // 2ᵉ and 2⁻ᵉ are normal numbers for every e but the subnormal range's.
+        let (unit, inv) = if e >= -126 {
+            let unit = libm::scalbnf(1.0, e);
+            (unit, 1.0 / unit)
+        } else {
+            (libm::scalbnf(1.0, e), 0.0)
+        };
+        Some(WorkingUnit { e, unit, inv, exponent })
+    }
+
+    /// Whitened noise variances in working units, `νᵢ = σ² + η²·(mᵢ/wᵢ)²`, divided by `pooled`.
+    fn noise_variances(
+        &self,
+        units: &WorkingUnit,
+        yw: &[f32; K],
+        pooled: f32,
+        magnitude: Option<&[f32; K]>,
+    ) -> [f32; K] {
+        let sigma = units.of(self.absolute);
+        let absolute = sigma * sigma / pooled;
+        let eta = self.noise.relative;
+        let eta2 = eta * eta / pooled;
+        match magnitude {
+            None => core::array::from_fn(|i| absolute + eta2 * yw[i] * yw[i]),
+            Some(m) => core::array::from_fn(|i| {
+                // η first: η·mᵢ is within the unit, mᵢ alone may not be (or η = 0, ∞·0).
+                let r = units.of_readings(eta * (m[i] * self.whitening[i]));
+                absolute + r * r / pooled
+            }),
+        }
+    }
+
+    /// The REML objective at scale `s` and mean noise `ν` for the projected readings `z`:
+    /// (objective, GLS mean β, `A = hᵀD⁻¹h`).
+    fn reml_objective(&self, z: &[f32; K], s: f32, nu: f32) -> (f32, f32, f32) {
+        let (p, h, lam) = (self.mean_terms, &self.basis[0], &self.values);
+        let mut product = LogProduct::ONE;
+        let (mut zz, mut hz, mut hh) = (0.0f32, 0.0f32, 0.0f32);
+        for j in 0..K {
+            let d = s * lam[j] + nu;
+            product = product.times(d);
+            zz += z[j] * z[j] / d;
+            if p == 1 {
+                hz += h[j] * z[j] / d;
+                hh += h[j] * h[j] / d;
+            }
+        }
+        let logdet = product.ln();
+        if p == 1 && hh > 0.0 {
+            let beta = hz / hh;
+            (-0.5 * (logdet + math::ln(hh) + zz - hz * beta), beta, hh)
+        } else {
+            (-0.5 * (logdet + zz), 0.0, hh)
+        }
+    }
+
+    /// The scale without noise, the closed form `s = r̃ᵀΛ⁻¹r̃/(K − p)`; with noise, where the
+    /// search starts.
+    fn noiseless_scale(&self, z: &[f32; K]) -> f32 {
+        let (p, h, lam) = (self.mean_terms, &self.basis[0], &self.values);
+        let (mut zz, mut hz, mut hh) = (0.0f32, 0.0f32, 0.0f32);
+        for j in 0..K {
+            let inv = 1.0 / lam[j];
+            zz += z[j] * z[j] * inv;
+            if p == 1 {
+                hz += h[j] * z[j] * inv;
+                hh += h[j] * h[j] * inv;
+            }
+        }
+        // The residual after the mean is a difference known to rounding, ε·r̃ᵀΛ⁻¹r̃ before
+        // the mean: readings that fit the mean exactly leave s at that level, not 0.
+        let q = if p == 1 && hh > 0.0 { zz - hz * hz / hh } else { zz };
+        let q = q.max(f32::EPSILON * zz);
+        // Degrees of freedom: the rank, not K (a duplicate sensor's copy says nothing new).
+        (q / self.rank.saturating_sub(p).max(1) as f32).max(0.0)
+    }
+
+    /// The REML score `s·dℓ/ds` at `s` with every `1/d_j` taken as `c/d_j` (`c` the least
+    /// `d_j`, or 1 where the plain sums stay finite): `s·g·c²` has the sign of `s·dℓ/ds`, and
+    /// readings far above a tiny noise (`1/d` near `1/ν`) no longer overflow its sums to
+    /// `∞ − ∞`. No logarithms, O(K).
+    fn reml_score(&self, z: &[f32; K], nu: f32, s: f32, c: f32) -> f32 {
+        let (p, h, lam) = (self.mean_terms, &self.basis[0], &self.values);
+        let (mut tr, mut zz1, mut a, mut b, mut a1, mut b1) =
+            (0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32);
+        for j in 0..K {
+            let inv = c / (s * lam[j] + nu);
+            let l_inv = lam[j] * inv;
+            tr += l_inv;
+            zz1 += z[j] * z[j] * l_inv * inv;
+            if p == 1 {
+                a += h[j] * h[j] * inv;
+                b += h[j] * z[j] * inv;
+                a1 += h[j] * h[j] * l_inv * inv;
+                b1 += h[j] * z[j] * l_inv * inv;
+            }
+        }
+        // dℓ/ds = −½·(Σ λ/d − A′/A·(−1)… ): with A′ = −a1, b′ = −b1,
+        // Q = Σ z²/d − b²/A, Q′ = −zz1 + (2b·b1·A − b²·a1)/A², taken through the GLS
+        // mean t = b/A (A and b reach 1/ν where the mean's direction has no prior
+        // variance: A² and b² would overflow for readings far above the noise).
+        // With the factor c: g·c² = (−tr + a1/a)·c + zz1 − 2t·b1 + t²·a1.
+        let mut linear = -tr;
+        let mut square = zz1;
+        if p == 1 && a > 0.0 {
+            let t = b / a;
+            linear += a1 / a;
+            square += t * t * a1 - 2.0 * t * b1;
+        }
+        0.5 * s * (linear * c + square)
+    }
+
+    /// The scale with noise `ν > 0`: the root of the REML score in `u = ln s` by the Illinois
+    /// variant of regula falsi, from a bracket about the noiseless scale.
+    fn reml_scale(&self, z: &[f32; K], nu: f32, noiseless: f32) -> f32 {
+        let lam = &self.values;
+        let score = |u: f32| -> f32 {
+            #[cfg(test)]
+            SCORES.with(|c| c.set(c.get() + 1));
+            let s = math::exp_accurate(u);
+            let plain = self.reml_score(z, nu, s, 1.0);
+            if plain.is_finite() {
+                return plain;
+            }
+            let least = lam.iter().fold(f32::INFINITY, |c, &l| c.min(s * l + nu));
+            self.reml_score(z, nu, s, least)
+        };
+        // Noise only lowers the scale: a bracket just below the noiseless one first, and
+        // the wide one about the readings' spread where that fails.
+        let spread = z.iter().map(|v| v * v).sum::<f32>() / lam.iter().sum::<f32>();
+        let centre = math::ln(spread.max(nu * 1e-6).max(1e-30));
+        let start = math::ln(noiseless.max(nu * 1e-6).max(1e-30));
+        let (mut lo, mut hi) = (start - 3.0, start + 0.5);
+        let (mut f_lo, mut f_hi) = (score(lo), score(hi));
+        if f_lo <= 0.0 {
+            (hi, f_hi) = (lo, f_lo);
+            lo = hi.min(centre) - 14.0;
+            f_lo = score(lo);
+        } else if f_hi >= 0.0 {
+            (lo, f_lo) = (hi, f_hi);
+            hi = lo.max(centre) + 6.0;
+            f_hi = score(hi);
+        }
+        let u = if f_lo <= 0.0 {
+            lo
+        } else if f_hi >= 0.0 {
+            hi
+        } else {
+            illinois(score, (lo, f_lo), (hi, f_hi))
+        };
+        math::exp_accurate(u)
+    }
+
+    /// With a relative noise: the weights `Q(y − βh)` and, with a mean term, the GLS mean
+    /// `β = hᵀQy/hᵀQh` of the exact system `Q = (s·C̃ + diag νᵢ)⁻¹`, factored once and each
+    /// solve refined once; `None` where the factorization fails.
+    fn exact_weights(
+        &self,
+        yw: &[f32; K],
+        nus: &[f32; K],
+        s: f32,
+    ) -> Option<([f32; K], Option<f32>)> {
+        let h_sensor = &self.basis_sensor;
+        // The lower triangle is all the factorization reads; the covariance holds the
+        // model's floor already (`init::lift_floored`).
+        let mut a = [[0.0f32; K]; K];
+        for (i, (row, cov)) in a.iter_mut().zip(&self.covariance).enumerate() {
+            for (x, c) in row[..=i].iter_mut().zip(cov) {
+                *x = s * c;
+            }
+            row[i] += nus[i];
+        }
+        let mut inverse = [0.0f32; K];
+        if !ldl(&mut a, &mut inverse) {
+            return None;
+        }
+        let solve = |b: &[f32; K]| {
+            let x = ldl_solve(&a, &inverse, b);
+            refine(&self.covariance, s, nus, (&a, &inverse), b, &x)
+        };
+        let mut weights = solve(yw);
+        let mut beta = None;
+        if self.mean_terms == 1 {
+            let qh = solve(h_sensor);
+            let hqh: f32 = h_sensor.iter().zip(&qh).map(|(x, q)| x * q).sum();
+            if hqh > 0.0 {
+                let b = h_sensor.iter().zip(&weights).map(|(x, q)| x * q).sum::<f32>() / hqh;
+                for i in 0..K {
+                    weights[i] -= b * qh[i];
+                }
+                beta = Some(b);
+            }
+        }
+        Some((weights, beta))
     }
 
     /// The direction average of the posterior variance for `s = 1` at the noise ratio `ν/s`
@@ -699,6 +712,73 @@ extern crate std;
 std::thread_local! {
     /// Calls of the REML score (a cost measure for the tests).
     pub(super) static SCORES: core::cell::Cell<usize> = const { core::cell::Cell::new(0) };
+}
+
+/// A fit's working unit `2ᵉ`, and the readings' unit `2^exponent`.
+struct WorkingUnit {
+    e: i32,
+    unit: f32,
+    /// `2⁻ᵉ`, or 0 where it is not a normal number.
+    inv: f32,
+    exponent: i32,
+}
+
+impl WorkingUnit {
+    /// A value in working units.
+    fn of(&self, v: f32) -> f32 {
+        if self.inv != 0.0 {
+            v * self.inv
+        } else {
+            libm::scalbnf(v, -self.e)
+        }
+    }
+
+    /// A value in the readings' units, in working units (exactly [`Self::of`] for exponent 0).
+    fn of_readings(&self, v: f32) -> f32 {
+        if self.exponent == 0 {
+            self.of(v)
+        } else {
+            libm::scalbnf(v, self.exponent - self.e)
+        }
+    }
+}
+
+/// The root of `f` in `[lo, hi]` (`f(lo) > 0 > f(hi)`) by the Illinois variant of regula
+/// falsi, to f32 resolution: the bracket within a few ulps of the root, or a step that no
+/// longer moves it (a looser stop made the scale, and through it the values, jump with the
+/// rounding of the readings); at most 24 steps.
+fn illinois(
+    f: impl Fn(f32) -> f32,
+    (mut lo, mut f_lo): (f32, f32),
+    (mut hi, mut f_hi): (f32, f32),
+) -> f32 {
+    let mut side = 0i8;
+    let mut u = 0.5 * (lo + hi);
+    for _ in 0..24 {
+        let previous = u;
+        u = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+        let fu = f(u);
+        if fu > 0.0 {
+            lo = u;
+            f_lo = fu;
+            if side == 1 {
+                f_hi *= 0.5;
+            }
+            side = 1;
+        } else {
+            hi = u;
+            f_hi = fu;
+            if side == -1 {
+                f_lo *= 0.5;
+            }
+            side = -1;
+        }
+        let ulps = 4.0 * f32::EPSILON * (1.0 + math::abs(u));
+        if hi - lo < ulps || (u - previous).abs() < ulps || fu == 0.0 {
+            break;
+        }
+    }
+    u
 }
 
 struct Fit<const K: usize> {
