@@ -257,95 +257,9 @@ pub(super) const fn symmetric_eigen<const K: usize>(
         v[i][i] = 1.0;
         i += 1;
     }
-    // Householder: for column k, the unit u with (I − 2uuᵀ)·a[k+1.., k] = (α, 0, …, 0). On the
-    // trailing block B (rows and columns k+1..): p = Bu, w = p − (uᵀp)u, and
-    // (I − 2uuᵀ)B(I − 2uuᵀ) = B − 2uwᵀ − 2wuᵀ. V gathers the reflections from the right.
     let mut k = 0;
     while k + 2 < K {
-        let mut scale = 0.0f32;
-        let mut r = k + 1;
-        while r < K {
-            scale += absolute(a[r][k]);
-            r += 1;
-        }
-        if scale > 0.0 {
-            let mut u = [0.0f32; K];
-            let mut norm = 0.0f32;
-            let mut r = k + 1;
-            while r < K {
-                u[r] = a[r][k] / scale;
-                norm += u[r] * u[r];
-                r += 1;
-            }
-            let length = square_root(norm);
-            // α takes the sign opposite to the first entry, so u₀ = x₀ − α does not cancel.
-            let alpha = if u[k + 1] > 0.0 { -length } else { length };
-            u[k + 1] -= alpha;
-            // |u|² = |x|² − 2αx₀ + α² = 2(|x|² − αx₀).
-            let u_norm = square_root(2.0 * (norm - alpha * (u[k + 1] + alpha)));
-            if u_norm > 0.0 {
-                let mut r = k + 1;
-                while r < K {
-                    u[r] /= u_norm;
-                    r += 1;
-                }
-                let mut p = [0.0f32; K];
-                let mut up = 0.0f32;
-                let mut r = k + 1;
-                while r < K {
-                    let mut c = k + 1;
-                    let mut acc = 0.0f32;
-                    while c < K {
-                        acc += a[r][c] * u[c];
-                        c += 1;
-                    }
-                    p[r] = acc;
-                    up += u[r] * acc;
-                    r += 1;
-                }
-                let mut r = k + 1;
-                while r < K {
-                    p[r] -= up * u[r];
-                    r += 1;
-                }
-                let mut r = k + 1;
-                while r < K {
-                    let mut c = k + 1;
-                    while c <= r {
-                        let x = a[r][c] - 2.0 * (u[r] * p[c] + p[r] * u[c]);
-                        a[r][c] = x;
-                        a[c][r] = x;
-                        c += 1;
-                    }
-                    r += 1;
-                }
-                // The column below the subdiagonal becomes (α·scale, 0, …).
-                a[k + 1][k] = alpha * scale;
-                a[k][k + 1] = alpha * scale;
-                let mut r = k + 2;
-                while r < K {
-                    a[r][k] = 0.0;
-                    a[k][r] = 0.0;
-                    r += 1;
-                }
-                // V ← V(I − 2uuᵀ).
-                let mut row = 0;
-                while row < K {
-                    let mut dot = 0.0f32;
-                    let mut c = k + 1;
-                    while c < K {
-                        dot += v[row][c] * u[c];
-                        c += 1;
-                    }
-                    let mut c = k + 1;
-                    while c < K {
-                        v[row][c] -= 2.0 * dot * u[c];
-                        c += 1;
-                    }
-                    row += 1;
-                }
-            }
-        }
+        reflect_column(&mut a, &mut v, k);
         k += 1;
     }
     // The tridiagonal matrix: diagonal d, off-diagonal e[i] between i and i + 1.
@@ -359,11 +273,112 @@ pub(super) const fn symmetric_eigen<const K: usize>(
         }
         i += 1;
     }
-    // Implicit QL: deflate from the top. For each l, chase the bulge of a shifted QL step
-    // through rows m − 1 … l by Givens rotations until e[l] is negligible: against its
-    // neighbours on the diagonal, or against the matrix (a cluster of eigenvalues at zero,
-    // from duplicate sensors, has neighbours of the order of rounding and would never
-    // deflate on the relative test alone).
+    implicit_ql(&mut d, &mut e, &mut v);
+    // One cyclic Jacobi sweep on VᵀAV restores the small eigenvalues' relative accuracy that
+    // the reflections' rounding (of the order of ε·|A|) took.
+    let b = congruence(&v, &original);
+    jacobi_sweeps(b, v, 1)
+}
+
+/// One Householder step on column `k`: the unit u with (I − 2uuᵀ)·a[k+1.., k] = (α, 0, …, 0).
+/// On the trailing block B (rows and columns k+1..): p = Bu, w = p − (uᵀp)u, and
+/// (I − 2uuᵀ)B(I − 2uuᵀ) = B − 2uwᵀ − 2wuᵀ. `v` gathers the reflection from the right.
+const fn reflect_column<const K: usize>(a: &mut [[f32; K]; K], v: &mut [[f32; K]; K], k: usize) {
+    let mut scale = 0.0f32;
+    let mut r = k + 1;
+    while r < K {
+        scale += absolute(a[r][k]);
+        r += 1;
+    }
+    if !(scale > 0.0) {
+        return;
+    }
+    let mut u = [0.0f32; K];
+    let mut norm = 0.0f32;
+    let mut r = k + 1;
+    while r < K {
+        u[r] = a[r][k] / scale;
+        norm += u[r] * u[r];
+        r += 1;
+    }
+    let length = square_root(norm);
+    // α takes the sign opposite to the first entry, so u₀ = x₀ − α does not cancel.
+    let alpha = if u[k + 1] > 0.0 { -length } else { length };
+    u[k + 1] -= alpha;
+    // |u|² = |x|² − 2αx₀ + α² = 2(|x|² − αx₀).
+    let u_norm = square_root(2.0 * (norm - alpha * (u[k + 1] + alpha)));
+    if !(u_norm > 0.0) {
+        return;
+    }
+    let mut r = k + 1;
+    while r < K {
+        u[r] /= u_norm;
+        r += 1;
+    }
+    let mut p = [0.0f32; K];
+    let mut up = 0.0f32;
+    let mut r = k + 1;
+    while r < K {
+        let mut c = k + 1;
+        let mut acc = 0.0f32;
+        while c < K {
+            acc += a[r][c] * u[c];
+            c += 1;
+        }
+        p[r] = acc;
+        up += u[r] * acc;
+        r += 1;
+    }
+    let mut r = k + 1;
+    while r < K {
+        p[r] -= up * u[r];
+        r += 1;
+    }
+    let mut r = k + 1;
+    while r < K {
+        let mut c = k + 1;
+        while c <= r {
+            let x = a[r][c] - 2.0 * (u[r] * p[c] + p[r] * u[c]);
+            a[r][c] = x;
+            a[c][r] = x;
+            c += 1;
+        }
+        r += 1;
+    }
+    // The column below the subdiagonal becomes (α·scale, 0, …).
+    a[k + 1][k] = alpha * scale;
+    a[k][k + 1] = alpha * scale;
+    let mut r = k + 2;
+    while r < K {
+        a[r][k] = 0.0;
+        a[k][r] = 0.0;
+        r += 1;
+    }
+    // V ← V(I − 2uuᵀ).
+    let mut row = 0;
+    while row < K {
+        let mut dot = 0.0f32;
+        let mut c = k + 1;
+        while c < K {
+            dot += v[row][c] * u[c];
+            c += 1;
+        }
+        let mut c = k + 1;
+        while c < K {
+            v[row][c] -= 2.0 * dot * u[c];
+            c += 1;
+        }
+        row += 1;
+    }
+}
+
+/// Implicit QL on the tridiagonal matrix of diagonal `d` and off-diagonal `e`, rotating the
+/// columns of `v`: `d` becomes the eigenvalues. Deflates from the top: for each l, chases the
+/// bulge of a shifted QL step through rows m − 1 … l by Givens rotations until e[l] is
+/// negligible: against its neighbours on the diagonal, or against the matrix (a cluster of
+/// eigenvalues at zero, from duplicate sensors, has neighbours of the order of rounding and
+/// would never deflate on the relative test alone). At most 40 steps per eigenvalue.
+const fn implicit_ql<const K: usize>(d: &mut [f32; K], e: &mut [f32; K], v: &mut [[f32; K]; K]) {
     let mut norm = 0.0f32;
     let mut i = 0;
     while i < K {
@@ -391,55 +406,58 @@ pub(super) const fn symmetric_eigen<const K: usize>(
                 break;
             }
             iterations += 1;
-            // Wilkinson's shift: the eigenvalue of the leading 2×2 block nearer d[l].
-            let g = (d[l + 1] - d[l]) / (2.0 * e[l]);
-            let r = hypotenuse(g, 1.0);
-            let root = if g < 0.0 { g - r } else { g + r };
-            let mut g = d[m] - d[l] + e[l] / root;
-            let (mut s, mut c, mut p) = (1.0f32, 1.0f32, 0.0f32);
-            let mut underflow = false;
-            let mut i = m;
-            while i > l {
-                i -= 1;
-                let f = s * e[i];
-                let b = c * e[i];
-                let r = hypotenuse(f, g);
-                e[i + 1] = r;
-                if r == 0.0 {
-                    // The rotation vanished: split the matrix here and restart.
-                    d[i + 1] -= p;
-                    e[m] = 0.0;
-                    underflow = true;
-                    break;
-                }
-                s = f / r;
-                c = g / r;
-                let h = d[i + 1] - p;
-                let t = (d[i] - h) * s + 2.0 * c * b;
-                p = s * t;
-                d[i + 1] = h + p;
-                g = c * t - b;
-                let mut row = 0;
-                while row < K {
-                    let x = v[row][i + 1];
-                    v[row][i + 1] = s * v[row][i] + c * x;
-                    v[row][i] = c * v[row][i] - s * x;
-                    row += 1;
-                }
-            }
-            if underflow {
-                continue;
-            }
-            d[l] -= p;
-            e[l] = g;
-            e[m] = 0.0;
+            ql_step(d, e, v, l, m);
         }
         l += 1;
     }
-    // One cyclic Jacobi sweep on VᵀAV restores the small eigenvalues' relative accuracy that
-    // the reflections' rounding (of the order of ε·|A|) took.
-    let b = congruence(&v, &original);
-    jacobi_sweeps(b, v, 1)
+}
+
+/// One implicit QL step with Wilkinson's shift on rows `l..=m`; where a rotation vanishes,
+/// the matrix splits there (the caller restarts).
+const fn ql_step<const K: usize>(
+    d: &mut [f32; K],
+    e: &mut [f32; K],
+    v: &mut [[f32; K]; K],
+    l: usize,
+    m: usize,
+) {
+    // Wilkinson's shift: the eigenvalue of the leading 2×2 block nearer d[l].
+    let g = (d[l + 1] - d[l]) / (2.0 * e[l]);
+    let r = hypotenuse(g, 1.0);
+    let root = if g < 0.0 { g - r } else { g + r };
+    let mut g = d[m] - d[l] + e[l] / root;
+    let (mut s, mut c, mut p) = (1.0f32, 1.0f32, 0.0f32);
+    let mut i = m;
+    while i > l {
+        i -= 1;
+        let f = s * e[i];
+        let b = c * e[i];
+        let r = hypotenuse(f, g);
+        e[i + 1] = r;
+        if r == 0.0 {
+            // The rotation vanished: split the matrix here.
+            d[i + 1] -= p;
+            e[m] = 0.0;
+            return;
+        }
+        s = f / r;
+        c = g / r;
+        let h = d[i + 1] - p;
+        let t = (d[i] - h) * s + 2.0 * c * b;
+        p = s * t;
+        d[i + 1] = h + p;
+        g = c * t - b;
+        let mut row = 0;
+        while row < K {
+            let x = v[row][i + 1];
+            v[row][i + 1] = s * v[row][i] + c * x;
+            v[row][i] = c * v[row][i] - s * x;
+            row += 1;
+        }
+    }
+    d[l] -= p;
+    e[l] = g;
+    e[m] = 0.0;
 }
 
 /// Cyclic Jacobi sweeps on a symmetric `a`, rotating the columns of `v` with it (at most
