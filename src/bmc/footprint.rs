@@ -510,9 +510,8 @@ where
         let set = Self::SET;
         let (node, [alpha, beta]) = Self::rows(normal, mirror)?;
         let nuggets = &crate::tables::FOOTPRINT_NUGGETS;
-        let (k, lengths) = (set.k, set.lengths);
-        let models = lengths * nuggets.len();
-        if models == 0 || models > MAX_MODELS || k == 0 || k > N {
+        let models = set.lengths * nuggets.len();
+        if models == 0 || models > MAX_MODELS || set.k == 0 || set.k > N {
             return Err(Error::Internal);
         }
         // (More channels than MAX_CHANNELS do not compile: `estimate` checks the type.)
@@ -520,112 +519,33 @@ where
         if channels > MAX_CHANNELS {
             return Err(Error::Internal);
         }
-        // A per-node table entry, interpolated as the weights are.
-        let at = |table: &'static [u32], width: usize, i: usize| -> Result<f32, Error> {
-            let get = |n: usize| table.get(n * width + i).map(|&b| f32::from_bits(b));
-            let a = get(node).ok_or(Error::Internal)?;
-            let b = if beta == 0.0 { a } else { get(node + 1).ok_or(Error::Internal)? };
-            Ok(alpha * a + beta * b)
-        };
-        // The weights' error variance under each model: a_l + σ′²·|w|².
-        let norm = at(set.weight_norm, 1, 0)?;
-        let mut unit = [0.0f32; MAX_MODELS];
-        for (li, row) in unit.chunks_exact_mut(nuggets.len()).take(lengths).enumerate() {
-            let a = at(set.residual, lengths, li)?.max(0.0);
-            for (u, &s2) in row.iter_mut().zip(nuggets) {
-                *u = a + f32::from_bits(s2) * norm;
-            }
-        }
+        let unit = Self::model_errors(node, alpha, beta)?;
         let mut w = [0.0f32; N];
         self.weights_at(normal, mirror, &mut w)?;
         let interpolation =
             |i: usize| set.interpolation.get(2 * node + i).map_or(0.0, |&b| f32::from_bits(b));
         // Linear interpolation's error grows as 4αβ from the nodes to the midpoint.
         let shape = 4.0 * alpha * beta;
-        let (mass_error, norm_error) = if beta == 0.0 {
+        let errors = if beta == 0.0 {
             (0.0, 0.0)
         } else {
             (shape * interpolation(0), shape * interpolation(1))
         };
         // Per channel and model: σ̂² of the centred channel scaled to max |y − ȳ| = 1, and the
-        // log likelihood, pooled over the channels. Each channel is first divided by the power
-        // of two `2^k` at its largest |y| (exact), so that nothing below depends on the units:
-        // the variance is multiplied by `2^2k` last.
+        // log likelihood, pooled over the channels.
         let mut log_lik = [0.0f32; MAX_MODELS];
         let mut signal = [[0.0f32; MAX_MODELS]; MAX_CHANNELS];
-        let mut scales = [0.0f32; MAX_CHANNELS];
-        let mut numeric = [0.0f32; MAX_CHANNELS];
-        let mut binades = [0i32; MAX_CHANNELS];
-        let mut lookup_noise = [0.0f32; MAX_CHANNELS];
-        for (c, ((((signal, scale), numeric), binade), lookup)) in signal
-            .iter_mut()
-            .zip(&mut scales)
-            .zip(&mut numeric)
-            .zip(&mut binades)
-            .zip(&mut lookup_noise)
-            .take(channels)
-            .enumerate()
-        {
-            *binade = scaled::channel_binade(lookups, c);
-            let y: [f32; N] = core::array::from_fn(|j| {
-                lookups.get(j).map_or(0.0, |y| math::ldexp(y.channel(c), -*binade))
-            });
-            // Centred (the contrasts ignore constants; centring makes a constant channel's
-            // contrasts exactly 0) and scaled to max |y − ȳ| = 1.
-            let mean = y.iter().sum::<f32>() / N as f32;
-            let top = y.iter().fold(0.0f32, |m, &y| m.max(math::abs(y - mean)));
-            *scale = top;
-            // The arithmetic's own error, apart from the model: f32 rounding of the weights and
-            // the sum, about (√N + 1)·2⁻²⁴·Σ|wⱼyⱼ|, and the interpolation between the θₙ nodes,
-            // about |Σδw|·|ȳ| + |δw|₂·max|y − ȳ| (δw measured at the interval's midpoint).
-            let sum_abs: f32 = y.iter().zip(&w).map(|(&y, w)| math::abs(w * y)).sum();
-            let rounding = (math::sqrt(N as f32) + 1.0) * f32::EPSILON * 0.5 * sum_abs;
-            let interp = mass_error * math::abs(mean) + norm_error * top;
-            *numeric = rounding * rounding + interp * interp;
-            *lookup = self.relative_lookup_noise(&y, &w);
-            if top == 0.0 {
-                continue;
-            }
-            let inv = 1.0 / top;
-            // t = Aᵀ(y − ȳ)/top.
-            let mut t = [0.0f32; N];
-            let contrasts = set.contrasts.get(..N * k).ok_or(Error::Internal)?;
-            for (&y, row) in y.iter().zip(contrasts.chunks_exact(k)) {
-                let y = (y - mean) * inv;
-                for (tj, &a) in t.iter_mut().zip(row) {
-                    *tj += f32::from_bits(a) * y;
-                }
-            }
-            let t = t.get(..k).ok_or(Error::Internal)?;
-            let vectors = set.eigenvectors.get(..lengths * k * k).ok_or(Error::Internal)?;
-            let values = set.eigenvalues.get(..lengths * k).ok_or(Error::Internal)?;
-            let log_det = set.log_det.get(..models).ok_or(Error::Internal)?;
-            let blocks = vectors.chunks_exact(k * k).zip(values.chunks_exact(k));
-            let per_length =
-                signal.chunks_exact_mut(nuggets.len()).zip(log_lik.chunks_exact_mut(nuggets.len()));
-            for (((vectors, values), (signal, log_lik)), log_det) in
-                blocks.zip(per_length).zip(log_det.chunks_exact(nuggets.len()))
-            {
-                // v = Wᵀt in the eigenbasis of AᵀK_lA.
-                let mut v = [0.0f32; N];
-                for (&ti, row) in t.iter().zip(vectors.chunks_exact(k)) {
-                    for (vj, &e) in v.iter_mut().zip(row) {
-                        *vj += f32::from_bits(e) * ti;
-                    }
-                }
-                for (((s, ll), &d), &s2) in signal.iter_mut().zip(log_lik).zip(log_det).zip(nuggets)
-                {
-                    let s2 = f32::from_bits(s2);
-                    let q: f32 = v
-                        .iter()
-                        .zip(values)
-                        .map(|(&v, &lam)| v * v / (f32::from_bits(lam) + s2))
-                        .sum();
-                    *s = q / k as f32;
-                    if *s > 0.0 {
-                        *ll += -0.5 * k as f32 * math::ln(*s) - 0.5 * f32::from_bits(d);
-                    }
-                }
+        let mut stats = [ChannelStats::ZERO; MAX_CHANNELS];
+        for (c, (signal, stats)) in signal.iter_mut().zip(&mut stats).take(channels).enumerate() {
+            let y;
+            (y, *stats) = self.channel_stats(lookups, c, &w, errors);
+            if stats.scale > 0.0 {
+                let t = Self::contrasts(&y, stats.mean, 1.0 / stats.scale)?;
+                Self::accumulate_models(
+                    t.get(..set.k).ok_or(Error::Internal)?,
+                    signal,
+                    &mut log_lik,
+                )?;
             }
         }
         let log_lik = log_lik.get(..models).ok_or(Error::Internal)?;
@@ -642,24 +562,150 @@ where
         let unit_variance = f2 * unit_best;
         let absolute = self.absolute_lookup_noise(&w);
         let variance = from_channels::<T>(|c| {
-            let (Some(signal), Some(&scale), Some(&numeric), Some(&binade), Some(&lookup)) =
-                (signal.get(c), scales.get(c), numeric.get(c), binades.get(c), lookup_noise.get(c))
-            else {
+            let (Some(signal), Some(stats)) = (signal.get(c), stats.get(c)) else {
                 return 0.0;
             };
-            let normalised = if scale == 0.0 {
-                f2 * numeric
+            let normalised = if stats.scale == 0.0 {
+                f2 * stats.numeric
             } else {
                 let s = signal.get(best).copied().unwrap_or(0.0);
-                f2 * (s * unit_best * scale * scale + numeric)
+                f2 * (s * unit_best * stats.scale * stats.scale + stats.numeric)
             };
-            if lookup == 0.0 && absolute == 0.0 {
-                return math::ldexp_variance(normalised, 2 * binade);
+            if stats.lookup == 0.0 && absolute == 0.0 {
+                return math::ldexp_variance(normalised, 2 * stats.binade);
             }
-            math::ldexp_variance(normalised + lookup, 2 * binade) + absolute
+            math::ldexp_variance(normalised + stats.lookup, 2 * stats.binade) + absolute
         });
         Ok(Estimate { value, variance, unit_variance: Some(unit_variance) })
     }
+
+    /// The weights' error variance under each model (length, then nugget): `a_l + σ′²·|w|²`,
+    /// interpolated between the nodes as the weights are.
+    fn model_errors(node: usize, alpha: f32, beta: f32) -> Result<[f32; MAX_MODELS], Error> {
+        let set = Self::SET;
+        let nuggets = &crate::tables::FOOTPRINT_NUGGETS;
+        // A per-node table entry, interpolated as the weights are.
+        let at = |table: &'static [u32], width: usize, i: usize| -> Result<f32, Error> {
+            let get = |n: usize| table.get(n * width + i).map(|&b| f32::from_bits(b));
+            let a = get(node).ok_or(Error::Internal)?;
+            let b = if beta == 0.0 { a } else { get(node + 1).ok_or(Error::Internal)? };
+            Ok(alpha * a + beta * b)
+        };
+        let norm = at(set.weight_norm, 1, 0)?;
+        let mut unit = [0.0f32; MAX_MODELS];
+        for (li, row) in unit.chunks_exact_mut(nuggets.len()).take(set.lengths).enumerate() {
+            let a = at(set.residual, set.lengths, li)?.max(0.0);
+            for (u, &s2) in row.iter_mut().zip(nuggets) {
+                *u = a + f32::from_bits(s2) * norm;
+            }
+        }
+        Ok(unit)
+    }
+
+    /// Channel `c` of the lookups divided by the power of two `2^k` at its largest |y| (exact:
+    /// nothing after depends on the units, the variance is multiplied by `2^2k` last), and its
+    /// statistics. `(mass_error, norm_error)`: the interpolation's error in `Σw` and `|w|₂`.
+    fn channel_stats<T: Radiance>(
+        &self,
+        lookups: &[T; N],
+        c: usize,
+        w: &[f32; N],
+        (mass_error, norm_error): (f32, f32),
+    ) -> ([f32; N], ChannelStats) {
+        let binade = scaled::channel_binade(lookups, c);
+        let y: [f32; N] = core::array::from_fn(|j| {
+            lookups.get(j).map_or(0.0, |y| math::ldexp(y.channel(c), -binade))
+        });
+        // Centred (the contrasts ignore constants; centring makes a constant channel's
+        // contrasts exactly 0) and scaled to max |y − ȳ| = 1.
+        let mean = y.iter().sum::<f32>() / N as f32;
+        let top = y.iter().fold(0.0f32, |m, &y| m.max(math::abs(y - mean)));
+        // The arithmetic's own error, apart from the model: f32 rounding of the weights and
+        // the sum, about (√N + 1)·2⁻²⁴·Σ|wⱼyⱼ|, and the interpolation between the θₙ nodes,
+        // about |Σδw|·|ȳ| + |δw|₂·max|y − ȳ| (δw measured at the interval's midpoint).
+        let sum_abs: f32 = y.iter().zip(w).map(|(&y, w)| math::abs(w * y)).sum();
+        let rounding = (math::sqrt(N as f32) + 1.0) * f32::EPSILON * 0.5 * sum_abs;
+        let interp = mass_error * math::abs(mean) + norm_error * top;
+        let stats = ChannelStats {
+            binade,
+            mean,
+            scale: top,
+            numeric: rounding * rounding + interp * interp,
+            lookup: self.relative_lookup_noise(&y, w),
+        };
+        (y, stats)
+    }
+
+    /// `t = Aᵀ(y − ȳ)·inv`, the contrasts of the centred lookups (first `k` entries).
+    fn contrasts(y: &[f32; N], mean: f32, inv: f32) -> Result<[f32; N], Error> {
+        let k = Self::SET.k;
+        let mut t = [0.0f32; N];
+        let contrasts = Self::SET.contrasts.get(..N * k).ok_or(Error::Internal)?;
+        for (&y, row) in y.iter().zip(contrasts.chunks_exact(k)) {
+            let y = (y - mean) * inv;
+            for (tj, &a) in t.iter_mut().zip(row) {
+                *tj += f32::from_bits(a) * y;
+            }
+        }
+        Ok(t)
+    }
+
+    /// For contrasts `t`, each model's `σ̂² = vᵀ(Λ + s²)⁻¹v/k` (`v = Wᵀt` in the eigenbasis of
+    /// `AᵀK_lA`) into `signal`, and its log likelihood added to `log_lik`.
+    fn accumulate_models(
+        t: &[f32],
+        signal: &mut [f32; MAX_MODELS],
+        log_lik: &mut [f32; MAX_MODELS],
+    ) -> Result<(), Error> {
+        let set = Self::SET;
+        let nuggets = &crate::tables::FOOTPRINT_NUGGETS;
+        let (k, lengths) = (set.k, set.lengths);
+        let models = lengths * nuggets.len();
+        let vectors = set.eigenvectors.get(..lengths * k * k).ok_or(Error::Internal)?;
+        let values = set.eigenvalues.get(..lengths * k).ok_or(Error::Internal)?;
+        let log_det = set.log_det.get(..models).ok_or(Error::Internal)?;
+        let blocks = vectors.chunks_exact(k * k).zip(values.chunks_exact(k));
+        let per_length =
+            signal.chunks_exact_mut(nuggets.len()).zip(log_lik.chunks_exact_mut(nuggets.len()));
+        for (((vectors, values), (signal, log_lik)), log_det) in
+            blocks.zip(per_length).zip(log_det.chunks_exact(nuggets.len()))
+        {
+            let mut v = [0.0f32; N];
+            for (&ti, row) in t.iter().zip(vectors.chunks_exact(k)) {
+                for (vj, &e) in v.iter_mut().zip(row) {
+                    *vj += f32::from_bits(e) * ti;
+                }
+            }
+            for (((s, ll), &d), &s2) in signal.iter_mut().zip(log_lik).zip(log_det).zip(nuggets) {
+                let s2 = f32::from_bits(s2);
+                let q: f32 =
+                    v.iter().zip(values).map(|(&v, &lam)| v * v / (f32::from_bits(lam) + s2)).sum();
+                *s = q / k as f32;
+                if *s > 0.0 {
+                    *ll += -0.5 * k as f32 * math::ln(*s) - 0.5 * f32::from_bits(d);
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One channel's statistics for the error bar, its lookups scaled by `2^−binade`.
+#[derive(Clone, Copy)]
+struct ChannelStats {
+    binade: i32,
+    /// The mean of the scaled lookups.
+    mean: f32,
+    /// `max |y − ȳ|`.
+    scale: f32,
+    /// The arithmetic's own error variance (rounding and interpolation).
+    numeric: f32,
+    /// The lookups' relative noise.
+    lookup: f32,
+}
+
+impl ChannelStats {
+    const ZERO: Self = Self { binade: 0, mean: 0.0, scale: 0.0, numeric: 0.0, lookup: 0.0 };
 }
 
 /// Irradiance: the lobe is the cosine about the normal, and its weights depend on nothing else.
