@@ -366,46 +366,10 @@ where
         alpha: &mut [T; N],
         schur: &mut Missing<M>,
     ) -> Option<Fit<T>> {
-        let h = Self::HALF;
-        // [lₚ | kₚ] per distinct pair.
-        vectors.clear();
-        for &p in pairs {
-            let mut v = [0.0f32; N];
-            let (l, k) = v.split_at_mut(h);
-            unit_forward(f.chol_even, p, l);
-            unit_forward(f.chol_odd, p, k);
-            vectors.push(v).ok()?;
-        }
+        Self::pair_vectors(f, pairs, vectors)?;
         let g = |p: usize| f.g.get(p).map_or(0.0, |&b| f32::from_bits(b));
-        // P_MM (lower rows), its row sums and total.
         let factor = &mut schur.factor;
-        factor.clear();
-        let mut rowsum = [0.0f32; M];
-        let mut total = 0.0f32;
-        for (i, ei) in entries.iter().enumerate() {
-            let vi = vectors.get(ei.slot)?;
-            let mut row = [0.0f32; M];
-            for (j, (ej, r)) in entries.iter().zip(row.iter_mut()).take(i + 1).enumerate() {
-                let vj = vectors.get(ej.slot)?;
-                let from = ei.pair.max(ej.pair);
-                let even = dot(vi.get(from..h)?, vj.get(from..h)?);
-                let odd = dot(vi.get(h + from..)?, vj.get(h + from..)?);
-                let pij = 0.5 * (even + ei.sign * ej.sign * odd);
-                *r = pij;
-                if let Some(s) = rowsum.get_mut(i) {
-                    *s += pij;
-                }
-                if j < i {
-                    if let Some(s) = rowsum.get_mut(j) {
-                        *s += pij;
-                    }
-                    total += 2.0 * pij;
-                } else {
-                    total += pij;
-                }
-            }
-            factor.push(row).ok()?;
-        }
+        let (rowsum, total) = Self::missing_block(entries, vectors, factor)?;
         // t = P·1̃ at M, and 1̃ᵀP·1̃.
         let mut t = [0.0f32; M];
         let mut sum_t = f.s1 + total;
@@ -414,28 +378,7 @@ where
             sum_t -= 2.0 * g(e.pair);
         }
         let log_det = ldl(factor)?;
-        // u = P·Ỹ at M from the forward substitutions of the half sums and differences;
-        // 1ᵀP·Ỹ = 2·gᵀs.
-        let mut fy = *sd;
-        {
-            let (lo, hi) = fy.split_at_mut(h);
-            forward_solve(f.chol_even, lo);
-            forward_solve(f.chol_odd, hi);
-        }
-        let (fy_lo, fy_hi) = fy.split_at(h);
-        let mut u = [T::ZERO; M];
-        let mut sum_u = T::ZERO;
-        for (p, s) in sd.iter().take(h).enumerate() {
-            sum_u = sum_u.mul_add(*s, 2.0 * g(p));
-        }
-        for (ui, e) in u.iter_mut().zip(entries) {
-            let v = vectors.get(e.slot)?;
-            let from = e.pair;
-            let even = dot_t(v.get(from..h)?, fy_lo.get(from..)?);
-            let odd = dot_t(v.get(h + from..)?, fy_hi.get(from..)?);
-            *ui = even.mul_add(odd, e.sign);
-            sum_u = sum_u.add(ui.scale(-1.0));
-        }
+        let (mut u, sum_u) = Self::missing_projection(f, sd, entries, vectors)?;
         // Whitened: a = L_M⁻¹u, b = L_M⁻¹t.
         let m = entries.len();
         unit_lower_solve(factor, &mut u);
@@ -464,31 +407,132 @@ where
         }
         unit_upper_solve(factor, &mut c);
         unit_upper_solve(factor, ones);
-        // The residual with the missing entries imputed (−c), then α = P·x, 0 at M.
-        let mut x: [T; N] = core::array::from_fn(|i| match centred.get(i) {
-            Some(y) => y.add(beta.scale(-1.0)),
-            None => T::ZERO,
-        });
-        let mut at = [0usize; M];
-        for ((e, &ci), a) in entries.iter().zip(&c).zip(at.iter_mut()) {
-            let j = if e.sign > 0.0 { e.pair } else { N - 1 - e.pair };
-            if let Some(xj) = x.get_mut(j) {
-                *xj = ci.scale(-1.0);
-            }
-            *a = j;
-        }
-        *alpha = Self::apply_inverse(f, &x);
-        for &j in at.iter().take(m) {
-            if let Some(aj) = alpha.get_mut(j) {
-                *aj = T::ZERO;
-            }
-        }
+        *alpha = Self::imputed_weights(f, centred, entries, beta, &c);
         let q = centred.iter().zip(alpha.iter()).fold(T::ZERO, |acc, (y, a)| acc.add(y.mul(*a)));
         let constant = f.likelihood_constant + 0.5 * crate::math::ln(f.s1)
             - 0.5 * log_det
             - 0.5 * crate::math::ln(s1);
         schur.s1 = s1;
         Some(Fit { beta, q, constant })
+    }
+
+    /// `[lₚ | kₚ]` per distinct pair `p` into `vectors` (the forward substitutions of the unit
+    /// vector in the even and odd factors).
+    fn pair_vectors(
+        f: &sealed::Baked,
+        pairs: &[usize],
+        vectors: &mut heapless::Vec<[f32; N], M>,
+    ) -> Option<()> {
+        let h = Self::HALF;
+        vectors.clear();
+        for &p in pairs {
+            let mut v = [0.0f32; N];
+            let (l, k) = v.split_at_mut(h);
+            unit_forward(f.chol_even, p, l);
+            unit_forward(f.chol_odd, p, k);
+            vectors.push(v).ok()?;
+        }
+        Some(())
+    }
+
+    /// `P_MM` (its lower rows) into `factor`, with its row sums and total.
+    fn missing_block(
+        entries: &[Entry],
+        vectors: &heapless::Vec<[f32; N], M>,
+        factor: &mut heapless::Vec<[f32; M], M>,
+    ) -> Option<([f32; M], f32)> {
+        let h = Self::HALF;
+        factor.clear();
+        let mut rowsum = [0.0f32; M];
+        let mut total = 0.0f32;
+        for (i, ei) in entries.iter().enumerate() {
+            let vi = vectors.get(ei.slot)?;
+            let mut row = [0.0f32; M];
+            for (j, (ej, r)) in entries.iter().zip(row.iter_mut()).take(i + 1).enumerate() {
+                let vj = vectors.get(ej.slot)?;
+                let from = ei.pair.max(ej.pair);
+                let even = dot(vi.get(from..h)?, vj.get(from..h)?);
+                let odd = dot(vi.get(h + from..)?, vj.get(h + from..)?);
+                let pij = 0.5 * (even + ei.sign * ej.sign * odd);
+                *r = pij;
+                if let Some(s) = rowsum.get_mut(i) {
+                    *s += pij;
+                }
+                if j < i {
+                    if let Some(s) = rowsum.get_mut(j) {
+                        *s += pij;
+                    }
+                    total += 2.0 * pij;
+                } else {
+                    total += pij;
+                }
+            }
+            factor.push(row).ok()?;
+        }
+        Some((rowsum, total))
+    }
+
+    /// `u = P·Ỹ` at the missing entries, from the forward substitutions of the half sums and
+    /// differences `sd`, and `1ᵀP·Ỹ − Σu` (with `1ᵀP·Ỹ = 2·gᵀs`).
+    fn missing_projection(
+        f: &sealed::Baked,
+        sd: &[T; N],
+        entries: &[Entry],
+        vectors: &heapless::Vec<[f32; N], M>,
+    ) -> Option<([T; M], T)> {
+        let h = Self::HALF;
+        let g = |p: usize| f.g.get(p).map_or(0.0, |&b| f32::from_bits(b));
+        let mut fy = *sd;
+        {
+            let (lo, hi) = fy.split_at_mut(h);
+            forward_solve(f.chol_even, lo);
+            forward_solve(f.chol_odd, hi);
+        }
+        let (fy_lo, fy_hi) = fy.split_at(h);
+        let mut u = [T::ZERO; M];
+        let mut sum_u = T::ZERO;
+        for (p, s) in sd.iter().take(h).enumerate() {
+            sum_u = sum_u.mul_add(*s, 2.0 * g(p));
+        }
+        for (ui, e) in u.iter_mut().zip(entries) {
+            let v = vectors.get(e.slot)?;
+            let from = e.pair;
+            let even = dot_t(v.get(from..h)?, fy_lo.get(from..)?);
+            let odd = dot_t(v.get(h + from..)?, fy_hi.get(from..)?);
+            *ui = even.mul_add(odd, e.sign);
+            sum_u = sum_u.add(ui.scale(-1.0));
+        }
+        Some((u, sum_u))
+    }
+
+    /// `α = P·x`, 0 at the missing entries, for the residual `x = centred − β` with the
+    /// missing entries imputed (`−c`).
+    fn imputed_weights(
+        f: &sealed::Baked,
+        centred: &[T; N],
+        entries: &[Entry],
+        beta: T,
+        c: &[T; M],
+    ) -> [T; N] {
+        let mut x: [T; N] = core::array::from_fn(|i| match centred.get(i) {
+            Some(y) => y.add(beta.scale(-1.0)),
+            None => T::ZERO,
+        });
+        let mut at = [0usize; M];
+        for ((e, &ci), a) in entries.iter().zip(c).zip(at.iter_mut()) {
+            let j = if e.sign > 0.0 { e.pair } else { N - 1 - e.pair };
+            if let Some(xj) = x.get_mut(j) {
+                *xj = ci.scale(-1.0);
+            }
+            *a = j;
+        }
+        let mut alpha = Self::apply_inverse(f, &x);
+        for &j in at.iter().take(entries.len()) {
+            if let Some(aj) = alpha.get_mut(j) {
+                *aj = T::ZERO;
+            }
+        }
+        alpha
     }
 }
 
