@@ -365,14 +365,7 @@ impl<'a> MipPyramid<'a> {
                 PI
             } else {
                 // max/min, not clamp: clamp panics when top > bottom (or on NaN).
-                let th = theta_star.max(top).min(bottom);
-                let (st, ct) = libm::sincos(th);
-                let den = d.sin_theta * st;
-                if den > 0.0 {
-                    libm::acos(((cos_alpha - d.cos_theta * ct) / den).clamp(-1.0, 1.0))
-                } else {
-                    PI
-                }
+                azimuth_reach(d, theta_star.max(top).min(bottom), cos_alpha)
             };
             let band = Band::new(th0, th1);
             let start = TEXEL_ENTRIES * v * g.w;
@@ -402,22 +395,7 @@ impl<'a> MipPyramid<'a> {
                         let (ph0, _) = g.phi(u);
                         kink_terms(d, lobe, ((th0, th1), (ph0, ph0 + width)), m_geo, cell)
                     } else {
-                        let [rgb, dr, dg, db] = *cell;
-                        let mean = |off: [f32; 3]| {
-                            let m = [
-                                m_geo[0] + f64::from(off[0]),
-                                m_geo[1] + f64::from(off[1]),
-                                m_geo[2] + f64::from(off[2]),
-                            ];
-                            let (t, s2) = t_spread(&d.v, m);
-                            lobe.value_with_spread(t, s2)
-                        };
-                        [
-                            lobe.value_with_spread(t, s2),
-                            f64::from(rgb[0]) * mean(dr),
-                            f64::from(rgb[1]) * mean(dg),
-                            f64::from(rgb[2]) * mean(db),
-                        ]
+                        moment_terms(d, lobe, (t, s2), m_geo, cell)
                     };
                     den += omega * terms[0];
                     n0 += omega * terms[1];
@@ -433,6 +411,46 @@ impl<'a> MipPyramid<'a> {
             fallback()
         }
     }
+}
+
+/// The half-width in azimuth of the lobe's cap `t ≥ cos α` on the parallel at polar angle
+/// `th` (π where the parallel lies in the cap all round or `d` is at a pole).
+fn azimuth_reach(d: &Dir, th: f64, cos_alpha: f64) -> f64 {
+    let (st, ct) = libm::sincos(th);
+    let den = d.sin_theta * st;
+    if den > 0.0 {
+        libm::acos(((cos_alpha - d.cos_theta * ct) / den).clamp(-1.0, 1.0))
+    } else {
+        PI
+    }
+}
+
+/// `[F_geo, L_r·F_r, L_g·F_g, L_b·F_b]` of a texel by the moment rule (see
+/// [`MipPyramid::coarse`]): `F` at the geometric mean vector (`(t, s²)` given) and at each
+/// channel's.
+fn moment_terms(
+    d: &Dir,
+    lobe: Lobe,
+    (t, s2): (f64, f64),
+    m_geo: [f64; 3],
+    cell: &[[f32; 3]; TEXEL_ENTRIES],
+) -> [f64; 4] {
+    let [rgb, dr, dg, db] = *cell;
+    let mean = |off: [f32; 3]| {
+        let m = [
+            m_geo[0] + f64::from(off[0]),
+            m_geo[1] + f64::from(off[1]),
+            m_geo[2] + f64::from(off[2]),
+        ];
+        let (t, s2) = t_spread(&d.v, m);
+        lobe.value_with_spread(t, s2)
+    };
+    [
+        lobe.value_with_spread(t, s2),
+        f64::from(rgb[0]) * mean(dr),
+        f64::from(rgb[1]) * mean(dg),
+        f64::from(rgb[2]) * mean(db),
+    ]
 }
 
 /// `[F_geo, L_r·F_r, L_g·F_g, L_b·F_b]` of a texel the lobe's kink crosses (see
