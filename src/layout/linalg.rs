@@ -290,7 +290,7 @@ const fn reflect_column<const K: usize>(a: &mut [[f32; K]; K], v: &mut [[f32; K]
         scale += absolute(a[r][k]);
         r += 1;
     }
-    if !(scale > 0.0) {
+    if scale.is_nan() || scale <= 0.0 {
         return;
     }
     let mut u = [0.0f32; K];
@@ -307,7 +307,7 @@ const fn reflect_column<const K: usize>(a: &mut [[f32; K]; K], v: &mut [[f32; K]
     u[k + 1] -= alpha;
     // |u|² = |x|² − 2αx₀ + α² = 2(|x|² − αx₀).
     let u_norm = square_root(2.0 * (norm - alpha * (u[k + 1] + alpha)));
-    if !(u_norm > 0.0) {
+    if u_norm.is_nan() || u_norm <= 0.0 {
         return;
     }
     let mut r = k + 1;
