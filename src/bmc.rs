@@ -284,8 +284,8 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:renderer_w_dot_y N=16`: 48 instructions (one channel)
-    /// - `m4:renderer_w_dot_y N=64`: 185 instructions (one channel)
-    /// - `m4:renderer_w_dot_y N=256`: 867 instructions (one channel)
+    /// - `m4:renderer_w_dot_y N=64`: 184 instructions (one channel)
+    /// - `m4:renderer_w_dot_y N=256`: 868 instructions (one channel)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):

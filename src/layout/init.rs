@@ -174,6 +174,7 @@ struct Model {
 impl Model {
     /// The prior's spectrum and mean for `sensors` sensors, the level taken in its limit where
     /// `limit` allows and it dwarfs the rest; [`Error::InvalidPrior`] for any part out of range.
+    #[inline(never)]
     const fn new(prior: &Prior, limit: bool, sensors: usize) -> Result<Self, Error> {
         let mut spectrum = prior.spectrum;
         let mut any = false;
@@ -340,6 +341,7 @@ const fn profile(mean: Mean) -> Result<[f32; 9], Error> {
 /// 1); with one, the whitening is 2ᵏ/wᵢ ≤ 1 for the power of two 2ᵏ ≤ the least wᵢ, and the
 /// whitened absolute noise is σ·2ᵏ. [`Error::InvalidNoise`] for a scale that is not finite and
 /// positive, scales that differ by more than [`MAX_NOISE_SCALE_RATIO`], or `σ·2ᵏ` beyond f32.
+#[inline(never)]
 const fn whitening<const K: usize>(
     sensors: &[Sensor; K],
     noise: Noise,
@@ -399,6 +401,7 @@ struct Seen<const K: usize> {
 impl<const K: usize> Seen<K> {
     /// [`Error::InvalidDirection`] for a zero or non-finite direction, [`Error::InvalidResponse`]
     /// for a response out of range or more than [`MAX_RESPONSES`] distinct ones.
+    #[inline(never)]
     const fn new(
         sensors: &[Sensor; K],
         whitening: [f32; K],
@@ -489,6 +492,7 @@ const fn scaled_directions<const K: usize>(directions: &[Vec3; K]) -> [Vec3; K] 
 
 /// Per class, the table of the sensor–query covariance against `t = d·n` (its Legendre
 /// series with `(2l + 1)/(4π)`).
+#[inline(never)]
 const fn query_tables<const K: usize>(
     seen: &Seen<K>,
     spectrum: &[f32; DEGREES],
@@ -519,6 +523,7 @@ const fn query_tables<const K: usize>(
 
 /// The whitened covariance of the readings and the direction average of z zᵀ above degree 2
 /// (`z` the readings' covariances with the radiance at a direction).
+#[inline(never)]
 const fn whitened_covariances<const K: usize>(
     seen: &Seen<K>,
     spectrum: &[f32; DEGREES],
@@ -595,6 +600,7 @@ impl<const K: usize> Eigen<K> {
     /// see at less than 2⁻⁶⁰ of the spectrum's largest `K_l` (`largest·2^exponent`) or not at
     /// all: its floored eigenvalues would be near or below the normal range, and the fit's
     /// `Σ z²/λ` beyond f32.
+    #[inline(never)]
     const fn floored(cov: [[f32; K]; K], largest: f32, exponent: i32) -> Result<Self, Error> {
         let mut covariance = cov;
         let (mut values, vectors) = symmetric_eigen(cov);
@@ -632,6 +638,7 @@ impl<const K: usize> Eigen<K> {
 /// rounding: their part is (1/4π)·Σ_lm c_l²·b̃_lm b̃_lmᵀ with b̃_lm = Vᵀ·(the whitened
 /// covariances of the readings with the radiance's coefficient lm), projected one vector at a
 /// time; `zz` holds the degrees above 2.
+#[inline(never)]
 const fn average_products<const K: usize>(
     seen: &Seen<K>,
     spectrum: &[f32; DEGREES],
@@ -723,6 +730,7 @@ impl<const K: usize> MeanBasis<K> {
     /// squares of the query's basis within f32), and computed again. [`Error::InvalidPrior`]
     /// for a mean the sensors do not see (below 2⁻⁸⁹ of its profile, or not at all): its
     /// multiple is not determined by the readings.
+    #[inline(never)]
     const fn new(
         seen: &Seen<K>,
         spectrum: &[f32; DEGREES],
@@ -777,6 +785,7 @@ impl<const K: usize> MeanBasis<K> {
 
 /// The whitened mean basis at the sensors `hᵢ`, its direction averages with the readings'
 /// covariances `avg[h(n)·zᵢ(n)]`, the largest `|hᵢ|` not whitened and the largest whitened.
+#[inline(never)]
 const fn sensor_basis<const K: usize>(
     seen: &Seen<K>,
     spectrum: &[f32; DEGREES],

@@ -283,6 +283,7 @@ pub(super) const fn symmetric_eigen<const K: usize>(
 /// One Householder step on column `k`: the unit u with (I − 2uuᵀ)·a[k+1.., k] = (α, 0, …, 0).
 /// On the trailing block B (rows and columns k+1..): p = Bu, w = p − (uᵀp)u, and
 /// (I − 2uuᵀ)B(I − 2uuᵀ) = B − 2uwᵀ − 2wuᵀ. `v` gathers the reflection from the right.
+#[inline(never)]
 const fn reflect_column<const K: usize>(a: &mut [[f32; K]; K], v: &mut [[f32; K]; K], k: usize) {
     let mut scale = 0.0f32;
     let mut r = k + 1;
@@ -378,6 +379,7 @@ const fn reflect_column<const K: usize>(a: &mut [[f32; K]; K], v: &mut [[f32; K]
 /// negligible: against its neighbours on the diagonal, or against the matrix (a cluster of
 /// eigenvalues at zero, from duplicate sensors, has neighbours of the order of rounding and
 /// would never deflate on the relative test alone). At most 40 steps per eigenvalue.
+#[inline(never)]
 const fn implicit_ql<const K: usize>(d: &mut [f32; K], e: &mut [f32; K], v: &mut [[f32; K]; K]) {
     let mut norm = 0.0f32;
     let mut i = 0;
