@@ -120,24 +120,7 @@ use crate::radiance::Radiance;
 use crate::vec3::Vec3;
 use crate::warp::Lobe;
 
-/// A sample count as a type, for the [`BakedSize`] bound.
-///
-/// # Examples
-/// ```
-/// use sphere_quadrature::bmc::{BakedSize, Renderer, Size};
-///
-/// // `Size<N>` carries N into trait bounds; the bound admits the baked sizes only.
-/// fn weight_sum<const N: usize>() -> f32
-/// where
-///     Size<N>: BakedSize,
-/// {
-///     Renderer::<N>::weights().iter().sum()
-/// }
-/// assert!((weight_sum::<16>() - 1.0).abs() < 1e-5);
-/// assert!((weight_sum::<256>() - 1.0).abs() < 1e-5);
-/// ```
-#[derive(Clone, Copy, Debug)]
-pub struct Size<const N: usize>;
+pub use crate::size::Size;
 
 unbaked_size_diagnostic! { renderer,
     /// Implemented for exactly the sizes `N` whose weights are baked ([`BAKED_SIZES`]: the

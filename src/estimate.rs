@@ -1,7 +1,12 @@
 //! The answer of every estimator: a value and its variance, per channel.
 
+use crate::error::Error;
 use crate::radiance::Radiance;
-use crate::Error;
+
+/// The largest lobe sharpness a glossy query accepts ([`Probe::glossy`](crate::Probe::glossy),
+/// the Phong exponent of every `phong` query): an angular width of 10⁻⁴ rad, a mirror, for any
+/// sample count.
+pub const MAX_GLOSSY_SHARPNESS: f32 = 1e8;
 
 /// An estimate and its error bar, per channel: what every query of every probe and renderer
 /// returns.

@@ -235,13 +235,14 @@ mod tests;
 
 use linalg::LogProduct;
 
+use crate::change::{gaussian_log_bf, log_odds, logistic, soft_reset, Change, DEFAULT_HAZARD};
 use crate::error::Error;
+use crate::estimate::Estimate;
 use crate::math;
-use crate::probe::Estimate;
+pub use crate::noise::{Noise, MAX_RELATIVE_NOISE};
 use crate::radiance::{from_channels, Radiance, MAX_CHANNELS};
 use crate::sg::SphericalGaussian;
 use crate::sh::ShL2;
-use crate::temporal::{gaussian_log_bf, log_odds, logistic, Change, DEFAULT_HAZARD};
 use crate::vec3::Vec3;
 
 /// The most sensors a layout may have.
@@ -442,36 +443,6 @@ impl Sensor {
     pub const fn with_noise_scale(self, w: f32) -> Self {
         Sensor { noise_scale: w, ..self }
     }
-}
-
-/// The read noise of a layout: sensor `i` has variance `wᵢ²·σ² + η²·Yᵢ²` for its reading
-/// `Yᵢ` (per channel) and noise scale `wᵢ`.
-///
-/// `σ` may be any finite non-negative number (in the readings' units: a noise far above the
-/// readings leaves them little weight); `η` at most [`MAX_RELATIVE_NOISE`]. The noise scales
-/// matter only beside an absolute noise: with `σ > 0` they may differ by at most
-/// [`MAX_NOISE_SCALE_RATIO`] (a sensor 2²⁰ times noisier than another says nothing f32 can
-/// hold); with `σ = 0` any positive scales give the same probe.
-///
-/// ```
-/// use sphere_quadrature::layout::Noise;
-///
-/// let n = Noise { absolute: 0.01, relative: 0.05 };
-/// assert_eq!(Noise::NONE.absolute, 0.0);
-/// assert!(n.relative > 0.0);
-/// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Noise {
-    /// `σ`, in the readings' units.
-    pub absolute: f32,
-    /// `η`, a fraction of the reading.
-    pub relative: f32,
-}
-
-impl Noise {
-    /// Exact readings.
-    pub const NONE: Noise = Noise { absolute: 0.0, relative: 0.0 };
 }
 
 /// The prior mean of the radiance.
@@ -995,8 +966,6 @@ const fn times_power_of_two(x: f32, e: i32) -> f32 {
     x * f32::from_bits(((e + 127) as u32) << 23)
 }
 
-/// The largest relative noise `η` a layout accepts.
-pub const MAX_RELATIVE_NOISE: f32 = 1e6;
 /// The largest ratio of two sensors' noise scales in one layout (2²⁰).
 pub const MAX_NOISE_SCALE_RATIO: f32 = 1_048_576.0;
 

@@ -210,6 +210,7 @@ include!(concat!(env!("OUT_DIR"), "/bmc_size_diagnostics.rs"));
 #[macro_use]
 mod tables;
 pub mod bmc;
+mod change;
 pub mod envmap;
 mod error;
 mod estimate;
@@ -224,6 +225,7 @@ pub mod layout;
 #[doc(hidden)]
 pub mod math;
 pub mod metrics;
+mod noise;
 pub mod probe;
 pub mod qmc;
 pub mod radiance;
@@ -231,6 +233,7 @@ pub mod rotation;
 pub mod sf;
 pub mod sg;
 pub mod sh;
+mod size;
 pub mod temporal;
 mod vec3;
 pub mod warp;
@@ -240,7 +243,6 @@ pub mod warp;
 #[doc = include_str!("../README.md")]
 pub struct ReadmeDoctests;
 
-pub use bmc::Size;
 pub use error::Error;
 pub use estimate::Estimate;
 pub use layout::LayoutProbe;
@@ -248,6 +250,7 @@ pub use probe::Probe;
 pub use radiance::Radiance;
 pub use rotation::{Mat3, RotationSequence};
 pub use sf::{FibonacciLattice, FibonacciPoints, HemisphericalFibonacci, SphericalFibonacci};
+pub use size::Size;
 pub use temporal::TemporalProbe;
 pub use vec3::Vec3;
 pub use warp::{Frame, Lobe};

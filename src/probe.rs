@@ -234,13 +234,13 @@
 //! [`eval/src/bin/missing.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/missing.rs
 //! [`docs/missing.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/missing.md
 
-use crate::bmc::Size;
 use crate::error::Error;
 use crate::footprint::{Footprint, Kind, Point};
 use crate::radiance::{from_channels, Radiance};
 use crate::rotation::Mat3;
 use crate::sf::SphericalFibonacci;
 use crate::sg::{full_integral_unchecked, SphericalGaussian};
+use crate::size::Size;
 use crate::vec3::Vec3;
 use core::f32::consts::PI;
 use core::marker::PhantomData;
@@ -257,7 +257,7 @@ mod sh;
 mod solve;
 mod update;
 
-pub use queries::MAX_GLOSSY_SHARPNESS;
+pub use crate::estimate::MAX_GLOSSY_SHARPNESS;
 use queries::*;
 use series::*;
 use solve::*;

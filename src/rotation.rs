@@ -193,9 +193,9 @@ impl Mat3 {
     /// f32 rounding (about 10⁻⁷), far inside the tolerance.
     ///
     /// # Errors
-    /// [`crate::Error::InvalidRotation`] otherwise (a NaN or infinite entry, a scaled, sheared
+    /// [`crate::error::Error::InvalidRotation`] otherwise (a NaN or infinite entry, a scaled, sheared
     /// or reflecting matrix).
-    pub fn validate_rotation(&self) -> Result<(), crate::Error> {
+    pub fn validate_rotation(&self) -> Result<(), crate::error::Error> {
         let r = self.rows;
         let finite = r.iter().all(|v| v.is_finite());
         let orthonormal = (0..3).all(|i| {
@@ -210,7 +210,7 @@ impl Mat3 {
         if finite && orthonormal && det > 0.0 {
             Ok(())
         } else {
-            Err(crate::Error::InvalidRotation)
+            Err(crate::error::Error::InvalidRotation)
         }
     }
 

@@ -237,10 +237,6 @@ const TOLERANCE: (f32, f32) = (0.05, 0.1);
 /// Coefficients of degrees `0..=MAX_DEGREE`.
 const COEFFICIENTS: usize = (MAX_DEGREE + 1) * (MAX_DEGREE + 1);
 
-/// The default prior probability that the light changes at an update (see
-/// [`TemporalProbe::with_hazard`]).
-pub const DEFAULT_HAZARD: f32 = 1.0 / 64.0;
-
 /// The clamped cosine's Funk–Hecke gains `A_l` for `l ≤ 8` (`π`, `2π/3`, `π/4`, 0, `−π/24`,
 /// 0, `π/64`, 0, `−π/128`).
 const IRRADIANCE_GAIN: [f32; MAX_DEGREE + 1] =
@@ -389,33 +385,6 @@ struct BaseSet<const N: usize>;
 
 impl<const N: usize> BaseSet<N> {
     const POINTS: [Vec3; N] = SphericalFibonacci::<N>::new().dynamic().unrotated_points::<N>();
-}
-
-/// What [`TemporalProbe::pool`] did with the old evidence.
-///
-/// # Examples
-/// ```
-/// use sphere_quadrature::temporal::{Change, TemporalProbe};
-///
-/// let mut probe = TemporalProbe::<64>::new(3);
-/// let frame = |p: &TemporalProbe<64>, level: f32| p.directions().map(|d| level + 0.25 * d.z);
-/// assert_eq!(probe.pool(&frame(&probe, 1.0), &[])?, Change::First);
-/// assert_eq!(probe.pool(&frame(&probe, 1.0), &[])?, Change::Blended);
-/// // The lighting changes by far more than the noise: the state restarts.
-/// assert_eq!(probe.pool(&frame(&probe, 20.0), &[])?, Change::Reset);
-/// # Ok::<(), sphere_quadrature::Error>(())
-/// ```
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Change {
-    /// The first update: the state is this update.
-    First,
-    /// The posterior probability of a change was below one half: the update is pooled with
-    /// the old evidence (which may have lost some of its weight).
-    Blended,
-    /// The posterior probability of a change was at least one half, or the light changed in
-    /// part of the sphere ([`TemporalProbe::last_changed_regions`]): the state restarted.
-    Reset,
 }
 
 /// Region `o` of the local change test ([`TemporalProbe::last_changed_regions`]), `o < 8`: its centre
@@ -900,11 +869,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// static light with weak evidence, such as a bright spot's aliasing, would never pool.)
     fn kept_weight(&self, probability: f32, confirmed: bool) -> f32 {
         let w = self.weight;
-        let kept = if confirmed {
-            (1.0 - probability) * w / (1.0 + probability * w)
-        } else {
-            (1.0 - probability) * w
-        };
+        let kept = if confirmed { soft_reset(probability, w) } else { (1.0 - probability) * w };
         kept.min(self.drift.cap(w, self.prior_log_odds))
     }
 
@@ -1651,12 +1616,12 @@ fn max_per_channel<T: Radiance>(a: T, b: T) -> T {
     out
 }
 
-mod evidence;
 mod level;
 mod region;
 mod reread;
 mod scale;
-pub(crate) use evidence::{gaussian_log_bf, log_odds, logistic};
+pub(crate) use crate::change::{gaussian_log_bf, log_odds, logistic, soft_reset};
+pub use crate::change::{Change, DEFAULT_HAZARD};
 
 #[cfg(test)]
 mod tests;

@@ -109,10 +109,10 @@
 use super::glossy::{interval, lobe_frame};
 use super::{scaled, Size};
 use crate::error::Error;
+use crate::estimate::Estimate;
 use crate::footprint::Kind;
-use crate::layout::{Noise, MAX_RELATIVE_NOISE};
 use crate::math;
-use crate::probe::Estimate;
+use crate::noise::{Noise, MAX_RELATIVE_NOISE};
 use crate::radiance::{from_channels, Radiance, MAX_CHANNELS};
 use crate::sf::FibonacciPoints;
 use crate::vec3::Vec3;

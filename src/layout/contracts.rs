@@ -422,14 +422,14 @@ fn lobe_limits_are_those_of_probe() {
     let sensors = fibonacci::<16>();
     let mut probe = LayoutProbe::<16>::new(&sensors, Prior::ENVIRONMENT, Noise::NONE).unwrap();
     probe.update(&readings(&sensors)).unwrap();
-    for e in [5000.0f32, 1e6, crate::probe::MAX_GLOSSY_SHARPNESS] {
+    for e in [5000.0f32, 1e6, crate::estimate::MAX_GLOSSY_SHARPNESS] {
         let p = probe.phong(Vec3::Z, e).unwrap();
         assert!(p.value.is_finite() && p.variance > 0.0, "{e}: {p:?}");
         let lobe = SphericalGaussian { axis: Vec3::Z, sharpness: e, amplitude: 1.0 };
         let g = probe.glossy(&lobe).unwrap();
         assert!(g.value.is_finite() && g.variance > 0.0, "{e}: {g:?}");
     }
-    let over = crate::probe::MAX_GLOSSY_SHARPNESS * 1.01;
+    let over = crate::estimate::MAX_GLOSSY_SHARPNESS * 1.01;
     assert_eq!(probe.phong(Vec3::Z, over).err(), Some(Error::InvalidExponent));
     let lobe = SphericalGaussian { axis: Vec3::Z, sharpness: over, amplitude: 1.0 };
     assert_eq!(probe.glossy(&lobe).err(), Some(Error::InvalidSharpness));

@@ -2,7 +2,7 @@
 
 use super::linalg::project;
 use super::*;
-use crate::probe::MAX_GLOSSY_SHARPNESS;
+use crate::estimate::MAX_GLOSSY_SHARPNESS;
 
 impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
     /// The sensors' unit directions.

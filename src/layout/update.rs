@@ -96,7 +96,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
             }
         }
         let probability = logistic(log_odds(self.hazard) + log_bf);
-        let kept = (1.0 - probability) * w / (1.0 + probability * w);
+        let kept = soft_reset(probability, w);
         let weight = kept + 1.0;
         let (kept_share, new_share) = (kept / weight, 1.0 / weight);
         for (mean, &y) in self.stream_mean.iter_mut().zip(readings) {

@@ -11,10 +11,10 @@
 
 use super::scale;
 use super::{sealed, Estimate, Probe, ProbeTables};
-use crate::bmc::Size;
+use crate::error::Error;
 use crate::footprint::Footprint;
 use crate::radiance::{from_channels, Radiance};
-use crate::Error;
+use crate::size::Size;
 
 impl<const N: usize, T: Radiance, F: Footprint, const M: usize> Probe<N, T, F, M>
 where

@@ -35,10 +35,10 @@
 //! member ([`Missing`]).
 
 use super::{cholesky_solve, forward_solve, scale, sealed, Probe, ProbeTables, Selection};
-use crate::bmc::Size;
 use crate::error::Error;
 use crate::footprint::Footprint;
 use crate::radiance::Radiance;
+use crate::size::Size;
 
 /// The samples the last update left out and the selected member's Schur-complement data.
 #[derive(Clone, Debug)]

@@ -635,10 +635,6 @@ pub(super) fn member_of(b: &sealed::Baked, footprint: Kind) -> Member {
     }
 }
 
-/// The largest lobe sharpness [`Probe::glossy`] accepts (an angular width of 10⁻⁴ rad:
-/// a mirror, for any sample count).
-pub const MAX_GLOSSY_SHARPNESS: f32 = 1e8;
-
 pub(super) fn check_lobe(lobe: &SphericalGaussian) -> Result<(Vec3, f32, f32), Error> {
     let r = lobe.axis.try_normalize().ok_or(Error::InvalidDirection)?;
     let mu = lobe.sharpness;

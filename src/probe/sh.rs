@@ -13,11 +13,11 @@
 //! expansion is of the *unfiltered* radiance in every case.
 
 use super::{apply_cosine_power_gains, bessel_ratios, glossy_full_integral, Probe, ProbeTables};
-use crate::bmc::Size;
 use crate::footprint::{Footprint, Kind};
 use crate::radiance::Radiance;
 use crate::sg::full_integral_unchecked;
 use crate::sh::{self, ShL2};
+use crate::size::Size;
 
 /// `√(4π)`: `∫ Y₀₀ = √(4π)`, and a constant `β` has `c₀₀ = β·√(4π)`.
 const SQRT_4PI: f32 = SQRT_4PI64 as f32;

@@ -270,7 +270,7 @@ mod tests {
     /// Lognormal noise of `sigma` from a fixed sequence, with a sun hit (×1.5) one update in
     /// ten: skewed, as the trimmed levels of a map with a sun are.
     fn noisy(k: u32, sigma: f32) -> f32 {
-        let mut r = crate::RotationSequence::new(u64::from(k));
+        let mut r = crate::rotation::RotationSequence::new(u64::from(k));
         let (u, v, hit) = (r.next_f32().max(1e-7), r.next_f32(), r.next_f32());
         let normal = crate::math::sqrt(-2.0 * crate::math::ln(u))
             * crate::math::cos(core::f32::consts::TAU * v);
