@@ -43,7 +43,6 @@
 //! ```
 
 use crate::error::Error;
-use crate::math;
 use crate::radiance::Radiance;
 use crate::sf::FibonacciPoints;
 use crate::vec3::Vec3;
@@ -137,9 +136,7 @@ impl LobeSampler {
 
     #[inline]
     fn direction_unchecked(&self, j: usize) -> Vec3 {
-        let (c, s) = self.lobe.morph(self.set.one_minus_z(j));
-        let (sin_phi, cos_phi) = math::sin_cos_turns(self.set.phase_of(j));
-        self.frame.to_world(Vec3::new(s * cos_phi, s * sin_phi, c))
+        self.set.morphed(j, self.lobe, &self.frame)
     }
 
     /// An iterator over the directions.

@@ -57,6 +57,7 @@ use crate::error::Error;
 use crate::math;
 use crate::rotation::Mat3;
 use crate::vec3::Vec3;
+use crate::warp::{Frame, Lobe};
 
 /// `round(2⁶⁴/Φ)`: one step of the golden phase as a 64-bit fraction of a turn.
 ///
@@ -313,6 +314,15 @@ impl FibonacciPoints {
     #[inline]
     pub(crate) fn one_minus_z(&self, j: usize) -> f32 {
         (2 * j as u64 + 1) as f32 / self.height_denominator() as f32
+    }
+
+    /// Point `j` of this hemisphere set morphed onto `lobe` about `frame`'s axis: the one
+    /// morph every lobe sampler and renderer uses for its directions.
+    #[inline]
+    pub(crate) fn morphed(&self, j: usize, lobe: Lobe, frame: &Frame) -> Vec3 {
+        let (c, s) = lobe.morph(self.one_minus_z(j));
+        let (sin_phi, cos_phi) = math::sin_cos_turns(self.phase_of(j));
+        frame.to_world(Vec3::new(s * cos_phi, s * sin_phi, c))
     }
 
     /// `(zⱼ, sin θⱼ)`, with `1 − z` and `1 + z` each formed from exact integers so that both

@@ -395,10 +395,9 @@ where
         let [t1, t2, a] = Self::frame(normal, mirror)?;
         let set = FibonacciPoints::hemisphere(N)?;
         let lobe = if Self::E == 0 { Lobe::Cosine } else { Lobe::Phong(Self::E as f32) };
+        let frame = Frame { t: t1, b: t2, n: a };
         for (j, slot) in out.iter_mut().enumerate() {
-            let (c, s) = lobe.morph(set.one_minus_z(j));
-            let (sp, cp) = math::sin_cos_turns(set.phase_of(j));
-            *slot = t1 * (s * cp) + t2 * (s * sp) + a * c;
+            *slot = set.morphed(j, lobe, &frame);
         }
         Ok(())
     }

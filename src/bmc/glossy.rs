@@ -302,10 +302,9 @@ where
         }
         let set = FibonacciPoints::hemisphere(N)?;
         let lobe = Lobe::Phong(E as f32);
+        let frame = crate::warp::Frame { t: t1, b: t2, n: r };
         for (j, slot) in out.iter_mut().enumerate() {
-            let (c, s) = lobe.morph(set.one_minus_z(j));
-            let (sp, cp) = crate::math::sin_cos_turns(set.phase_of(j));
-            *slot = t1 * (s * cp) + t2 * (s * sp) + r * c;
+            *slot = set.morphed(j, lobe, &frame);
         }
         Ok(())
     }
