@@ -1013,24 +1013,6 @@ const fn absolute(x: f32) -> f32 {
     }
 }
 
-/// The square root of a positive, finite `v`: Newton's iteration in f32 from the halved
-/// exponent (const; the same bits at compile time and at run time, and cheap on a core
-/// without f64). 0 otherwise.
-const fn square_root(v: f32) -> f32 {
-    if !(v > 0.0 && v.is_finite()) {
-        return 0.0;
-    }
-    // Subnormals: scale up by 2^24 first (the root by 2^12).
-    let (v, back) = if v < 1e-30 { (v * 16_777_216.0, 1.0 / 4096.0) } else { (v, 1.0) };
-    let mut r = f32::from_bits((v.to_bits() >> 1) + 0x1fbd_1df5);
-    let mut k = 0;
-    while k < 4 {
-        r = 0.5 * (r + v / r);
-        k += 1;
-    }
-    r * back
-}
-
 /// A response's isotropic `Cov(Y, E(n))` at unit scale from its table, for a sensor whose
 /// direction scaled by `(NODES − 1)/2` is `scaled`: the quadratic through the three nodes
 /// nearest `t = d·n`. (The saturating cast and the clamp keep every index in range.)
@@ -1055,7 +1037,7 @@ const fn normalized(v: Vec3) -> Option<Vec3> {
         return None;
     }
     let (x, y, z) = (v.x / m, v.y / m, v.z / m);
-    let length = square_root(x * x + y * y + z * z);
+    let length = math::sqrt_newton(x * x + y * y + z * z);
     Some(Vec3::new(x / length, y / length, z / length))
 }
 

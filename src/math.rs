@@ -83,6 +83,25 @@ pub fn sqrt(x: f32) -> f32 {
     libm::sqrtf(x)
 }
 
+/// The square root of a positive, finite `v` within one ulp of [`sqrt`]: Newton's iteration
+/// in f32 from the halved exponent, usable in constant evaluation (the same bits at compile
+/// time and at run time) and cheaper than [`sqrt_const`] on a core without f64, for code
+/// that needs no correct rounding (the layout probe's tables). 0 otherwise.
+pub(crate) const fn sqrt_newton(v: f32) -> f32 {
+    if !(v > 0.0 && v.is_finite()) {
+        return 0.0;
+    }
+    // Subnormals: scale up by 2^24 first (the root by 2^12).
+    let (v, back) = if v < 1e-30 { (v * 16_777_216.0, 1.0 / 4096.0) } else { (v, 1.0) };
+    let mut r = f32::from_bits((v.to_bits() >> 1) + 0x1fbd_1df5);
+    let mut k = 0;
+    while k < 4 {
+        r = 0.5 * (r + v / r);
+        k += 1;
+    }
+    r * back
+}
+
 /// Square root of a positive normal `x`, correctly rounded (so equal to [`sqrt`] bit for
 /// bit), usable in constant evaluation: the integer square root of the significand shifted
 /// by 38 bits, with a sticky bit for inexact roots, rounded once by the cast to f32. Outside
@@ -500,5 +519,31 @@ pub(crate) fn ldexp_variance(v: f32, e: i32) -> f32 {
         f32::from_bits(1)
     } else {
         scaled
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// Newton's square root is within one ulp of the correctly rounded one, subnormals included,
+    /// and 0 outside the positive finite numbers.
+    #[test]
+    fn newton_square_root_is_within_an_ulp() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut worst = 0u32;
+        for k in 0..1_000_000u32 {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            let bits =
+                if k % 10 == 0 { (state >> 41) as u32 } else { (state >> 33) as u32 % 0x7f80_0000 };
+            let x = f32::from_bits(bits.max(1));
+            let want = (f64::from(x)).sqrt() as f32;
+            let got = super::sqrt_newton(x);
+            worst = worst.max(got.to_bits().abs_diff(want.to_bits()));
+        }
+        assert!(worst <= 1, "{worst} ulp");
+        for x in [0.0, -0.0, -1.0, f32::NAN, f32::INFINITY] {
+            assert_eq!(super::sqrt_newton(x), 0.0, "{x}");
+        }
     }
 }

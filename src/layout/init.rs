@@ -820,7 +820,7 @@ const fn sensor_basis<const K: usize>(
         let mut zonal = 0.0f32;
         let mut l = 0;
         while l < 3 {
-            let norm = square_root(FOUR_PI / (2 * l + 1) as f32);
+            let norm = math::sqrt_newton(FOUR_PI / (2 * l + 1) as f32);
             zonal += seen.ru[i][l] * c[l] * profile[l] * c[l] * norm / FOUR_PI;
             l += 1;
         }

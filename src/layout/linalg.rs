@@ -2,7 +2,6 @@
 //! compile-time tables), LDLᵀ solves and products of many factors.
 
 use super::absolute;
-use super::square_root;
 use crate::math;
 
 /// In-place `LDLᵀ` factor of a symmetric positive-definite matrix (its lower triangle, by
@@ -240,7 +239,7 @@ const fn hypotenuse(a: f32, b: f32) -> f32 {
         return m;
     }
     let (x, y) = (x / m, y / m);
-    m * square_root(x * x + y * y)
+    m * math::sqrt_newton(x * x + y * y)
 }
 
 /// Eigenvalues and eigenvectors (columns) of a symmetric matrix (const: at compile time for a
@@ -302,12 +301,12 @@ const fn reflect_column<const K: usize>(a: &mut [[f32; K]; K], v: &mut [[f32; K]
         norm += u[r] * u[r];
         r += 1;
     }
-    let length = square_root(norm);
+    let length = math::sqrt_newton(norm);
     // α takes the sign opposite to the first entry, so u₀ = x₀ − α does not cancel.
     let alpha = if u[k + 1] > 0.0 { -length } else { length };
     u[k + 1] -= alpha;
     // |u|² = |x|² − 2αx₀ + α² = 2(|x|² − αx₀).
-    let u_norm = square_root(2.0 * (norm - alpha * (u[k + 1] + alpha)));
+    let u_norm = math::sqrt_newton(2.0 * (norm - alpha * (u[k + 1] + alpha)));
     if u_norm.is_nan() || u_norm <= 0.0 {
         return;
     }
@@ -504,9 +503,9 @@ const fn jacobi_sweeps<const K: usize>(
                 let t = if absolute(theta) > 1e18 {
                     0.5 / theta
                 } else {
-                    sign / (absolute(theta) + square_root(theta * theta + 1.0))
+                    sign / (absolute(theta) + math::sqrt_newton(theta * theta + 1.0))
                 };
-                let c = 1.0 / square_root(t * t + 1.0);
+                let c = 1.0 / math::sqrt_newton(t * t + 1.0);
                 let s = t * c;
                 let mut k = 0;
                 while k < K {
