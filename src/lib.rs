@@ -190,7 +190,11 @@
 //! - `mint`: [`interop`], `From`/`Into` between [`Vec3`]/[`Mat3`] and `mint` types (glam,
 //!   nalgebra, cgmath).
 //! - `defmt`: `defmt::Format` on the public data types.
-//! - `footprint-sweep`, `renderer-sweep`: extra baked tables for the evaluation programs.
+//! - `footprint-128`: [`bmc::FootprintRenderer`]'s N = 128 sets (32–85 KB of flash each when
+//!   used).
+//!
+//! Two further features, `footprint-sweep` and `renderer-sweep`, bake extra tables for the
+//! repository's evaluation programs; they add nothing a user calls.
 //!
 //! [`eval/src/bin/accuracy.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/accuracy.rs
 #![no_std]
