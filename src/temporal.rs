@@ -1545,7 +1545,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// harmonics of degree `L` at the normal and a dot product.
     /// - `m4:temporal_irradiance_S1 N=16`: 972 instructions (`L = 4`)
     /// - `m4:temporal_irradiance_S2 N=64`: 1 424 instructions (`L = 6`)
-    /// - `m4:temporal_irradiance_S4 N=256`: 1 949 instructions (`L = 8`)
+    /// - `m4:temporal_irradiance_S4 N=256`: 1 950 instructions (`L = 8`)
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let mut y = [0.0f32; COEFFICIENTS];

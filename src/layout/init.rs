@@ -462,7 +462,8 @@ impl<const K: usize> Seen<K> {
 
     /// Sensor `i`'s gains.
     const fn gains_of(&self, i: usize) -> &[f32; DEGREES] {
-        &self.gains[self.class[i] as usize % MAX_RESPONSES]
+        let class = if i < K { self.class[i] as usize } else { 0 };
+        &self.gains[class % MAX_RESPONSES]
     }
 }
 

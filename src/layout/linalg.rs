@@ -284,6 +284,9 @@ pub(super) const fn symmetric_eigen<const K: usize>(
 /// (I − 2uuᵀ)B(I − 2uuᵀ) = B − 2uwᵀ − 2wuᵀ. `v` gathers the reflection from the right.
 #[inline(never)]
 const fn reflect_column<const K: usize>(a: &mut [[f32; K]; K], v: &mut [[f32; K]; K], k: usize) {
+    if K < 3 || k > K - 3 {
+        return;
+    }
     let mut scale = 0.0f32;
     let mut r = k + 1;
     while r < K {
@@ -422,6 +425,9 @@ const fn ql_step<const K: usize>(
     l: usize,
     m: usize,
 ) {
+    if l >= m || m >= K {
+        return;
+    }
     // Wilkinson's shift: the eigenvalue of the leading 2×2 block nearer d[l].
     let g = (d[l + 1] - d[l]) / (2.0 * e[l]);
     let r = hypotenuse(g, 1.0);
