@@ -625,8 +625,8 @@ where
 /// [`examples/cortex-m4`], whose output CI checks these lines against):
 /// - `m4:cosine_weighted_average N=16`: 514 instructions
 /// - `m4:cosine_weighted_average N=32`: 894 instructions
-/// - `m4:cosine_weighted_average N=64`: 1 653 instructions
-/// - `m4:cosine_weighted_average N=256`: 6 186 instructions
+/// - `m4:cosine_weighted_average N=64`: 1 652 instructions
+/// - `m4:cosine_weighted_average N=256`: 6 185 instructions
 ///
 /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
 /// these lines against):

@@ -173,7 +173,7 @@ impl LobeSampler {
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:qmc_estimate_from_samples N=16`: 78 instructions (cosine lobe)
+    /// - `m4:qmc_estimate_from_samples N=16`: 79 instructions (cosine lobe)
     /// - `m4:qmc_estimate_from_samples N=64`: 187 instructions (cosine lobe)
     /// - `m4:qmc_estimate_from_samples N=256`: 608 instructions (cosine lobe)
     ///
@@ -268,7 +268,7 @@ fn is_finite<T: Radiance>(x: T) -> bool {
 /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
 /// [`examples/cortex-m4`], whose output CI checks these lines against):
 /// - `m4:qmc_irradiance N=16`: 5 072 instructions (trivial radiance callback)
-/// - `m4:qmc_irradiance N=64`: 19 192 instructions (trivial radiance callback)
+/// - `m4:qmc_irradiance N=64`: 19 196 instructions (trivial radiance callback)
 /// - `m4:qmc_irradiance N=256`: 75 690 instructions (trivial radiance callback)
 ///
 /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks

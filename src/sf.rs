@@ -575,9 +575,9 @@ macro_rules! const_set {
             /// # Cost
             /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm`
             /// backend; [`examples/cortex-m4`], whose output CI checks these lines against):
-            /// - `m4:sf_points N=16`: 4 484 instructions (`SphericalFibonacci`)
-            /// - `m4:sf_points N=64`: 12 232 instructions (`SphericalFibonacci`)
-            /// - `m4:sf_points N=256`: 48 810 instructions (`SphericalFibonacci`)
+            /// - `m4:sf_points N=16`: 4 482 instructions (`SphericalFibonacci`)
+            /// - `m4:sf_points N=64`: 12 240 instructions (`SphericalFibonacci`)
+            /// - `m4:sf_points N=256`: 48 800 instructions (`SphericalFibonacci`)
             ///
             /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
             /// these lines against):

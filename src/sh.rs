@@ -354,8 +354,8 @@ impl<T: Radiance> ShL2<T> {
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_sh_irradiance N=64`: 57 instructions (one channel, unit normal)
-    /// - `m4:probe_sh_irradiance_non_unit N=64`: 87 instructions (one channel, to normalise)
-    /// - `m4:sh_irradiance_rgb N=9`: 102 instructions (RGB, unit normal)
+    /// - `m4:probe_sh_irradiance_non_unit N=64`: 88 instructions (one channel, to normalise)
+    /// - `m4:sh_irradiance_rgb N=9`: 103 instructions (RGB, unit normal)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):

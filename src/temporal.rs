@@ -673,8 +673,8 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// of `N` rays of which `S` are sentinels, the next update's rotation included:
     /// - `m4:temporal_update_S1 N=16`: 11 208 instructions (15 rotated, 1 sentinel)
     /// - `m4:temporal_update_S2 N=64`: 57 470 instructions (62 rotated, 2 sentinels)
-    /// - `m4:temporal_update_S0 N=64`: 38 950 instructions (64 rotated)
-    /// - `m4:temporal_update_S4 N=256`: 248 040 instructions (252 rotated, 4 sentinels)
+    /// - `m4:temporal_update_S0 N=64`: 38 960 instructions (64 rotated)
+    /// - `m4:temporal_update_S4 N=256`: 248 080 instructions (252 rotated, 4 sentinels)
     ///
     /// # Examples
     /// ```

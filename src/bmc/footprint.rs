@@ -798,7 +798,7 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against), lookups not counted:
-    /// - `m4:footprint_renderer_estimate N=64`: 472 instructions (e = 50, one channel)
+    /// - `m4:footprint_renderer_estimate N=64`: 473 instructions (e = 50, one channel)
     ///
     /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
     pub fn estimate<T: Radiance>(
@@ -825,7 +825,7 @@ where
     ///
     /// # Cost
     /// Cortex-M4F instructions per call (as [`estimate`](Self::estimate)):
-    /// - `m4:footprint_renderer_estimate_with_variance N=64`: 27 232 instructions (e = 50, one
+    /// - `m4:footprint_renderer_estimate_with_variance N=64`: 27 236 instructions (e = 50, one
     ///   channel, 8 × 4 models, 24 contrasts)
     pub fn estimate_with_variance<T: Radiance>(
         &self,

@@ -342,7 +342,7 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:glossy_renderer_estimate N=16`: 180 instructions (e = 50, one channel)
-    /// - `m4:glossy_renderer_estimate N=64`: 426 instructions (e = 50, one channel)
+    /// - `m4:glossy_renderer_estimate N=64`: 425 instructions (e = 50, one channel)
     /// - `m4:glossy_renderer_estimate N=80`: 507 instructions (e = 50, one channel)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks

@@ -14,7 +14,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         self.stream_exponent = [0; MAX_CHANNELS];
         self.stream_weight = 1.0;
         self.last_change = 0.0;
-        self.fit_all(readings, &self.stream_exponent.clone(), 1.0);
+        self.fit_all(readings, &[0; MAX_CHANNELS], 1.0);
         Ok(())
     }
 
@@ -67,15 +67,16 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         // Each channel's new means in units of a power of two near the largest mean or reading.
         let mut exponent = [0i32; MAX_CHANNELS];
         let mut log_bf = 0.0f32;
+        // The largest sensor noise, the same for every channel.
+        let top_noise = (0..K).fold(0.0f32, |t, i| t.max(self.absolute / self.whitening[i]));
         for ch in 0..T::CHANNELS {
             let old = old[ch.min(MAX_CHANNELS - 1)];
             // In units of a power of two near the largest reading, mean or noise: the
             // decision does not depend on the readings' units.
-            let (mut top_mean, mut top_reading, mut top_noise) = (0.0f32, 0.0f32, 0.0f32);
+            let (mut top_mean, mut top_reading) = (0.0f32, 0.0f32);
             for i in 0..K {
                 top_mean = top_mean.max(self.stream_mean[i].channel(ch).abs());
                 top_reading = top_reading.max(readings[i].channel(ch).abs());
-                top_noise = top_noise.max(self.absolute / self.whitening[i]);
             }
             let data = binade(top_mean).map(|e| e + old).max(binade(top_reading));
             exponent[ch.min(MAX_CHANNELS - 1)] = data.unwrap_or(0);

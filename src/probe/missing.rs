@@ -198,9 +198,9 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_masked_update_M8_m0 N=64`: 90 920 instructions (none missing)
+    /// - `m4:probe_masked_update_M8_m0 N=64`: 90 900 instructions (none missing)
     /// - `m4:probe_masked_update_M8_m8 N=64`: 306 340 instructions (8 missing)
-    /// - `m4:probe_masked_update_M16_m16 N=64`: 581 640 instructions (16 missing)
+    /// - `m4:probe_masked_update_M16_m16 N=64`: 581 620 instructions (16 missing)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
@@ -224,8 +224,8 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_masked_update_one_member_M8_m8 N=64`: 87 140 instructions (8 missing)
-    /// - `m4:probe_masked_update_one_member_M16_m16 N=64`: 157 960 instructions (16 missing)
+    /// - `m4:probe_masked_update_one_member_M8_m8 N=64`: 87 160 instructions (8 missing)
+    /// - `m4:probe_masked_update_one_member_M16_m16 N=64`: 157 940 instructions (16 missing)
     ///
     /// `M8`, `M16` in the names: the probe's capacity `M` for missing samples.
     ///

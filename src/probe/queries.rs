@@ -15,9 +15,9 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_irradiance N=16`: 843 instructions
-    /// - `m4:probe_irradiance N=32`: 1 567 instructions
-    /// - `m4:probe_irradiance N=64`: 2 920 instructions
+    /// - `m4:probe_irradiance N=16`: 842 instructions
+    /// - `m4:probe_irradiance N=32`: 1 568 instructions
+    /// - `m4:probe_irradiance N=64`: 2 921 instructions
     /// - `m4:probe_irradiance N=256`: 11 644 instructions
     /// - `m4:gaussian8_probe_irradiance N=64`: 2 962 instructions (`Gaussian<8>` footprint)
     /// - `m4:photodiode_probe_irradiance N=16`: 843 instructions (`CosinePower<1>`)
@@ -135,7 +135,7 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_masked_irradiance_variance_M16_m0 N=64`: 261 770 instructions (none missing)
-    /// - `m4:probe_masked_irradiance_variance_M8_m8 N=64`: 518 500 instructions (8 missing)
+    /// - `m4:probe_masked_irradiance_variance_M8_m8 N=64`: 518 510 instructions (8 missing)
     /// - `m4:probe_masked_irradiance_variance_M16_m16 N=64`: 547 410 instructions (16 missing)
     ///
     /// `M8`, `M16` in the names: the probe's capacity `M` for missing samples.
@@ -203,10 +203,10 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_glossy N=16`: 2 696 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=32`: 4 906 instructions (SG lobe of Phong e = 20)
+    /// - `m4:probe_glossy N=32`: 4 907 instructions (SG lobe of Phong e = 20)
     /// - `m4:probe_glossy N=64`: 9 278 instructions (SG lobe of Phong e = 20)
     /// - `m4:probe_glossy N=256`: 38 188 instructions (SG lobe of Phong e = 20)
-    /// - `m4:gaussian8_probe_glossy N=64`: 9 463 instructions (`Gaussian<8>`)
+    /// - `m4:gaussian8_probe_glossy N=64`: 9 462 instructions (`Gaussian<8>`)
     /// - `m4:photodiode_probe_glossy N=16`: 11 546 instructions (photodiodes)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
@@ -286,10 +286,10 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_glossy_variance N=16`: 773 912 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=16`: 773 910 instructions (soft f64 quadrature)
     /// - `m4:probe_glossy_variance N=32`: 894 096 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=64`: 1 217 260 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=256`: 5 495 520 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=64`: 1 217 250 instructions (soft f64 quadrature)
+    /// - `m4:probe_glossy_variance N=256`: 5 495 480 instructions (soft f64 quadrature)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
@@ -373,8 +373,8 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_phong N=16`: 9 452 instructions (e = 20)
-    /// - `m4:probe_phong N=32`: 13 456 instructions (e = 20)
-    /// - `m4:probe_phong N=64`: 21 384 instructions (e = 20)
+    /// - `m4:probe_phong N=32`: 13 455 instructions (e = 20)
+    /// - `m4:probe_phong N=64`: 21 385 instructions (e = 20)
     /// - `m4:probe_phong N=256`: 66 524 instructions (e = 20)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
@@ -435,7 +435,7 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_phong_variance N=16`: 422 790 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=32`: 778 144 instructions (e = 20)
+    /// - `m4:probe_phong_variance N=32`: 778 140 instructions (e = 20)
     /// - `m4:probe_phong_variance N=64`: 1 568 750 instructions (e = 20)
     /// - `m4:probe_phong_variance N=256`: 8 657 160 instructions (e = 20)
     ///

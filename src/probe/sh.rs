@@ -58,10 +58,10 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_radiance_sh N=16`: 1 316 instructions
+    /// - `m4:probe_radiance_sh N=16`: 1 315 instructions
     /// - `m4:probe_radiance_sh N=32`: 1 678 instructions
-    /// - `m4:probe_radiance_sh N=64`: 2 399 instructions
-    /// - `m4:probe_radiance_sh N=256`: 6 847 instructions
+    /// - `m4:probe_radiance_sh N=64`: 2 398 instructions
+    /// - `m4:probe_radiance_sh N=256`: 6 848 instructions
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
@@ -112,8 +112,8 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_radiance_sh_variance N=16`: 353 972 instructions (soft f64)
-    /// - `m4:probe_radiance_sh_variance N=32`: 935 492 instructions (soft f64)
+    /// - `m4:probe_radiance_sh_variance N=16`: 353 974 instructions (soft f64)
+    /// - `m4:probe_radiance_sh_variance N=32`: 935 488 instructions (soft f64)
     /// - `m4:probe_radiance_sh_variance N=64`: 2 787 870 instructions (soft f64)
     /// - `m4:probe_radiance_sh_variance N=256`: 33 647 320 instructions (soft f64)
     ///

@@ -17,10 +17,10 @@ where
     /// # Cost
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_update N=16`: 2 718 instructions (four-member selection)
-    /// - `m4:probe_update N=32`: 33 964 instructions (four-member selection)
-    /// - `m4:probe_update N=64`: 88 800 instructions (four-member selection)
-    /// - `m4:probe_update N=256`: 790 400 instructions (four-member selection)
+    /// - `m4:probe_update N=16`: 2 720 instructions (four-member selection)
+    /// - `m4:probe_update N=32`: 33 968 instructions (four-member selection)
+    /// - `m4:probe_update N=64`: 88 790 instructions (four-member selection)
+    /// - `m4:probe_update N=256`: 790 440 instructions (four-member selection)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
     /// these lines against):
@@ -45,8 +45,8 @@ where
     /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
     /// [`examples/cortex-m4`], whose output CI checks these lines against):
     /// - `m4:probe_update_one_member N=16`: 1 274 instructions (one member)
-    /// - `m4:probe_update_one_member N=32`: 11 876 instructions (one member)
-    /// - `m4:probe_update_one_member N=64`: 31 070 instructions (one member)
+    /// - `m4:probe_update_one_member N=32`: 11 868 instructions (one member)
+    /// - `m4:probe_update_one_member N=64`: 31 080 instructions (one member)
     /// - `m4:probe_update_one_member N=256`: 274 880 instructions (one member)
     ///
     /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
