@@ -7,7 +7,7 @@
 # thumbv7em-none-eabihf, each after the load average (`uptime`). With KEEP=1 the scratch
 # directory stays, and `--timings` reports per unit (build script run, each crate) are in
 # its target directories. It fails only when a build fails: no timing
-# assertions (docs/costs.md, "Build time of a dependant", reports measured figures).
+# assertions (docs/measurements.md, "Build time of a dependant", reports measured figures).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 dir=$(mktemp -d)

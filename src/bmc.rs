@@ -29,11 +29,11 @@
 //! array per size. Only the baked sizes compile: `N` ∈ {16, 32, 64, 80, 128, 256}. The
 //! hyperparameters are **learned** offline on real maps (`cargo writer renderer_hyperparameters`:
 //! the (l, σ′) whose estimates have the smallest RMSE ratio to QMC-SF over the clamp and
-//! smooth tiers of four training maps; the report is [`docs/renderer.md`]). On point-sampled
+//! smooth tiers of four training maps; the report is `docs/renderer.md`). On point-sampled
 //! real lighting this renderer ties QMC-SF on the same samples; for light as smooth as
 //! mixtures of spherical Gaussians of sharpness 2…20, the preset `tables/bmc_smooth.txt`
-//! (uniform set, learned by [`xtask/writers/src/bin/learn_hyperparameters.rs`]) is many times better than
-//! QMC-SF ([`docs/hyperparameters.md`]) — select it with the variable below. For a probe
+//! (uniform set, learned by `xtask/writers/src/bin/learn_hyperparameters.rs`) is many times better than
+//! QMC-SF (`docs/hyperparameters.md`) — select it with the variable below. For a probe
 //! that shares its samples among many normals, see [`crate::probe`].
 //!
 //! To bake other sizes or hyperparameters without forking the crate, point the environment
@@ -80,11 +80,11 @@
 //! 2 304 bytes of weights in all ([`TABLE_BYTES`]).
 //!
 //! # Accuracy
-//! Measured by [`tests/bmc/bmc.rs`], identical under `libm` and `micromath`:
+//! Measured by `tests/bmc/bmc.rs`, identical under `libm` and `micromath`:
 //! - The baked f32 weights agree with the independent f64 reference (other point formula,
 //!   `zᵢ` by I₀ₑ quadrature, LU solves) to 3.4–4.7·10⁻⁸ of the largest weight (f32
 //!   rounding); `Σw − 1` is below 1.3·10⁻⁸.
-//! - On real maps ([`eval/src/bin/renderer.rs`], [`docs/renderer.md`], held-out maps) the renderer
+//! - On real maps (`eval/src/bin/renderer.rs`, `docs/renderer.md`, held-out maps) the renderer
 //!   ties QMC-SF on the same samples on the `clamp` tier (0.98–1.07× at N = 32–128) and is
 //!   0.46–0.50× QMC-SF on the `smooth` tier.
 //! - Relative RMS error of irradiance of single spherical-Gaussian lights (sharpness 2…20,
@@ -93,7 +93,7 @@
 //!   1.31 %; 80: 1.11 % vs 0.91 %; 128: 0.52 % vs 0.64 %; 256: 0.18 % vs 0.21 %. Lights this
 //!   sharp want a shorter kernel: the preset `tables/bmc_smooth.txt` (uniform set, learned on
 //!   such fields) gives 0.13× QMC-SF at N = 64 and 0.048× on the synthetic tier of
-//!   [`docs/accuracy.md`] (the shipped table: 0.495×).
+//!   `docs/accuracy.md` (the shipped table: 0.495×).
 //! - Posterior variance: in units of σ_f² (σ_f = 1 here), for the plain model (the nugget as
 //!   noise); the probe form estimates σ_f from its samples.
 //!
@@ -101,12 +101,9 @@
 //! A zero, NaN or infinite normal gives [`Error::InvalidDirection`]; NaN radiance propagates
 //! to a NaN estimate.
 //!
-//! [`docs/renderer.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/renderer.md
-//! [`xtask/writers/src/bin/learn_hyperparameters.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/xtask/writers/src/bin/learn_hyperparameters.rs
-//! [`docs/hyperparameters.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/hyperparameters.md
-//! [`tests/bmc/bmc.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/bmc/bmc.rs
-//! [`eval/src/bin/renderer.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/renderer.rs
-//! [`docs/accuracy.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/accuracy.md
+//!
+//! # Cost
+//! Instructions per call and flash on a Cortex-M4F: [`costs`](crate::costs#bmc-renderers).
 
 pub mod footprint;
 pub mod glossy;
@@ -264,20 +261,7 @@ where
     /// Irradiance `E = π·Σ wᵢ Yᵢ` from the radiance in each direction, in order.
     ///
     /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:renderer_w_dot_y N=16`: 48 instructions (one channel)
-    /// - `m4:renderer_w_dot_y N=64`: 184 instructions (one channel)
-    /// - `m4:renderer_w_dot_y N=256`: 868 instructions (one channel)
-    ///
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against):
-    /// - `flash:renderer_w_dot_y N=64`: 2 452 bytes of code and 256 bytes of tables
-    ///
     /// Flash: `4·N` bytes of weights per size used ([`TABLE_BYTES`] for all of them).
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     ///
     /// # Errors
     /// [`Error::InvalidRadiance`] for a NaN or infinite sample.

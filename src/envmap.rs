@@ -126,7 +126,7 @@
 //! The errors are the f32 rounding of the sample plus the rule's. On a map sampled from an
 //! SG light the sample converges to the closed-form SG convolution as `h²` (the map's own
 //! discretisation), and Richardson extrapolation from 256×128 and 512×256 leaves 4·10⁻⁸
-//! ([`tests/envmap/envmap_sampling.rs`]).
+//! (`tests/envmap/envmap_sampling.rs`).
 //!
 //! Fast form against the exact form, 64 directions on each of the ten maps, raw and with each
 //! pixel's luminance capped at 30× the map's mean
@@ -157,8 +157,6 @@
 //! sharpness or exponent of 0 or above [`MAX_PARAMETER`] gives [`Error::InvalidResponse`];
 //! a pyramid buffer shorter than [`MipPyramid::buffer_len`], or batch slices of different
 //! lengths, give [`Error::LengthMismatch`] (the batch forms check everything before writing).
-//!
-//! [`tests/envmap/envmap_sampling.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/envmap/envmap_sampling.rs
 
 use crate::error::Error;
 use crate::footprint::{Kind, MAX_PARAMETER};
@@ -588,9 +586,7 @@ fn check_batch(dirs: &[Vec3], kind: Kind, out: &[[f32; 3]]) -> Result<(), Error>
 #[cfg(test)]
 mod tests {
     //! The private kernels against `libm` and brute force (the public API is tested against
-    //! the f64 reference crate in [`tests/envmap/envmap_sampling.rs`]).
-    //!
-    //! [`tests/envmap/envmap_sampling.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/envmap/envmap_sampling.rs
+    //! the f64 reference crate in `tests/envmap/envmap_sampling.rs`).
     use super::*;
 
     #[test]

@@ -34,7 +34,7 @@
 //! error is at most `max(1/qᵢ)` (weight rounding, `|δqᵢ| < 1`) plus the final rounding, ½ LSB
 //! (2⁻¹⁷) over the result: `1/q_min` is 4·10⁻⁸, 2·10⁻⁷, 6·10⁻⁷, 3·10⁻⁶ and 8·10⁻⁶ for
 //! N = 16…256, so the relative error is ≤ 10⁻³ whenever the result is ≥ 2⁻⁷ (512 LSB).
-//! Measured by [`tests/bmc/fixed_point.rs`] (2 000 seeded vectors per size: uniform bits,
+//! Measured by `tests/bmc/fixed_point.rs` (2 000 seeded vectors per size: uniform bits,
 //! log-uniform over [2⁻⁷, 2¹⁶), and values in [1, 1.5]): at most 6.4·10⁻⁶ relative (the ½ LSB
 //! rounding at a result near 1), at most 8.7 LSB absolute at N = 256 for results near the
 //! top of the range. Constants are exact (`Σq = 2³¹`).
@@ -49,8 +49,6 @@
 //! // The top of the range does not overflow.
 //! assert_eq!(bmc.mean_radiance(&[U16F16::MAX; 64]), U16F16::MAX);
 //! ```
-//!
-//! [`tests/bmc/fixed_point.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/bmc/fixed_point.rs
 
 use crate::bmc::{BakedSize, Size};
 

@@ -68,6 +68,7 @@
 //! An irradiance query is `K` table lookups; its error bar is the exact direction average
 //! of the posterior variance, computed once per update; [`LayoutProbe::irradiance_variance`]
 //! is the exact variance at one normal, O(K²).
+//! Instructions per call, flash and RAM on a Cortex-M4F: [`costs`](crate::costs#the-layout-probe).
 //!
 //! Channels are fitted one by one, each with its own scale. Their errors are correlated, so
 //! the variance of a combination of channels (luminance from RGB) is not a sum of the
@@ -180,44 +181,6 @@
 //! assert!((e.value - 4.18879).abs() < 0.05, "{}", e.value);
 //! # Ok::<(), sphere_quadrature::Error>(())
 //! ```
-//!
-//! # Cortex-M4
-//! Instructions per call on a Cortex-M4F (QEMU `mps2-an386`, `-icount shift=0`, `libm`
-//! backend; [`examples/cortex-m4`], whose output CI checks these lines against), one channel
-//! (`LayoutProbe<K, f32>`), cosine photodiodes on the faces of a cube (`K = 6`) and on the
-//! directions of `Probe::<16, f32, CosinePower<1>>` (`K = 16`), [`Prior::ENVIRONMENT`], a
-//! relative noise of 1 % and readings of a real environment map:
-//! - `m4:layout_init K=6`: 84 380 instructions ([`LayoutProbe::new`])
-//! - `m4:layout_init K=16`: 370 000 instructions
-//! - `m4:layout_update K=6`: 5 310 instructions ([`LayoutProbe::update`])
-//! - `m4:layout_update K=16`: 26 830 instructions
-//! - `m4:layout_update_rgb K=6`: 16 620 instructions (`LayoutProbe<6, [f32; 3]>`)
-//! - `m4:layout_update_rgb K=16`: 84 140 instructions (`LayoutProbe<16, [f32; 3]>`)
-//! - `m4:layout_update_absolute K=6`: 3 450 instructions (an absolute noise of 1 % of the
-//!   mean reading instead: no per-reading solve)
-//! - `m4:layout_update_absolute K=16`: 7 080 instructions
-//! - `m4:layout_update_exact K=6`: 1 290 instructions (no noise declared)
-//! - `m4:layout_update_exact K=16`: 4 220 instructions
-//! - `m4:layout_irradiance K=6`: 366 instructions ([`LayoutProbe::irradiance`])
-//! - `m4:layout_irradiance K=16`: 795 instructions
-//! - `m4:layout_irradiance_variance K=6`: 634 instructions
-//!   ([`LayoutProbe::irradiance_variance`])
-//! - `m4:layout_irradiance_variance K=16`: 1 909 instructions
-//!
-//! Flash (release, LTO) that one call adds, the first on top of an empty program and the
-//! others on top of [`LayoutProbe::new`] (`K = 6`, one channel):
-//! - `flash:layout_new K=6`: 48 840 bytes of code and 528 bytes of tables
-//! - `flash:layout_update K=6`: 12 336 bytes of code and 8 bytes of tables
-//! - `flash:layout_irradiance K=6`: 3 976 bytes of code and 256 bytes of tables
-//! - `flash:layout_irradiance_variance K=6`: 3 760 bytes of code and 268 bytes of tables
-//!
-//! RAM of the probe (`core::mem::size_of`), which [`LayoutProbe::new`] returns by value:
-//! - `ram:layout_f32 K=6`: 3 860 bytes (`LayoutProbe<6, f32>`)
-//! - `ram:layout_rgb K=6`: 4 012 bytes (`LayoutProbe<6, [f32; 3]>`)
-//! - `ram:layout_f32 K=16`: 7 232 bytes (`LayoutProbe<16, f32>`)
-//! - `ram:layout_rgb K=16`: 7 544 bytes (`LayoutProbe<16, [f32; 3]>`)
-//!
-//! [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
 
 // Matrix code reads clearer with its indices.
 #![allow(clippy::needless_range_loop)]

@@ -25,7 +25,7 @@
 //!   irradiance, and the Phong lobe with the cosine factor ([`bmc::GlossyRenderer`]).
 //! - [`probe`]: a Bayesian Monte Carlo lighting probe: N samples in, irradiance with a
 //!   posterior variance for any normal out, with per-probe kernel selection by marginal
-//!   likelihood. On the held-out maps of [`eval/src/bin/accuracy.rs`] it has 0.81–0.92× the error of
+//!   likelihood. On the held-out maps of `eval/src/bin/accuracy.rs` it has 0.81–0.92× the error of
 //!   the cosine-weighted average at N = 16…64 (`clamp` tier; mean of per-map ratios, 0.75–0.86×
 //!   as a ratio of mean errors) and 0.68–0.89× the best of that average and SH L2 (`smooth`
 //!   tier). Samples may be points or have a known footprint
@@ -53,6 +53,7 @@
 //!   their hemispherical and clamped-cosine integrals from build-time tables.
 //! - [`radiance`] and [`Vec3`]: the sample values (`f32` or RGB) and directions.
 //! - [`fixed_point`] (feature `fixed`) and [`interop`] (feature `mint`).
+//! - [`costs`]: instructions per call, flash and RAM on a Cortex-M4F.
 //!
 //! # Conventions
 //! One vocabulary for every type:
@@ -195,8 +196,6 @@
 //!
 //! Two further features, `footprint-sweep` and `renderer-sweep`, bake extra tables for the
 //! repository's evaluation programs; they add nothing a user calls.
-//!
-//! [`eval/src/bin/accuracy.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/accuracy.rs
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -215,6 +214,7 @@ include!(concat!(env!("OUT_DIR"), "/bmc_size_diagnostics.rs"));
 mod tables;
 pub mod bmc;
 mod change;
+pub mod costs;
 pub mod envmap;
 mod error;
 mod estimate;

@@ -145,7 +145,7 @@ pub const fn sqrt_const(x: f32) -> f32 {
 /// The estimate from the exponent bits (`0x5F37_5A86 − bits/2`, within 3.5 % of `1/√x`) is
 /// refined by three Newton steps `y ← y + y·(1/2 − (x/2·y)·y)`, each of which squares the
 /// relative error (to 1.8·10⁻³, 5·10⁻⁶, then below f32 rounding): the result is within
-/// 1.2 ulp of `1/√x` over the whole domain ([`tests/points/math.rs`]). `(x/2·y)·y` keeps every
+/// 1.2 ulp of `1/√x` over the whole domain (`tests/points/math.rs`). `(x/2·y)·y` keeps every
 /// intermediate in the normal range. Outside the domain the result is meaningless; callers
 /// check `x` first.
 ///
@@ -158,8 +158,6 @@ pub const fn sqrt_const(x: f32) -> f32 {
 ///     assert!((y * y * x - 1.0).abs() < 1e-6);
 /// }
 /// ```
-///
-/// [`tests/points/math.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/points/math.rs
 #[inline]
 #[must_use]
 pub fn inv_sqrt(x: f32) -> f32 {

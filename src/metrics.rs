@@ -51,7 +51,7 @@
 //!
 //! [`energy_f32`] is an all-f32 path for cores without a double-precision FPU (compensated
 //! f32 sums, `4/3` split into two f32 parts, bias-free renormalisation). Measured against
-//! the f64 path on spherical Fibonacci sets ([`tests/points/metrics.rs`]), its relative error in
+//! the f64 path on spherical Fibonacci sets (`tests/points/metrics.rs`), its relative error in
 //! `E_N` is 6·10⁻⁷ at N = 256, 2·10⁻⁵ at 1024, 2·10⁻⁴ at 4096, then 2.5·10⁻³ at 8192 and
 //! 5·10⁻³ at 16 384: **it is accurate to 10⁻³ for N ≤ 4096**. The limit is the rounding of
 //! `|ωᵣ − ωₖ|²` in f32, biased by about 10⁻⁸ on SF's structured coordinates, against
@@ -78,8 +78,6 @@
 //! assert!(d > 0.0 && d < 2.0);
 //! # Ok::<(), sphere_quadrature::Error>(())
 //! ```
-//!
-//! [`tests/points/metrics.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/points/metrics.rs
 
 mod circle;
 mod harmonics;

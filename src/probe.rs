@@ -41,11 +41,11 @@
 //!   `clamp` tier of the held-out maps). Every variance the probe reports is therefore
 //!   multiplied by a per-member factor [`Member::calibration`] (irradiance; glossy at lobe
 //!   sharpness μ = 7, 22, 102, linear in `ln μ` between), fitted offline so that 95 % of the
-//!   errors on the training maps fall within 2σ ([`xtask/writers/src/bin/probe_calibration.rs`] writes the
-//!   `calibration = …` lines of `tables/probe.txt`; [`docs/probe_trust.md`]). On the held-out
+//!   errors on the training maps fall within 2σ (`xtask/writers/src/bin/probe_calibration.rs` writes the
+//!   `calibration = …` lines of `tables/probe.txt`; `docs/probe_trust.md`). On the held-out
 //!   maps, with the f64 engine of that program, 2σ then holds for 94–99 % of the `clamp`
 //!   queries and 96–100 % of the `smooth` ones at N = 16 … 256 (irradiance and Phong
-//!   e = 5, 20, 100); the crate's own figures are in [`docs/accuracy.md`] and [`docs/glossy.md`].
+//!   e = 5, 20, 100); the crate's own figures are in `docs/accuracy.md` and `docs/glossy.md`.
 //!   The factors range from 0.2 to 744: a member chosen mostly on aliased data gets wide bars
 //!   on smooth data too (the smooth tier's N = 16 bars over-cover, 100 %). Divide by the
 //!   factor for the model's own variance.
@@ -100,8 +100,8 @@
 //!
 //! On real maps footprint samples cut the irradiance error by 40–200× against the
 //! cosine-weighted average of point samples at the same `N` (held-out maps, N = 16…256, mean of
-//! per-map ratios; [`eval/src/bin/footprint.rs`],
-//! [`docs/footprint.md`]). [`crate::envmap`] takes footprint samples of an equirectangular map.
+//! per-map ratios; `eval/src/bin/footprint.rs`,
+//! `docs/footprint.md`). [`crate::envmap`] takes footprint samples of an equirectangular map.
 //!
 //! ```
 //! use sphere_quadrature::footprint::Gaussian;
@@ -141,7 +141,7 @@
 //!   which moves an answer as any f32 perturbation of the samples does: measured from
 //!   `c = 10⁻³⁰` to `10³⁰`, 10⁻⁷–7·10⁻⁵ relative for members with `cond(Q) ≤ 10⁴`, up to
 //!   1.1·10⁻³ for the smoothest (`cond(Q)` 3·10⁴–3·10⁵: one ulp of input moves their
-//!   answers by up to 6·10⁻⁴; [`tests/hardening/scale.rs`]).
+//!   answers by up to 6·10⁻⁴; `tests/hardening/scale.rs`).
 //! - A result beyond `f32::MAX` is `±∞`, never 0, NaN or a wrong finite value: the
 //!   variances once the samples spread over more than about 10¹⁹ (`σ̂_f² > f32::MAX`) or a
 //!   glossy amplitude times that spread does; a value when it exceeds `f32::MAX` itself (the
@@ -181,10 +181,10 @@
 //!   [`Probe::glossy`] and [`Probe::phong`] are σ̂_f² of the valid samples times the *full*
 //!   set's baked direction-averaged unit variance (and [`Estimate::unit_variance`] is that
 //!   average): they do not see the holes, which raise the variance near the missing
-//!   directions. Measured at `N = 64` (`λ = 4`, [`tests/probe/missing.rs`]), the direction average
+//!   directions. Measured at `N = 64` (`λ = 4`, `tests/probe/missing.rs`), the direction average
 //!   of the exact variance is 3.5× the O(1) one with 3 samples missing, 55× with 16 and 160×
 //!   with 32: after a masked update, take error bars from the exact queries.
-//! - **Accuracy** ([`tests/probe/missing.rs`], against an f64 reference that builds `Q_VV` from the
+//! - **Accuracy** (`tests/probe/missing.rs`, against an f64 reference that builds `Q_VV` from the
 //!   valid directions and solves it by LU; every member, N = 16, 64, 256, 1 to 50 % missing):
 //!   irradiance within 10⁻⁵ RMS for members with `cond(Q) ≤ 10⁴` (measured ≤ 6·10⁻⁶), the
 //!   forward bound `cond(Q)·ε₃₂` for the smoother ones (measured 4·10⁻⁵–2·10⁻³, a few times
@@ -194,7 +194,7 @@
 //!   footprints (`Gaussian<8>`, N = 64, 16 missing) against a closed-form reference of their
 //!   sample covariance: irradiance within the same bars (9·10⁻⁴ at `cond(Q)` 2.8·10⁵), the
 //!   exact variance's increase over the full set's within 4·10⁻³.
-//! - **On real maps** ([`eval/src/bin/missing.rs`], [`docs/missing.md`]; `clamp` tier, held-out maps,
+//! - **On real maps** (`eval/src/bin/missing.rs`, `docs/missing.md`; `clamp` tier, held-out maps,
 //!   a seeded random subset missing): the masked probe's irradiance error over the
 //!   cosine-weighted average of the valid samples, mean of per-map ratios at 5 / 25 / 50 %
 //!   missing, is 0.83 / 0.83 / 0.84 at N = 16, 0.92 / 0.95 / 0.90 at N = 64 and
@@ -223,16 +223,9 @@
 //! - A [`Selection::Member`] index outside the family: [`Error::InvalidMember`].
 //! - Before the first update every query returns zero irradiance and zero variance.
 //!
-//! [`xtask/writers/src/bin/probe_calibration.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/xtask/writers/src/bin/probe_calibration.rs
-//! [`docs/probe_trust.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/probe_trust.md
-//! [`docs/accuracy.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/accuracy.md
-//! [`docs/glossy.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/glossy.md
-//! [`eval/src/bin/footprint.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/footprint.rs
-//! [`docs/footprint.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/footprint.md
-//! [`tests/hardening/scale.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/hardening/scale.rs
-//! [`tests/probe/missing.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/probe/missing.rs
-//! [`eval/src/bin/missing.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/missing.rs
-//! [`docs/missing.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/missing.md
+//!
+//! # Cost
+//! Instructions per call and flash on a Cortex-M4F: [`costs`](crate::costs#the-probe).
 
 use crate::error::Error;
 use crate::footprint::{Footprint, Kind, Point};
@@ -509,13 +502,6 @@ where
     /// // The same directions as the run-time set, bit for bit.
     /// assert_eq!(*probe.borrow().directions(), SphericalFibonacci::<64>::new().points());
     /// ```
-    ///
-    /// # Cost
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against; the tables come with the first query or update):
-    /// - `flash:probe_new N=64`: 2 292 bytes of code and 0 bytes of tables
-    ///
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     #[must_use]
     pub const fn new() -> Self {
         let () = crate::radiance::Channels::<T>::VALID;
@@ -619,22 +605,6 @@ where
 /// # Errors
 /// [`Error::InvalidDirection`] for a zero or non-finite normal; [`Error::LengthMismatch`] when
 /// the slices differ in length.
-///
-/// # Cost
-/// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-/// [`examples/cortex-m4`], whose output CI checks these lines against):
-/// - `m4:cosine_weighted_average N=16`: 514 instructions
-/// - `m4:cosine_weighted_average N=32`: 894 instructions
-/// - `m4:cosine_weighted_average N=64`: 1 652 instructions
-/// - `m4:cosine_weighted_average N=256`: 6 185 instructions
-///
-/// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-/// these lines against):
-/// - `flash:cosine_weighted_average N=64`: 1 164 bytes of code and 256 bytes of tables
-///   (on top of the `Probe::new` that gives the directions)
-///
-/// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-/// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
 pub fn cosine_weighted_average<T: Radiance>(
     directions: &[Vec3],
     samples: &[T],

@@ -41,6 +41,9 @@
 //! assert!((g - 0.7).abs() < 1e-5);
 //! # Ok::<(), sphere_quadrature::Error>(())
 //! ```
+//!
+//! # Cost
+//! Instructions per call and flash on a Cortex-M4F: [`costs`](crate::costs#qmc-estimators).
 
 use crate::error::Error;
 use crate::radiance::Radiance;
@@ -169,21 +172,6 @@ impl LobeSampler {
     /// # Errors
     /// [`Error::LengthMismatch`] when `samples.len() != len()`, [`Error::InvalidRadiance`] for
     /// a NaN or infinite sample.
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:qmc_estimate_from_samples N=16`: 79 instructions (cosine lobe)
-    /// - `m4:qmc_estimate_from_samples N=64`: 187 instructions (cosine lobe)
-    /// - `m4:qmc_estimate_from_samples N=256`: 608 instructions (cosine lobe)
-    ///
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against):
-    /// - `flash:qmc_estimate_from_samples N=64`: 2 164 bytes of code and 256 bytes of tables
-    ///   (with `LobeSampler::new`)
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn estimate<T: Radiance>(&self, samples: &[T]) -> Result<T, Error> {
         let () = crate::radiance::Channels::<T>::VALID;
         if samples.len() != self.set.len() {
@@ -263,20 +251,6 @@ fn is_finite<T: Radiance>(x: T) -> bool {
 /// # use sphere_quadrature::{qmc, Vec3};
 /// let _ = qmc::irradiance::<0, f32, _>(Vec3::Z, 0, |_| 1.0);
 /// ```
-///
-/// # Cost
-/// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-/// [`examples/cortex-m4`], whose output CI checks these lines against):
-/// - `m4:qmc_irradiance N=16`: 5 072 instructions (trivial radiance callback)
-/// - `m4:qmc_irradiance N=64`: 19 196 instructions (trivial radiance callback)
-/// - `m4:qmc_irradiance N=256`: 75 690 instructions (trivial radiance callback)
-///
-/// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-/// these lines against):
-/// - `flash:qmc_irradiance N=64`: 1 252 bytes of code and 256 bytes of tables
-///
-/// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-/// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
 pub fn irradiance<const N: usize, T: Radiance, F: FnMut(Vec3) -> T>(
     normal: Vec3,
     phase_bits: u64,

@@ -28,9 +28,7 @@ use crate::vec3::Vec3;
 /// How far from orthonormal a rotation may be: each entry of `MᵀM − I` within 10⁻³
 /// ([`Mat3::validate_rotation`]). Generous against f32 rounding (10⁻⁷ per product), tight
 /// enough that a point set rotated by such a matrix stays within 10⁻³ of the unit sphere and
-/// its nearest-point search stays exact ([`tests/hardening/hardening.rs`]).
-///
-/// [`tests/hardening/hardening.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/hardening/hardening.rs
+/// its nearest-point search stays exact (`tests/hardening/hardening.rs`).
 pub const ROTATION_TOLERANCE: f32 = 1e-3;
 
 /// A 3×3 matrix stored as rows; used for rotations.

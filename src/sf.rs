@@ -48,6 +48,9 @@
 //! let sf = SphericalFibonacci::<64>::new();
 //! assert_eq!(sf.nearest_index(points[17]), Ok(17));
 //! ```
+//!
+//! # Cost
+//! Instructions per call and flash on a Cortex-M4F: [`costs`](crate::costs#point-sets).
 
 use core::marker::PhantomData;
 
@@ -571,20 +574,6 @@ macro_rules! const_set {
             }
 
             /// All `N` points.
-            ///
-            /// # Cost
-            /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm`
-            /// backend; [`examples/cortex-m4`], whose output CI checks these lines against):
-            /// - `m4:sf_points N=16`: 4 482 instructions (`SphericalFibonacci`)
-            /// - `m4:sf_points N=64`: 12 240 instructions (`SphericalFibonacci`)
-            /// - `m4:sf_points N=256`: 48 800 instructions (`SphericalFibonacci`)
-            ///
-            /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-            /// these lines against):
-            /// - `flash:sf_points N=64`: 1 632 bytes of code and 256 bytes of tables
-            ///
-            /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-            /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
             #[must_use]
             pub fn points(&self) -> [Vec3; N] {
                 core::array::from_fn(|j| self.set.point_unchecked(j))

@@ -49,7 +49,7 @@
 //! `C`) and `λ = 0` (`H = 2π`, `C = π`) take an exact path.
 //!
 //! # Accuracy
-//! Measured by [`tests/bmc/sg.rs`] against the reference crate's adaptive Gauss–Kronrod quadrature
+//! Measured by `tests/bmc/sg.rs` against the reference crate's adaptive Gauss–Kronrod quadrature
 //! of the defining integral, on a dense grid and 10⁵ random `(λ, t)` with `λ` up to 10⁴ and
 //! beyond: max absolute error of `H/F` 1.1·10⁻⁵ and of `C/F` 5·10⁻⁶ (`libm`). For comparison
 //! the closed forms, on the same points: Tokuyoshi 2022 (`H`) 4.9·10⁻³, Meder & Brüderlin 2018
@@ -71,7 +71,9 @@
 //! `[−1, 1]` are clamped. The plain-data methods ([`SphericalGaussian::evaluate`],
 //! [`SphericalGaussian::product`], …) do not check and propagate NaN.
 //!
-//! [`tests/bmc/sg.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/bmc/sg.rs
+//!
+//! # Cost
+//! Instructions per call and flash on a Cortex-M4F: [`costs`](crate::costs#spherical-gaussians).
 
 use core::f64::consts::PI as PI64;
 
@@ -86,9 +88,7 @@ use crate::vec3::Vec3;
 
 const TWO_PI: f32 = 2.0 * core::f32::consts::PI;
 
-/// Bytes of the two baked tables together (pinned by [`tests/bmc/sg_tables.rs`]).
-///
-/// [`tests/bmc/sg_tables.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/bmc/sg_tables.rs
+/// Bytes of the two baked tables together (pinned by `tests/bmc/sg_tables.rs`).
 pub const TABLE_BYTES: usize =
     core::mem::size_of::<[f32; SG_HEMI_LAMBDA_NODES * SG_HEMI_T_NODES]>()
         + core::mem::size_of::<[f32; SG_CLAMPED_LAMBDA_NODES * SG_CLAMPED_T_NODES]>();
@@ -164,14 +164,12 @@ impl SphericalGaussian {
     /// against Phong's 0.625 at `e = 5`; at `e = 1` it is 0.328 against 0.25, worse than
     /// [`Self::phong_lobe`]'s 0.194).
     /// Integrating *smooth* lighting, what matters is the low Legendre moments, not the
-    /// pointwise fit: on the `smooth` maps of [`eval/src/bin/glossy.rs`] (held-out means) the probe's
+    /// pointwise fit: on the `smooth` maps of `eval/src/bin/glossy.rs` (held-out means) the probe's
     /// glossy error at `e = 5` is 1.3 % (N = 64) and 1.1 % (N = 256) with this lobe, against
     /// 2.5 % and 2.4 % with [`Self::phong_lobe`].
     ///
     /// # Errors
     /// As [`Self::phong_lobe`].
-    ///
-    /// [`eval/src/bin/glossy.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/glossy.rs
     pub fn phong_moments(axis: Vec3, e: f32) -> Result<Self, Error> {
         if !(e >= 0.0 && e.is_finite()) {
             return Err(Error::InvalidExponent);
@@ -354,13 +352,9 @@ fn inner_product_wide(g1: &SphericalGaussian, g2: &SphericalGaussian) -> f32 {
     (f64::from(g1.amplitude) * f64::from(g2.amplitude) * math::exp64(x) * full) as f32
 }
 
-/// Least-squares SG sharpness for the clamped cosine (re-derived by [`tests/bmc/sg.rs`]).
-///
-/// [`tests/bmc/sg.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/bmc/sg.rs
+/// Least-squares SG sharpness for the clamped cosine (re-derived by `tests/bmc/sg.rs`).
 const CLAMPED_COSINE_SHARPNESS: f32 = 2.143_77;
-/// Least-squares SG amplitude for the clamped cosine (re-derived by [`tests/bmc/sg.rs`]).
-///
-/// [`tests/bmc/sg.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/bmc/sg.rs
+/// Least-squares SG amplitude for the clamped cosine (re-derived by `tests/bmc/sg.rs`).
 const CLAMPED_COSINE_AMPLITUDE: f32 = 1.176_64;
 
 fn check_sharpness(lambda: f32) -> Result<(), Error> {
@@ -409,15 +403,6 @@ pub fn full_integral(lambda: f32) -> Result<f32, Error> {
 /// [`Error::InvalidSharpness`] for a negative, NaN or infinite `lambda`;
 /// [`Error::InvalidDirection`] for a NaN `t` (`t` is clamped to `[−1, 1]`).
 ///
-/// # Cost
-/// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-/// [`examples/cortex-m4`], whose output CI checks these lines against):
-/// - `m4:sg_hemispherical_fraction N=1`: 388 instructions (one table lookup)
-///
-/// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-/// these lines against):
-/// - `flash:sg_hemispherical_fraction N=1`: 1 488 bytes of code and 8 352 bytes of tables
-///
 /// # Examples
 /// ```
 /// use sphere_quadrature::sg::hemispherical_fraction;
@@ -428,9 +413,6 @@ pub fn full_integral(lambda: f32) -> Result<f32, Error> {
 /// assert!((up + down - 1.0).abs() < 1e-5 && up > 0.5);
 /// # Ok::<(), sphere_quadrature::Error>(())
 /// ```
-///
-/// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-/// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
 pub fn hemispherical_fraction(lambda: f32, t: f32) -> Result<f32, Error> {
     check_sharpness(lambda)?;
     let t = check_cosine(t)?;
@@ -443,15 +425,6 @@ pub fn hemispherical_fraction(lambda: f32, t: f32) -> Result<f32, Error> {
 /// # Errors
 /// As [`hemispherical_fraction`].
 ///
-/// # Cost
-/// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-/// [`examples/cortex-m4`], whose output CI checks these lines against):
-/// - `m4:sg_clamped_cosine_fraction N=1`: 418 instructions (one table lookup)
-///
-/// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-/// these lines against):
-/// - `flash:sg_clamped_cosine_fraction N=1`: 1 772 bytes of code and 8 416 bytes of tables
-///
 /// # Examples
 /// ```
 /// use sphere_quadrature::sg::clamped_cosine_fraction;
@@ -463,9 +436,6 @@ pub fn hemispherical_fraction(lambda: f32, t: f32) -> Result<f32, Error> {
 /// assert!(clamped_cosine_fraction(-1.0, 0.5).is_err());
 /// # Ok::<(), sphere_quadrature::Error>(())
 /// ```
-///
-/// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-/// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
 pub fn clamped_cosine_fraction(lambda: f32, t: f32) -> Result<f32, Error> {
     check_sharpness(lambda)?;
     let t = check_cosine(t)?;

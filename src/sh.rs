@@ -45,7 +45,7 @@
 //! indices 3, 1, 2), and degree 2, a trace-free quadratic form `xᵀAx`, by `A ↦ m·A·mᵀ`.
 //!
 //! # Engines
-//! Each conversion keeps the axes (see "Axes") and is checked in [`tests/sh/sh.rs`] against that
+//! Each conversion keeps the axes (see "Axes") and is checked in `tests/sh/sh.rs` against that
 //! engine's published evaluation formula, written out in the test from the cited source.
 //! - **three.js** `SphericalHarmonics3` (`src/math/SphericalHarmonics3.js` in mrdoob/three.js:
 //!   `getBasisAt`, `getAt`, `getIrradianceAt`; the shader's `shGetIrradianceAt` in
@@ -118,7 +118,7 @@
 //! ```
 //!
 //! # Accuracy
-//! Against f64 references ([`tests/sh/sh.rs`], largest error over random coefficients and
+//! Against f64 references (`tests/sh/sh.rs`, largest error over random coefficients and
 //! directions, relative to `Σ|c_lm|`): the basis and [`ShL2::radiance`] 1.8·10⁻⁷,
 //! [`ShL2::irradiance`] against quadrature of the cosine integral 7·10⁻⁸, [`ShL2::rotated`]
 //! against the quadrature projection of the rotated function 4·10⁻⁸; the engines' formulas
@@ -126,7 +126,7 @@
 //! have 6 digits). [`crate::probe::Probe::radiance_sh`] matches an f64 solve of the probe's
 //! model to 10⁻⁷–10⁻⁶ of `Σ|c_lm|` for members with `cond(Q) ≤ 10⁴`.
 //!
-//! On the benchmark's real maps ([`docs/accuracy.md`]) the irradiance of the export has the
+//! On the benchmark's real maps (`docs/accuracy.md`) the irradiance of the export has the
 //! probe's own error wherever that error is large against what 9 coefficients cannot hold:
 //! the SH L2 projection of the exact maps is off by 1.8 % (`clamp` tier) and 0.6 % (`smooth`),
 //! so the export's error is within 1 % of the probe's at N ≤ 128 on `clamp` and N = 16 on
@@ -138,8 +138,9 @@
 //! lengths give [`Error::LengthMismatch`]. Coefficients, weights, gains and matrices are used
 //! as given in plain f32 arithmetic: NaN propagates, and a result beyond `f32::MAX` is `±∞`.
 //!
-//! [`tests/sh/sh.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/sh/sh.rs
-//! [`docs/accuracy.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/accuracy.md
+//!
+//! # Cost
+//! Instructions per call and flash on a Cortex-M4F: [`costs`](crate::costs#spherical-harmonics).
 
 use crate::error::Error;
 use crate::math;
@@ -349,23 +350,6 @@ impl<T: Radiance> ShL2<T> {
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero, NaN or infinite `n`.
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_sh_irradiance N=64`: 57 instructions (one channel, unit normal)
-    /// - `m4:probe_sh_irradiance_non_unit N=64`: 88 instructions (one channel, to normalise)
-    /// - `m4:sh_irradiance_rgb N=9`: 103 instructions (RGB, unit normal)
-    ///
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against):
-    /// - `flash:probe_sh_irradiance N=64`: 944 bytes of code and 256 bytes of tables (one channel)
-    ///
-    /// The counts include the harness's closure, which loads the captured normal and stores
-    /// the `Result`.
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     #[inline]
     pub fn irradiance(&self, n: Vec3) -> Result<T, Error> {
         self.evaluate(n, &IRRADIANCE)
@@ -436,11 +420,6 @@ impl<T: Radiance> ShL2<T> {
     /// sphere and goes to degree 0), which is not a rotation of `L`. A NaN entry gives NaN
     /// coefficients.
     ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:sh_rotated_rgb N=9`: 350 instructions (RGB)
-    ///
     /// # Examples
     /// ```
     /// use sphere_quadrature::{sh::ShL2, Mat3, Vec3};
@@ -453,8 +432,6 @@ impl<T: Radiance> ShL2<T> {
     /// assert!((turned.radiance(Vec3::Y)? - sh.radiance(Vec3::X)?).abs() < 1e-5);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
     #[must_use]
     pub fn rotated(&self, m: &Mat3) -> Self {
         let [c0, c1, c2, c3, c4, c5, c6, c7, c8] = self.coefficients;

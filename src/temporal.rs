@@ -44,7 +44,7 @@
 //!   whose spectrum stays flat above `L`, as a point light's does). On the training maps the
 //!   degrees above `L` change the irradiance by 0.1–1 % at `L = 4` and 0.07–0.4 % at `L = 8`
 //!   on `clamp` light, by less than 0.02 % at `L ≥ 6` on `smooth` light
-//!   ([`eval/src/bin/temporal.rs`]). After 10⁴ and 10⁵ static updates without forgetting
+//!   (`eval/src/bin/temporal.rs`). After 10⁴ and 10⁵ static updates without forgetting
 //!   (hazard 10⁻¹²) on four maps (apartment, city, night, dawn; 48 normals; `N = 16` with one
 //!   sentinel, `N = 64` with none or two), every truth lies within 3σ (largest |error|/σ
 //!   2.3, median 0.25–0.31: the floor is conservative; the aliasing term alone covers 65.6 %
@@ -113,7 +113,7 @@
 //!   update's level against the state's, in units of its own noise; a lag beyond its noise
 //!   by more than the hazard's odds is a drift, and the state then pools no more updates
 //!   than minimise its level's error under that drift (bias against noise), without a reset
-//!   (module `level`). On the held-out maps of [`docs/temporal.md`], under a drift of 1 % per
+//!   (module `level`). On the held-out maps of `docs/temporal.md`, under a drift of 1 % per
 //!   update, the error / the best of hysteresis and DDGI at `k = 16` is 1.09, 1.27, 1.11 at
 //!   `N = 16, 64, 256` on `clamp` light and 0.98, 0.10, 0.05 on `smooth` light.
 //! - **Innovation**: the new update's projection of degrees `l ≤ 2` (every channel) against
@@ -134,7 +134,7 @@
 //!   pools 28–49 updates on average at `N = 16` (513–754 on `city`), where collapsing at every
 //!   update pooled 15–21 (67–69) (`tests/sh/temporal.rs`).
 //! - **The price**: sentinels are rays that add nothing to the estimate. Measured
-//!   ([`eval/src/bin/temporal.rs`], [`docs/temporal.md`], held-out maps, `clamp` light),
+//!   (`eval/src/bin/temporal.rs`, `docs/temporal.md`, held-out maps, `clamp` light),
 //!   1, 2, 4 sentinels of 16, 64, 256 rays detect a ×0.5 or a switch between maps within two
 //!   updates in 99–100 % of sequences (a ×10 or ×0.1 within one in 56–100 %), a ×1.3 in 67,
 //!   98, 100 % and a 30° turn of the light in 77, 98, 100 %, where the innovation alone
@@ -201,8 +201,9 @@
 //! ([`TemporalProbe::new`]). Before the first update there is no data: every query returns
 //! zero with zero variance (and [`TemporalProbe::updates`] is 0).
 //!
-//! [`eval/src/bin/temporal.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/temporal.rs
-//! [`docs/temporal.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/temporal.md
+//!
+//! # Cost
+//! Instructions per call and flash on a Cortex-M4F: [`costs`](crate::costs#the-temporal-probe).
 
 use crate::error::Error;
 use crate::estimate::Estimate;
@@ -667,15 +668,6 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// [`Error::InvalidRadiance`] for a non-finite sample or reading: the state and the
     /// directions are unchanged.
     ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against), one channel, a budget
-    /// of `N` rays of which `S` are sentinels, the next update's rotation included:
-    /// - `m4:temporal_update_S1 N=16`: 11 208 instructions (15 rotated, 1 sentinel)
-    /// - `m4:temporal_update_S2 N=64`: 57 470 instructions (62 rotated, 2 sentinels)
-    /// - `m4:temporal_update_S0 N=64`: 38 960 instructions (64 rotated)
-    /// - `m4:temporal_update_S4 N=256`: 248 080 instructions (252 rotated, 4 sentinels)
-    ///
     /// # Examples
     /// ```
     /// use sphere_quadrature::{temporal::TemporalProbe, Error};
@@ -691,8 +683,6 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     /// assert_eq!(probe.updates(), 1);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
     pub fn pool(&mut self, samples: &[T; N], sentinels: &[T; S]) -> Result<Change, Error> {
         let (original_samples, original_sentinels) = (samples, sentinels);
         let own = self.enter_units(samples, sentinels)?;
@@ -1539,13 +1529,6 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
     ///
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite normal.
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (as [`TemporalProbe::pool`]'s), one channel: the
-    /// harmonics of degree `L` at the normal and a dot product.
-    /// - `m4:temporal_irradiance_S1 N=16`: 972 instructions (`L = 4`)
-    /// - `m4:temporal_irradiance_S2 N=64`: 1 424 instructions (`L = 6`)
-    /// - `m4:temporal_irradiance_S4 N=256`: 1 950 instructions (`L = 8`)
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let mut y = [0.0f32; COEFFICIENTS];

@@ -105,6 +105,9 @@
 //! that of `Y` and the variance `c²` times, to f32 rounding (exactly, for a power of two `c`),
 //! with `+∞` only where the result exceeds `f32::MAX`; each channel is computed at its own
 //! scale. A variance below the least positive f32 is rounded up to it, never to 0.
+//!
+//! # Cost
+//! Instructions per call and flash on a Cortex-M4F: [`costs`](crate::costs#bmc-renderers).
 
 use super::glossy::{interval, lobe_frame};
 use super::{scaled, Size};
@@ -794,13 +797,6 @@ where
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite vector, [`Error::InvalidRadiance`]
     /// for a NaN or infinite lookup.
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against), lookups not counted:
-    /// - `m4:footprint_renderer_estimate N=64`: 473 instructions (e = 50, one channel)
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
     pub fn estimate<T: Radiance>(
         &self,
         normal: Vec3,
@@ -822,11 +818,6 @@ where
     ///
     /// # Errors
     /// As [`estimate`](Self::estimate).
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (as [`estimate`](Self::estimate)):
-    /// - `m4:footprint_renderer_estimate_with_variance N=64`: 27 236 instructions (e = 50, one
-    ///   channel, 8 × 4 models, 24 contrasts)
     pub fn estimate_with_variance<T: Radiance>(
         &self,
         normal: Vec3,

@@ -13,10 +13,10 @@
 //! [`GlossyRenderer::estimate`] (O(N), no transcendental function) finds the interval from
 //! `r·n` and interpolates between its two weight rows with `sin(θₖ₊₁ − θₙ)` and
 //! `sin(θₙ − θₖ)`: exact while the horizon misses the lobe (there the weights are
-//! `A·cos θₙ + B·sin θₙ`), second order near grazing (error: [`tests/bmc/glossy.rs`]).
+//! `A·cos θₙ + B·sin θₙ`), second order near grazing (error: `tests/bmc/glossy.rs`).
 //! `zᵢ` comes from the seed's spherical-Gaussian route (a 5-SG fit of the lobe, SG products,
 //! the clamped-cosine integral's f64 generator), so constants are integrated exactly for the
-//! fitted lobe (fit error: [`tests/bmc/glossy.rs`]).
+//! fitted lobe (fit error: `tests/bmc/glossy.rs`).
 //!
 //! # Model and hyperparameters
 //! Squared-exponential kernel `exp(−|x − x′|²/l²)` plus a nugget σ′², constant prior mean by
@@ -28,7 +28,7 @@
 //! `tables/renderer_hyperparameters.txt`: the smallest geometric-mean RMSE ratio to QMC-SF over
 //! the clamp and smooth tiers of four training maps), interpolated in `ln e` for exponents
 //! that were not learned ([`GlossyRenderer::hyperparameters`]). Accuracy on held-out maps:
-//! [`docs/renderer.md`].
+//! `docs/renderer.md`.
 //!
 //! ```
 //! use sphere_quadrature::{bmc::GlossyRenderer, Vec3};
@@ -45,10 +45,10 @@
 //!
 //! # Optimal sets
 //! `GlossyRenderer<N, E, Optimal>` samples the optimal set of `(N, e)` instead (the
-//! directions minimising the model's posterior variance; [`xtask/writers/src/bin/optimal_sets.rs`],
-//! [`docs/optimal_sets.md`]), with plain BMC weights for the `(l, σ′)` it was optimised for.
+//! directions minimising the model's posterior variance; `xtask/writers/src/bin/optimal_sets.rs`,
+//! `docs/optimal_sets.md`), with plain BMC weights for the `(l, σ′)` it was optimised for.
 //! It is many times better than the Fibonacci set on smooth light and no better on
-//! point-sampled real maps ([`docs/renderer.md`], estimator `bmc-opt`).
+//! point-sampled real maps (`docs/renderer.md`, estimator `bmc-opt`).
 //!
 //! ```
 //! use sphere_quadrature::bmc::{glossy::Optimal, GlossyRenderer};
@@ -70,10 +70,8 @@
 //! (any tangent for `r = −n`). Samples of any finite size are good input: the estimate of
 //! `c·Y` is `c` times that of `Y` to f32 rounding, `±∞` only where it exceeds `f32::MAX`.
 //!
-//! [`tests/bmc/glossy.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/bmc/glossy.rs
-//! [`docs/renderer.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/renderer.md
-//! [`xtask/writers/src/bin/optimal_sets.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/xtask/writers/src/bin/optimal_sets.rs
-//! [`docs/optimal_sets.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/optimal_sets.md
+//! # Cost
+//! Instructions per call and flash on a Cortex-M4F: [`costs`](crate::costs#bmc-renderers).
 
 use super::{scaled, Size};
 use crate::error::Error;
@@ -155,7 +153,7 @@ pub trait SampleSet: sealed::Kind {}
 pub struct Fibonacci;
 
 /// The optimal set of `tables/optimal_sets.txt` for `(N, e)`: the `N` directions that minimise
-/// the model's posterior variance ([`xtask/writers/src/bin/optimal_sets.rs`]), with plain BMC
+/// the model's posterior variance (`xtask/writers/src/bin/optimal_sets.rs`), with plain BMC
 /// weights for the `(l, σ′)` it was optimised for. Baked for the pairs of the `optimal = N e`
 /// lines of `tables/glossy.txt` ([`BAKED_OPTIMAL_SETS`]); `12·N` more bytes of directions.
 ///
@@ -175,8 +173,6 @@ pub struct Fibonacci;
 /// assert!((two - 2.0 * one).abs() < 1e-5);
 /// # Ok::<(), sphere_quadrature::Error>(())
 /// ```
-///
-/// [`xtask/writers/src/bin/optimal_sets.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/xtask/writers/src/bin/optimal_sets.rs
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Optimal;
@@ -337,21 +333,6 @@ where
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite vector, [`Error::InvalidRadiance`]
     /// for a NaN or infinite sample.
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:glossy_renderer_estimate N=16`: 180 instructions (e = 50, one channel)
-    /// - `m4:glossy_renderer_estimate N=64`: 425 instructions (e = 50, one channel)
-    /// - `m4:glossy_renderer_estimate N=80`: 507 instructions (e = 50, one channel)
-    ///
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against):
-    /// - `flash:glossy_renderer_estimate N=64`: 3 708 bytes of code and 26 624 bytes of tables
-    ///   (e = 50)
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn estimate<T: Radiance>(
         &self,
         normal: Vec3,

@@ -87,7 +87,7 @@ pub fn uniform_circle_nodes(a: f64, out: &mut [f64]) -> Result<(), Error> {
 /// Evaluated as the Dirichlet kernel `sin(Kθ)/(K sin θ)`, `θ = na/(2K)`, after reducing
 /// `θ = mπ + r`, `|r| ≤ π/2`, which gives `(−1)^{m(K−1)} sin(Kr)/(K sin r)` and the exact
 /// limit `(−1)^{m(K−1)}` on the aliases `r = 0`. Matches [`circle_coefficient`] of
-/// [`uniform_circle_nodes`] to 10⁻¹³ ([`tests/points/metrics.rs`]).
+/// [`uniform_circle_nodes`] to 10⁻¹³ (`tests/points/metrics.rs`).
 ///
 /// Any `n` and any finite `a` give a value in `[−1, 1]`, never NaN. `n`, `K` and `a` are taken
 /// as the exact numbers they are: where `|n·a/2| < 2²⁰`, θ is formed in f64 (its rounding
@@ -115,8 +115,6 @@ pub fn uniform_circle_nodes(a: f64, out: &mut [f64]) -> Result<(), Error> {
 /// }
 /// # Ok::<(), sphere_quadrature::Error>(())
 /// ```
-///
-/// [`tests/points/metrics.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/points/metrics.rs
 pub fn uniform_circle_coefficient(n: i64, k: usize, a: f64) -> Result<f64, Error> {
     if k == 0 {
         return Err(Error::InvalidSize);

@@ -16,14 +16,12 @@ use crate::vec3::Vec3;
 /// Legendre recurrence `(l+1) P_{l+1} = (2l+1) t P_l − l P_{l−1}`, so no spherical harmonics
 /// are evaluated. `C_0 = 1/(4π)` always; uniform random points have `E[C_l] = 1/(4πN)`;
 /// a spherical `t`-design has `C_l = 0` for `1 ≤ l ≤ t`. Agrees with the explicit projection
-/// onto spherical harmonics to 10⁻¹⁵ absolute ([`tests/points/metrics.rs`]); a value that rounding
+/// onto spherical harmonics to 10⁻¹⁵ absolute (`tests/points/metrics.rs`); a value that rounding
 /// takes below zero is returned as 0 (`C_l ≥ 0` always). O(N²·L) in f64.
 ///
 /// # Errors
 /// [`Error::LengthMismatch`] when `points` or `out` is empty; [`Error::InvalidDirection`] for a
 /// zero or non-finite direction.
-///
-/// [`tests/points/metrics.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/points/metrics.rs
 pub fn spectrum(points: &[Vec3], out: &mut [f64]) -> Result<(), Error> {
     if out.is_empty() {
         return Err(Error::LengthMismatch);
@@ -214,10 +212,8 @@ pub enum SobolevWeights {
     /// `a_l = −2π ∫₋₁¹ (2 − 2t)^(s−1) P_l(t) dt`. With these weights the spectral form
     /// equals the distance formula of [`super::wce`] exactly (derived by Rodrigues' formula
     /// and integration by parts; checked against numerical quadrature of the integral and
-    /// against the distance formula in [`tests/points/metrics.rs`]). Computed by the recurrence
+    /// against the distance formula in `tests/points/metrics.rs`). Computed by the recurrence
     /// `a_1 = 4π·2^(2s−2)(s−1)/(s(s+1))`, `a_{l+1} = a_l·(l+1−s)/(l+1+s)`.
-    ///
-    /// [`tests/points/metrics.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/tests/points/metrics.rs
     Exact,
     /// The seed's `a_l = k_s·(1+l)^(−2s)` (BSSW's asymptotic order), with
     /// `k_s = 4π·2^(2s−2)·(s−1)·Γ(s)/Γ(2−s)` chosen so that `a_l / a_l^Exact → 1` as

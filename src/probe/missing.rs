@@ -194,23 +194,6 @@ where
     /// valid (or, not seen with the baked families, when the f32 factorisation of the missing
     /// block fails for every member); [`Error::InvalidRadiance`] when a valid sample has a NaN
     /// or infinite channel. Either way the probe keeps its previous data.
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_masked_update_M8_m0 N=64`: 90 900 instructions (none missing)
-    /// - `m4:probe_masked_update_M8_m8 N=64`: 306 340 instructions (8 missing)
-    /// - `m4:probe_masked_update_M16_m16 N=64`: 581 620 instructions (16 missing)
-    ///
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against):
-    /// - `flash:probe_masked_update N=64`: 46 248 bytes of code and 24 096 bytes of tables
-    ///   (M = 8, on top of its `Probe::new`)
-    ///
-    /// `M8`, `M16` in the names: the probe's capacity `M` for missing samples.
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn update_masked(&mut self, samples: &[T; N], valid: &[bool; N]) -> Result<(), Error> {
         self.update_masked_with(samples, valid, Selection::MaxLikelihood)
     }
@@ -220,16 +203,6 @@ where
     /// # Errors
     /// As [`Probe::update_masked`]; [`Error::InvalidMember`] for a member index outside
     /// the family. Either way the probe keeps its previous data.
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_masked_update_one_member_M8_m8 N=64`: 87 160 instructions (8 missing)
-    /// - `m4:probe_masked_update_one_member_M16_m16 N=64`: 157 940 instructions (16 missing)
-    ///
-    /// `M8`, `M16` in the names: the probe's capacity `M` for missing samples.
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
     pub fn update_masked_with(
         &mut self,
         samples: &[T; N],

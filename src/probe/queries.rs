@@ -12,21 +12,6 @@ where
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite normal.
     ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_irradiance N=16`: 842 instructions
-    /// - `m4:probe_irradiance N=32`: 1 568 instructions
-    /// - `m4:probe_irradiance N=64`: 2 921 instructions
-    /// - `m4:probe_irradiance N=256`: 11 644 instructions
-    /// - `m4:gaussian8_probe_irradiance N=64`: 2 962 instructions (`Gaussian<8>` footprint)
-    /// - `m4:photodiode_probe_irradiance N=16`: 843 instructions (`CosinePower<1>`)
-    ///
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against):
-    /// - `flash:probe_irradiance N=64`: 2 012 bytes of code and 24 352 bytes of tables
-    ///   (on top of `Probe::new`)
-    ///
     /// # Examples
     /// ```
     /// use sphere_quadrature::{probe::Probe, Vec3};
@@ -43,9 +28,6 @@ where
     /// assert!(plus.variance >= 0.0);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn irradiance(&self, normal: Vec3) -> Result<Estimate<T>, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let f = self.member_in_use()?;
@@ -131,15 +113,6 @@ where
     /// # Errors
     /// [`Error::InvalidDirection`] for a zero or non-finite normal.
     ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_masked_irradiance_variance_M16_m0 N=64`: 261 770 instructions (none missing)
-    /// - `m4:probe_masked_irradiance_variance_M8_m8 N=64`: 518 510 instructions (8 missing)
-    /// - `m4:probe_masked_irradiance_variance_M16_m16 N=64`: 547 410 instructions (16 missing)
-    ///
-    /// `M8`, `M16` in the names: the probe's capacity `M` for missing samples.
-    ///
     /// # Examples
     /// ```
     /// use sphere_quadrature::{probe::Probe, Vec3};
@@ -152,8 +125,6 @@ where
     /// assert!(exact >= 0.0 && averaged >= 0.0);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
     pub fn irradiance_variance(&self, normal: Vec3) -> Result<T, Error> {
         let n = normal.try_normalize().ok_or(Error::InvalidDirection)?;
         let f = self.member_in_use()?;
@@ -173,7 +144,7 @@ where
     /// Phong lobe's first Legendre moment) this is the normalised Phong-lobe average of the
     /// radiance about the mirror direction `r`: the glossy term of a prefiltered environment.
     /// The SG stands in for the Phong lobe: on smooth lighting that leaves an error floor of
-    /// about 1 % at `e = 5` ([`eval/src/bin/glossy.rs`], [`docs/glossy.md`]), less for sharper lobes.
+    /// about 1 % at `e = 5` (`eval/src/bin/glossy.rs`, `docs/glossy.md`), less for sharper lobes.
     /// The lobe is integrated over the whole sphere (no horizon clipping, no cosine factor:
     /// below the horizon a lobe of `μ = 22` keeps `e^(−22)` of its peak).
     ///
@@ -199,21 +170,6 @@ where
     /// for a sharpness that is negative, not finite or above [`MAX_GLOSSY_SHARPNESS`];
     /// [`Error::InvalidWeights`] for a non-finite amplitude.
     ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_glossy N=16`: 2 696 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=32`: 4 907 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=64`: 9 278 instructions (SG lobe of Phong e = 20)
-    /// - `m4:probe_glossy N=256`: 38 188 instructions (SG lobe of Phong e = 20)
-    /// - `m4:gaussian8_probe_glossy N=64`: 9 462 instructions (`Gaussian<8>`)
-    /// - `m4:photodiode_probe_glossy N=16`: 11 546 instructions (photodiodes)
-    ///
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against):
-    /// - `flash:probe_glossy N=64`: 4 164 bytes of code and 24 360 bytes of tables
-    ///   (on top of `Probe::new`)
-    ///
     /// # Examples
     /// ```
     /// use sphere_quadrature::{probe::Probe, sg::SphericalGaussian, Vec3};
@@ -226,11 +182,6 @@ where
     /// assert!((e.value - 2.0).abs() < 1e-3 && e.variance >= 0.0);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
-    ///
-    /// [`eval/src/bin/glossy.rs`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/eval/src/bin/glossy.rs
-    /// [`docs/glossy.md`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/docs/glossy.md
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn glossy(&self, lobe: &SphericalGaussian) -> Result<Estimate<T>, Error> {
         let (r, mu, amp) = check_lobe(lobe)?;
         let f = self.member_in_use()?;
@@ -282,22 +233,6 @@ where
     ///
     /// # Errors
     /// As [`Probe::glossy`].
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_glossy_variance N=16`: 773 910 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=32`: 894 096 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=64`: 1 217 250 instructions (soft f64 quadrature)
-    /// - `m4:probe_glossy_variance N=256`: 5 495 480 instructions (soft f64 quadrature)
-    ///
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against):
-    /// - `flash:probe_glossy_variance N=64`: 19 700 bytes of code and 24 368 bytes of tables
-    ///   (on top of `Probe::new`)
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn glossy_variance(&self, lobe: &SphericalGaussian) -> Result<T, Error> {
         let (r, mu, amp) = check_lobe(lobe)?;
         let f = self.member_in_use()?;
@@ -369,19 +304,6 @@ where
     /// [`Error::InvalidDirection`] for a zero or non-finite axis; [`Error::InvalidExponent`]
     /// for an exponent that is negative, not finite or above [`MAX_GLOSSY_SHARPNESS`].
     ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_phong N=16`: 9 452 instructions (e = 20)
-    /// - `m4:probe_phong N=32`: 13 455 instructions (e = 20)
-    /// - `m4:probe_phong N=64`: 21 385 instructions (e = 20)
-    /// - `m4:probe_phong N=256`: 66 524 instructions (e = 20)
-    ///
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against):
-    /// - `flash:probe_phong N=64`: 9 736 bytes of code and 24 352 bytes of tables
-    ///   (on top of `Probe::new`)
-    ///
     /// # Examples
     /// ```
     /// use sphere_quadrature::{probe::Probe, Error, Vec3};
@@ -394,9 +316,6 @@ where
     /// assert_eq!(probe.phong(Vec3::Z, f32::NAN), Err(Error::InvalidExponent));
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn phong(&self, axis: Vec3, exponent: f32) -> Result<Estimate<T>, Error> {
         let r = axis.try_normalize().ok_or(Error::InvalidDirection)?;
         if !(0.0..=MAX_GLOSSY_SHARPNESS).contains(&exponent) {
@@ -430,22 +349,6 @@ where
     ///
     /// # Errors
     /// As [`Probe::phong`].
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_phong_variance N=16`: 422 790 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=32`: 778 140 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=64`: 1 568 750 instructions (e = 20)
-    /// - `m4:probe_phong_variance N=256`: 8 657 160 instructions (e = 20)
-    ///
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against):
-    /// - `flash:probe_phong_variance N=64`: 21 208 bytes of code and 24 352 bytes of tables
-    ///   (on top of `Probe::new`)
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn phong_variance(&self, axis: Vec3, exponent: f32) -> Result<T, Error> {
         let r = axis.try_normalize().ok_or(Error::InvalidDirection)?;
         if !(0.0..=MAX_GLOSSY_SHARPNESS).contains(&exponent) {

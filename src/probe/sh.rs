@@ -54,22 +54,6 @@ where
     /// assert!((a - b).abs() < 1e-3 * b);
     /// # Ok::<(), sphere_quadrature::Error>(())
     /// ```
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_radiance_sh N=16`: 1 315 instructions
-    /// - `m4:probe_radiance_sh N=32`: 1 678 instructions
-    /// - `m4:probe_radiance_sh N=64`: 2 398 instructions
-    /// - `m4:probe_radiance_sh N=256`: 6 848 instructions
-    ///
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against):
-    /// - `flash:probe_radiance_sh N=64`: 5 560 bytes of code and 24 096 bytes of tables
-    ///   (on top of `Probe::new`)
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     #[must_use]
     pub fn radiance_sh(&self) -> ShL2<T> {
         let Ok(f) = self.member_in_use() else { return ShL2::ZERO };
@@ -108,22 +92,6 @@ where
     /// (`Member::calibration[0]`, module docs "Calibration"), the factor
     /// [`Probe::irradiance`] and [`Probe::irradiance_variance`] use: the coefficients are
     /// diffuse-scale functionals of the same posterior.
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_radiance_sh_variance N=16`: 353 974 instructions (soft f64)
-    /// - `m4:probe_radiance_sh_variance N=32`: 935 488 instructions (soft f64)
-    /// - `m4:probe_radiance_sh_variance N=64`: 2 787 870 instructions (soft f64)
-    /// - `m4:probe_radiance_sh_variance N=256`: 33 647 320 instructions (soft f64)
-    ///
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against):
-    /// - `flash:probe_radiance_sh_variance N=64`: 14 588 bytes of code and 24 208 bytes of tables
-    ///   (on top of `Probe::new`)
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     #[must_use]
     pub fn radiance_sh_variance(&self) -> [T; 9] {
         let Ok(f) = self.member_in_use() else { return [T::ZERO; 9] };

@@ -15,22 +15,7 @@ where
     /// its previous data.
     ///
     /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_update N=16`: 2 720 instructions (four-member selection)
-    /// - `m4:probe_update N=32`: 33 968 instructions (four-member selection)
-    /// - `m4:probe_update N=64`: 88 790 instructions (four-member selection)
-    /// - `m4:probe_update N=256`: 790 440 instructions (four-member selection)
-    ///
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against):
-    /// - `flash:probe_update N=64`: 18 312 bytes of code and 24 096 bytes of tables
-    ///   (on top of `Probe::new`)
-    ///
     /// Flash: the size's baked tables, [`Probe::TABLE_BYTES`].
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn update(&mut self, samples: &[T; N]) -> Result<(), Error> {
         self.update_with(samples, Selection::MaxLikelihood)
     }
@@ -40,22 +25,6 @@ where
     /// # Errors
     /// [`Error::InvalidRadiance`] for a non-finite sample; [`Error::InvalidMember`] for a
     /// member index outside the family. Either way the probe keeps its previous data.
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:probe_update_one_member N=16`: 1 274 instructions (one member)
-    /// - `m4:probe_update_one_member N=32`: 11 868 instructions (one member)
-    /// - `m4:probe_update_one_member N=64`: 31 080 instructions (one member)
-    /// - `m4:probe_update_one_member N=256`: 274 880 instructions (one member)
-    ///
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against):
-    /// - `flash:probe_update_one_member N=64`: 18 144 bytes of code and 24 096 bytes of tables
-    ///   (on top of `Probe::new`)
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn update_with(&mut self, samples: &[T; N], selection: Selection) -> Result<(), Error> {
         if !samples.iter().all(|y| (0..T::CHANNELS).all(|c| y.channel(c).is_finite())) {
             return Err(Error::InvalidRadiance);

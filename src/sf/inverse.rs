@@ -274,19 +274,6 @@ impl FibonacciPoints {
     /// # Errors
     /// [`Error::InvalidDirection`] when `dir` is zero or has a NaN or infinite component
     /// (any other vector is normalised, however short or long: crate docs, "Directions").
-    ///
-    /// # Cost
-    /// Cortex-M4F instructions per call (QEMU `mps2-an386`, `-icount shift=0`, `libm` backend;
-    /// [`examples/cortex-m4`], whose output CI checks these lines against):
-    /// - `m4:nearest_index N=256`: 2 704 instructions (`SphericalFibonacci`)
-    /// - `m4:nearest_index N=4096`: 2 507 instructions (`SphericalFibonacci`)
-    ///
-    /// Flash, one call in a release build with LTO ([`.ci/m4-flash.sh`], which CI checks
-    /// these lines against):
-    /// - `flash:nearest_index N=256`: 9 600 bytes of code and 1 056 bytes of tables
-    ///
-    /// [`examples/cortex-m4`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/examples/cortex-m4
-    /// [`.ci/m4-flash.sh`]: https://github.com/sphere-quadrature/sphere-quadrature/blob/main/.ci/m4-flash.sh
     pub fn nearest_index(&self, dir: Vec3) -> Result<usize, Error> {
         self.locate(dir).map(|best| best.j)
     }

@@ -8,25 +8,24 @@
 //! cargo xtask regen doc-numbers           # the rewrite, in the pipeline's order
 //! ```
 //!
-//! Two kinds of place quote a measurement:
-//! - rustdoc lines in `src/`: "`` `m4:NAME N=n`: K instructions ``" (the device's
-//!   `# count NAME N=n K instructions/call`), "`` `ram:NAME N=n`: B bytes ``" (the device's
-//!   `# ram NAME N=n B`: the size of a type in RAM) and "`` `flash:NAME N=n`: C bytes of code
-//!   and D bytes of tables ``" (`.ci/m4-flash.sh`'s `# flash NAME N=n C D`);
-//! - generated regions of `README.md` and `docs/costs.md`, between `<!-- numbers: TEMPLATE -->` and
-//!   `<!-- /numbers -->`: the template file with each `{m4:NAME N=n}`, `{code:NAME N=n}` and
-//!   `{data:NAME N=n}` replaced by the measurement.
+//! The measurements are quoted in generated regions of `README.md` and `docs/costs.md`, between
+//! `<!-- numbers: TEMPLATE -->` and `<!-- /numbers -->`: the template file with each
+//! `{m4:NAME N=n}` (the device's `# count NAME N=n K instructions/call`), `{ram:NAME N=n}` (its
+//! `# ram NAME N=n B`: the size of a type in RAM), `{code:NAME N=n}` and `{data:NAME N=n}`
+//! (`.ci/m4-flash.sh`'s `# flash NAME N=n CODE DATA`) replaced by the measurement. The rustdoc
+//! of `src/` quotes none (it links to the `costs` module, which includes `docs/costs.md`): a
+//! line of `src/` that holds a quote such as "`` `m4:NAME N=n` ``" is an error.
 //!
 //! - quoted lines, between `<!-- quote: docs/REPORT.md -->` and `<!-- /quote -->` in the same
 //!   files: each must be a line of that generated report, verbatim.
 //!
 //! The size in a name is `N=n`, or `K=n` for a count of sensors (`m4:layout_init K=16`).
 //! Numbers are written in groups of three digits separated by spaces (`88 800`). Without
-//! `--write` the program fails, listing every place that disagrees, if any quoted number
-//! differs from the measurement or names one the measurements do not have.
+//! `--write` the program fails, listing every place that disagrees, if any generated region
+//! differs from its template and the measurements, or a template names a measurement that
+//! does not exist.
 
 use std::collections::BTreeMap;
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -34,8 +33,8 @@ use clap::Parser;
 
 use sphere_quadrature_eval::cli;
 
-/// Check (or rewrite) the Cortex-M4 instruction counts and flash sizes quoted in the rustdoc of
-/// `src/`, README.md and docs/costs.md against the device's output.
+/// Check (or rewrite) the Cortex-M4 instruction counts, RAM and flash sizes quoted in README.md
+/// and docs/costs.md against the device's output.
 #[derive(Parser)]
 #[command(bin_name = "cargo writer doc_numbers --")]
 struct Args {
@@ -125,121 +124,13 @@ fn grouped(n: u64) -> String {
     out
 }
 
-/// The grouped number at the start of `s` (`88 800 instructions` → 88 800, its 6 bytes).
-fn leading_grouped(s: &str) -> Option<(u64, usize)> {
-    let b = s.as_bytes();
-    let mut end = b.iter().take_while(|c| c.is_ascii_digit()).count();
-    if end == 0 {
-        return None;
-    }
-    // Further groups: a space and exactly three digits, not followed by another digit.
-    while b.len() >= end + 4
-        && b[end] == b' '
-        && b[end + 1..end + 4].iter().all(u8::is_ascii_digit)
-        && b.get(end + 4).is_none_or(|c| !c.is_ascii_digit())
-    {
-        end += 4;
-    }
-    let value = s[..end].replace(' ', "").parse().ok()?;
-    Some((value, end))
-}
-
-/// Parses the key `NAME N=n` that follows a prefix such as "`m4:": returns it and the rest of
-/// the line after the closing "`: ".
-fn quoted_key(s: &str) -> Option<(Key, &str)> {
-    let close = s.find('`')?;
-    let (name, n) = s[..close].split_once(' ')?;
-    let key = key(name, n).ok()?;
-    Some((key, s[close..].strip_prefix("`: ")?))
-}
-
 /// One quoted number that disagrees, or names nothing measured.
 struct Problem {
     place: String,
     what: String,
 }
 
-/// Checks or rewrites the rustdoc quotes of one line; returns the line as it should be.
-fn doc_line(line: &str, measured: &Measured, place: &str, problems: &mut Vec<Problem>) -> String {
-    let mut report = |what: String| problems.push(Problem { place: place.into(), what });
-    let mut out = String::new();
-    let mut rest = line;
-    // The first quote on the rest of the line, while there is one.
-    let first = |rest: &str| {
-        ["`m4:", "`ram:", "`flash:"]
-            .into_iter()
-            .filter_map(|p| rest.find(p).map(|at| (at, p)))
-            .min()
-    };
-    while let Some((at, prefix)) = first(rest) {
-        out.push_str(&rest[..at + prefix.len()]);
-        rest = &rest[at + prefix.len()..];
-        let Some((key, after)) = quoted_key(rest) else {
-            report(format!("cannot parse {prefix}"));
-            continue;
-        };
-        let name = format!("{} {}", key.0, key.1);
-        out.push_str(&rest[..rest.len() - after.len()]);
-        rest = after;
-        if prefix != "`flash:" {
-            let (kind, unit, table) = if prefix == "`m4:" {
-                ("m4", " instructions", &measured.m4)
-            } else {
-                ("ram", " bytes", &measured.ram)
-            };
-            let Some((k, len)) =
-                leading_grouped(rest).filter(|(_, len)| rest[*len..].starts_with(unit))
-            else {
-                report(format!("{kind}:{name}: expected \"K{unit}\""));
-                continue;
-            };
-            match table.get(&key) {
-                Some(&device) => {
-                    if device != k {
-                        report(format!("{kind}:{name} says {k}{unit}, the device {device}"));
-                    }
-                    out.push_str(&grouped(device));
-                }
-                None => {
-                    report(format!("cites {kind}:{name}, which the device does not print"));
-                    out.push_str(&rest[..len]);
-                }
-            }
-            rest = &rest[len..];
-        } else {
-            const MID: &str = " bytes of code and ";
-            let parsed = leading_grouped(rest).and_then(|(code, len)| {
-                let tail = rest[len..].strip_prefix(MID)?;
-                let (data, len2) = leading_grouped(tail)?;
-                tail[len2..].starts_with(" bytes of tables").then_some((code, data, len, len2))
-            });
-            let Some((code, data, len, len2)) = parsed else {
-                report(format!("flash:{name}: expected \"C bytes of code and D bytes of tables\""));
-                continue;
-            };
-            let consumed = len + MID.len() + len2;
-            match measured.flash.get(&key) {
-                Some(&(c, d)) => {
-                    if (c, d) != (code, data) {
-                        report(format!(
-                            "flash:{name} says {code} + {data} bytes, the build {c} + {d}"
-                        ));
-                    }
-                    let _ = write!(out, "{}{MID}{}", grouped(c), grouped(d));
-                }
-                None => {
-                    report(format!("cites flash:{name}, which .ci/m4-flash.sh does not print"));
-                    out.push_str(&rest[..consumed]);
-                }
-            }
-            rest = &rest[consumed..];
-        }
-    }
-    out.push_str(rest);
-    out
-}
-
-/// The template with every `{m4:…}`, `{code:…}` and `{data:…}` replaced.
+/// The template with every `{m4:…}`, `{ram:…}`, `{code:…}` and `{data:…}` replaced.
 fn render(template: &str, measured: &Measured, place: &str) -> Result<String, String> {
     let mut out = String::new();
     let mut rest = template;
@@ -252,6 +143,7 @@ fn render(template: &str, measured: &Measured, place: &str) -> Result<String, St
         let k = key(name, n)?;
         let value = match kind {
             "m4" => measured.m4.get(&k).copied(),
+            "ram" => measured.ram.get(&k).copied(),
             "code" => measured.flash.get(&k).map(|f| f.0),
             "data" => measured.flash.get(&k).map(|f| f.1),
             _ => return Err(format!("{place}: unknown placeholder {{{inner}}}")),
@@ -361,7 +253,6 @@ fn run(args: &Args) -> Result<bool, String> {
     let root = cli::repo_root();
     let mut problems = Vec::new();
     let mut changed = Vec::new();
-    let (mut m4_cited, mut ram_cited, mut flash_cited) = (0, 0, 0);
 
     let mut files = Vec::new();
     rust_files(&root.join("src"), &mut files).map_err(|e| format!("src/: {e}"))?;
@@ -369,15 +260,14 @@ fn run(args: &Args) -> Result<bool, String> {
     for path in &files {
         let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
         let rel = path.strip_prefix(root).unwrap_or(path).display().to_string();
-        let mut new = String::new();
-        for (i, line) in text.split_inclusive('\n').enumerate() {
-            m4_cited += line.matches("`m4:").count();
-            ram_cited += line.matches("`ram:").count();
-            flash_cited += line.matches("`flash:").count();
-            new.push_str(&doc_line(line, &measured, &format!("{rel}:{}", i + 1), &mut problems));
-        }
-        if new != text {
-            changed.push((path.clone(), new));
+        for (i, line) in text.lines().enumerate() {
+            if ["`m4:", "`ram:", "`flash:"].iter().any(|q| line.contains(q)) {
+                problems.push(Problem {
+                    place: format!("{rel}:{}", i + 1),
+                    what: "quotes a measurement: the costs belong in docs/templates/costs.md"
+                        .into(),
+                });
+            }
         }
     }
 
@@ -408,9 +298,8 @@ fn run(args: &Args) -> Result<bool, String> {
         eprintln!("{}: {}", p.place, p.what);
     }
     println!(
-        "{m4_cited} instruction counts, {ram_cited} RAM sizes and {flash_cited} flash sizes in the \
-         rustdoc of src/, {regions} generated region(s) and {quotes} quoted report line(s) of {}: \
-         {}",
+        "{regions} generated region(s) and {quotes} quoted report line(s) of {}, no quote in \
+         src/: {}",
         GENERATED.join(" and "),
         if problems.is_empty() { "all equal the measurements" } else { "see the errors above" }
     );
@@ -441,45 +330,24 @@ mod tests {
         assert_eq!(grouped(57), "57");
         assert_eq!(grouped(2716), "2 716");
         assert_eq!(grouped(33_627_000), "33 627 000");
-        assert_eq!(leading_grouped("88 800 instructions"), Some((88_800, 6)));
-        assert_eq!(leading_grouped("2 716 / 828"), Some((2716, 5)));
-        assert_eq!(leading_grouped("57 instructions"), Some((57, 2)));
-        assert_eq!(leading_grouped("x"), None);
     }
 
     #[test]
-    fn lines() {
+    fn templates() {
         let mut m = Measured::default();
         m.m4.insert(key("probe_update", "N=64").unwrap(), 88_801);
         m.flash.insert(key("probe_update", "N=64").unwrap(), (18_396, 24_096));
         m.m4.insert(key("layout_init", "K=6").unwrap(), 317_640);
         m.ram.insert(key("layout_f32", "K=6").unwrap(), 2_868);
-        let mut problems = Vec::new();
-        let line = "/// - `m4:probe_update N=64`: 88 800 instructions (four-member selection)\n";
-        let fixed = doc_line(line, &m, "x", &mut problems);
-        assert_eq!(fixed, line.replace("88 800", "88 801"));
-        assert_eq!(problems.len(), 1);
-        problems.clear();
-        let line =
-            "/// - `flash:probe_update N=64`: 18 396 bytes of code and 24 096 bytes of tables\n";
-        assert_eq!(doc_line(line, &m, "x", &mut problems), line);
-        assert!(problems.is_empty());
-        let line = "/// - `m4:missing N=64`: 1 instructions\n";
-        assert_eq!(doc_line(line, &m, "x", &mut problems), line);
-        assert_eq!(problems.len(), 1);
-        problems.clear();
-        // Sizes in sensors, RAM sizes, and K=n is not N=n.
-        let line =
-            "//! - `m4:layout_init K=6`: 317 640 instructions; `ram:layout_f32 K=6`: 2 868 bytes\n";
-        assert_eq!(doc_line(line, &m, "x", &mut problems), line);
-        assert!(problems.is_empty());
-        let line = "//! `ram:layout_f32 K=6`: 2 000 bytes, `m4:layout_init N=6`: 1 instructions\n";
-        let fixed = doc_line(line, &m, "x", &mut problems);
-        assert_eq!(fixed, line.replace("2 000", "2 868"));
-        assert_eq!(problems.len(), 2);
-        assert!(key("layout_init", "M=6").is_err());
         let t = render("a {m4:probe_update N=64} b {code:probe_update N=64}", &m, "t").unwrap();
         assert_eq!(t, "a 88 801 b 18 396");
+        let t = render("{data:probe_update N=64}, {ram:layout_f32 K=6}", &m, "t").unwrap();
+        assert_eq!(t, "24 096, 2 868");
+        assert_eq!(render("{m4:layout_init K=6}", &m, "t").unwrap(), "317 640");
+        // K=n is not N=n, and a name the device did not print is an error.
+        assert!(render("{m4:layout_init N=6}", &m, "t").is_err());
         assert!(render("{m4:other N=1}", &m, "t").is_err());
+        assert!(render("{size:probe_update N=64}", &m, "t").is_err());
+        assert!(key("layout_init", "M=6").is_err());
     }
 }
