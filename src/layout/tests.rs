@@ -20,6 +20,20 @@ fn dome() -> [Sensor; 5] {
     .map(Sensor::cosine)
 }
 
+/// `P_l(t)` by the textbook recurrence.
+fn legendre_at(l: usize, t: f64) -> f64 {
+    let (mut p0, mut p1) = (1.0, t);
+    if l == 0 {
+        return 1.0;
+    }
+    for m in 2..=l {
+        let p2 = ((2 * m - 1) as f64 * t * p1 - (m - 1) as f64 * p0) / m as f64;
+        p0 = p1;
+        p1 = p2;
+    }
+    p1
+}
+
 /// The posterior mean and variance from the textbook formulas in f64: the covariance by
 /// direct Legendre sums, a dense Cholesky factor, GLS for the mean and `s` in closed
 /// form (no noise).
@@ -35,34 +49,25 @@ pub(super) fn reference(
     lobe: Option<&[f64]>,
 ) -> (f64, f64, f64) {
     let k = dirs.len();
-    let legendre = |l: usize, t: f64| {
-        let (mut p0, mut p1) = (1.0, t);
-        if l == 0 {
-            return 1.0;
-        }
-        for m in 2..=l {
-            let p2 = ((2 * m - 1) as f64 * t * p1 - (m - 1) as f64 * p0) / m as f64;
-            p0 = p1;
-            p1 = p2;
-        }
-        p1
-    };
-    let c: Vec<f64> = (0..DEGREES)
-        .map(|l| {
-            // c_l = 2π∫₀¹ t P_l(t) dt by a fine midpoint rule.
-            let m = 20000;
-            (0..m)
-                .map(|i| {
-                    let t = (i as f64 + 0.5) / m as f64;
-                    t * legendre(l, t)
-                })
-                .sum::<f64>()
-                * 2.0
-                * core::f64::consts::PI
-                / m as f64
-        })
-        .collect();
-    let c: Vec<f64> = lobe.map_or(c, <[f64]>::to_vec);
+    let legendre = legendre_at;
+    // c_l = 2π∫₀¹ t P_l(t) dt by a fine midpoint rule, once per thread (it depends on nothing).
+    std::thread_local! {
+        static CLAMPED_COSINE: Vec<f64> = (0..DEGREES)
+            .map(|l| {
+                let m = 20000;
+                (0..m)
+                    .map(|i| {
+                        let t = (i as f64 + 0.5) / m as f64;
+                        t * legendre_at(l, t)
+                    })
+                    .sum::<f64>()
+                    * 2.0
+                    * core::f64::consts::PI
+                    / m as f64
+            })
+            .collect();
+    }
+    let c: Vec<f64> = lobe.map_or_else(|| CLAMPED_COSINE.with(Clone::clone), <[f64]>::to_vec);
     let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let w = |l: usize| (2 * l + 1) as f64 / (4.0 * core::f64::consts::PI);
     let sp = |l: usize| f64::from(prior.spectrum[l]);
