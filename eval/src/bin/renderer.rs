@@ -9,7 +9,7 @@
 //!
 //! ```text
 //! R="cargo eval renderer --"
-//! $R                           # ten bundled maps, target/renderer
+//! $R                           # the six held-out bundled maps, target/renderer
 //! $R --out docs                # docs/renderer.md + .png
 //! $R --quick                   # CI smoke run (seconds)
 //! $R --self-test               # engine convergence checks
@@ -62,7 +62,7 @@
 //!   `--footprint-queries` queries (default 64) of each held-out map and mixture (its lookups
 //!   are most of the run's time; its ratios to other estimators are on the same queries);
 //! - `bmc-fp`: the same on exact lookups (`EquirectMap::footprint_sample`, every pixel of the
-//!   map), on the first `--exact-queries` of those queries (default 8);
+//!   map), on the first `--exact-queries` of those queries (default 4);
 //! - `split-sum` (Phong, maps; Karis 2013): one lookup of the map prefiltered by the lobe
 //!   `cosᵉ` along `r` (`MipPyramid`'s `CosinePower` footprint), times the exact `∫p`.
 //!
@@ -76,8 +76,9 @@
 //! `tables/renderer_hyperparameters.txt` (written by `cargo xtask regen renderer-hyperparameters`
 //! on the training maps' clamp tier: `err`, the grid point whose estimates have the smallest mean RMSE ratio to QMC on the
 //! same samples — what the crate bakes; `ml`, REML; `cov`, the seed's covariance fit; `--hyper`
-//! picks the rows the f64 estimators use); held-out figures exclude the training maps
-//! apartment, bridge, forest, lab.
+//! picks the rows the f64 estimators use). By default it runs on the six held-out maps only;
+//! a training map given on the command line (apartment, bridge, forest, lab) is evaluated but
+//! left out of every mean (its CSV rows are written).
 //!
 //! # Ground truth
 //! Every pixel of the tier's map with per-pixel weights `∫_pixel p`: exact for diffuse
@@ -95,8 +96,8 @@
 //! with `--csv FILE` one row `renderer,<tier>,<estimator>,<n>,<brdf>,<map>,<rel_rmse>` per
 //! (tier, estimator, N, BRDF, map), and one row
 //! `coverage,<tier>,bmc-fp-pyramid,<n>,<brdf>,<map>,<fraction>` per (tier, N, BRDF, map) with
-//! a footprint renderer set (held-out maps and mixtures). The full run takes about 430 CPU
-//! seconds (most of it the footprint renderer's lookups; 2 threads), `--quick` under 30 s.
+//! a footprint renderer set (held-out maps and mixtures). The default run's time is in its
+//! report; `--quick` takes under 30 s.
 //!
 //! [`rough_z`]: sphere_quadrature_eval::renderer::plans::rough_z
 
@@ -130,8 +131,8 @@ use sphere_quadrature_eval::renderer::{
 #[derive(Parser)]
 #[command(bin_name = "cargo eval renderer --")]
 struct Cli {
-    /// Equirectangular .hdr maps (default: the ten in examples/envmaps/; two with
-    /// --quick)
+    /// Equirectangular .hdr maps (default: the six held-out maps of examples/envmaps/,
+    /// those the hyperparameters were not learned on; two with --quick)
     #[arg(value_name = "MAPS", value_parser = cli::map_file, verbatim_doc_comment)]
     maps: Vec<PathBuf>,
     /// Output directory (default target/renderer; docs/renderer.md and
@@ -157,7 +158,7 @@ struct Cli {
     #[arg(long, value_name = "Q", verbatim_doc_comment)]
     footprint_queries: Option<usize>,
     /// bmc-fp (the footprint renderer with exact lookups) on the first Q of the
-    /// bmc-fp-pyramid queries only (default 8)
+    /// bmc-fp-pyramid queries only (default 4)
     #[arg(long, value_name = "Q", verbatim_doc_comment)]
     exact_queries: Option<usize>,
     /// Hyperparameter file (default tables/renderer_hyperparameters.txt)
@@ -182,7 +183,7 @@ fn parse_args() -> Options {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let c = Cli::parse();
     let root = cli::repo_root();
-    let paths = if c.maps.is_empty() { cli::named_maps(c.quick) } else { c.maps };
+    let paths = if c.maps.is_empty() { cli::held_out_maps(c.quick) } else { c.maps };
     Options {
         out: c.out.unwrap_or_else(|| root.join("target/renderer")),
         csv: c.csv,
@@ -194,7 +195,7 @@ fn parse_args() -> Options {
         mixtures: if c.quick { 2 } else { 10 },
         sobol_queries: c.sobol_queries.unwrap_or(usize::MAX),
         footprint_queries: c.footprint_queries.unwrap_or(64),
-        exact_queries: c.exact_queries.unwrap_or(8),
+        exact_queries: c.exact_queries.unwrap_or(4),
         paths,
         args,
     }

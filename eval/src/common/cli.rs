@@ -24,13 +24,60 @@ pub const ALL_MAPS: [&str; 10] =
     ["apartment", "bridge", "city", "dawn", "forest", "hall", "lab", "lobby", "night", "park"];
 /// The training maps (tables/ are learned on them); the other bundled maps are held out.
 pub const TRAINING_MAPS: [&str; 4] = ["apartment", "bridge", "forest", "lab"];
+/// The bundled maps that are not [`TRAINING_MAPS`]: what the benchmarks report on.
+pub const HELD_OUT_MAPS: [&str; 6] = ["city", "dawn", "hall", "lobby", "night", "park"];
 /// `--quick`: one training and one held-out map.
 pub const QUICK_MAPS: [&str; 2] = ["apartment", "lobby"];
+/// `--quick` of the programs that run on held-out maps only: two of them.
+pub const QUICK_HELD_OUT_MAPS: [&str; 2] = ["city", "lobby"];
+
+// Every bundled map is either a training map or held out, never both.
+const _: () = {
+    let mut i = 0;
+    while i < ALL_MAPS.len() {
+        let name = ALL_MAPS[i].as_bytes();
+        let (mut training, mut held) = (0, 0);
+        let mut j = 0;
+        while j < TRAINING_MAPS.len() {
+            training += same(name, TRAINING_MAPS[j].as_bytes()) as usize;
+            j += 1;
+        }
+        j = 0;
+        while j < HELD_OUT_MAPS.len() {
+            held += same(name, HELD_OUT_MAPS[j].as_bytes()) as usize;
+            j += 1;
+        }
+        assert!(training + held == 1, "a bundled map is neither training nor held out, or both");
+        i += 1;
+    }
+    assert!(TRAINING_MAPS.len() + HELD_OUT_MAPS.len() == ALL_MAPS.len());
+};
+
+/// Byte equality of two names (const).
+const fn same(a: &[u8], b: &[u8]) -> bool {
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
 
 /// The default maps of the programs that name theirs: [`QUICK_MAPS`] with `--quick`, else
 /// [`ALL_MAPS`].
 pub fn named_maps(quick: bool) -> Vec<PathBuf> {
     bundled_maps(if quick { &QUICK_MAPS } else { &ALL_MAPS })
+}
+
+/// The default maps of the programs that report on held-out maps only: [`HELD_OUT_MAPS`], or
+/// [`QUICK_HELD_OUT_MAPS`] with `--quick`.
+pub fn held_out_maps(quick: bool) -> Vec<PathBuf> {
+    bundled_maps(if quick { &QUICK_HELD_OUT_MAPS } else { &HELD_OUT_MAPS })
 }
 
 /// Every `examples/envmaps/*.hdr`, sorted by path.

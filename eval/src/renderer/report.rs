@@ -274,8 +274,8 @@ pub fn selection_table(md: &mut String, results: &[Vec<TierResult>]) {
     md.push_str(
         "Per-query maximum REML likelihood over the family l = learned l × {0.5, 1, 2, 4} × σ′ \
          ∈ {10⁻⁴, 10⁻³, 10⁻², 0.1, 0.3, 1}, as `Probe::update` selects its member: fraction of \
-         queries choosing each σ′ and each l factor (marginals), all maps of the tier, N = 16 \
-         and N = 128.\n\n",
+         queries choosing each σ′ and each l factor (marginals), the held-out maps of the tier \
+         (synthetic: every mixture), N = 16 and N = 128.\n\n",
     );
     let mut header: Vec<String> = SEL_SIGMAS.iter().map(|s| format!("σ′ = {s}")).collect();
     header.extend(SEL_L_FACTORS.iter().map(|f| format!("l × {f}")));
@@ -284,9 +284,10 @@ pub fn selection_table(md: &mut String, results: &[Vec<TierResult>]) {
     for (t, tier) in TIERS.iter().enumerate() {
         for (bi, brdf) in BRDFS.iter().enumerate() {
             let tr = &results[t][bi];
+            let held = tr.subset();
             for ni in [0, NS.len() - 1] {
                 let counts: Vec<usize> =
-                    (0..SEL).map(|k| tr.selected.iter().map(|s| s[ni][k]).sum()).collect();
+                    (0..SEL).map(|k| held.iter().map(|&s| tr.selected[s][ni][k]).sum()).collect();
                 let total: usize = counts.iter().sum();
                 if total == 0 {
                     continue;
