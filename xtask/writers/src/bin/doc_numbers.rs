@@ -16,8 +16,8 @@
 //! of `src/` quotes none (it links to the `costs` module, which includes `docs/costs.md`): a
 //! line of `src/` that holds a quote such as "`` `m4:NAME N=n` ``" is an error.
 //!
-//! - quoted lines, between `<!-- quote: docs/REPORT.md -->` and `<!-- /quote -->` in the same
-//!   files: each must be a line of that generated report, verbatim.
+//! The same files may quote reports: each line between `<!-- quote: docs/REPORT.md -->` and
+//! `<!-- /quote -->` must be a line of that generated report, verbatim.
 //!
 //! The size in a name is `N=n`, or `K=n` for a count of sensors (`m4:layout_init K=16`).
 //! Numbers are written in groups of three digits separated by spaces (`88 800`). Without
