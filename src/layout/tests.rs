@@ -49,7 +49,6 @@ pub(super) fn reference(
     lobe: Option<&[f64]>,
 ) -> (f64, f64, f64) {
     let k = dirs.len();
-    let legendre = legendre_at;
     // c_l = 2π∫₀¹ t P_l(t) dt by a fine midpoint rule, once per thread (it depends on nothing).
     std::thread_local! {
         static CLAMPED_COSINE: Vec<f64> = (0..DEGREES)
@@ -79,7 +78,7 @@ pub(super) fn reference(
         [f64::from(prior.zonal[2]), f64::from(prior.zonal[1]), 0.0],
     ];
     let y0 = |l: usize, z: f64| {
-        ((2 * l + 1) as f64 / (4.0 * core::f64::consts::PI)).sqrt() * legendre(l, z)
+        ((2 * l + 1) as f64 / (4.0 * core::f64::consts::PI)).sqrt() * legendre_at(l, z)
     };
     let zonal = |f: &dyn Fn(usize) -> f64, x: [f64; 3], f2: &dyn Fn(usize) -> f64, x2: [f64; 3]| {
         let mut t = 0.0;
@@ -93,7 +92,7 @@ pub(super) fn reference(
     let g = |l: usize| gains[l];
     let cov = |i: usize, j: usize| {
         (0..DEGREES)
-            .map(|l| sp(l) * gains[l] * gains[l] * w(l) * legendre(l, dot(dirs[i], dirs[j])))
+            .map(|l| sp(l) * gains[l] * gains[l] * w(l) * legendre_at(l, dot(dirs[i], dirs[j])))
             .sum::<f64>()
             + zonal(&g, dirs[i], &g, dirs[j])
     };
@@ -101,7 +100,7 @@ pub(super) fn reference(
     let zq: Vec<f64> = (0..k)
         .map(|i| {
             (0..DEGREES)
-                .map(|l| sp(l) * gains[l] * c[l] * w(l) * legendre(l, dot(dirs[i], n)))
+                .map(|l| sp(l) * gains[l] * c[l] * w(l) * legendre_at(l, dot(dirs[i], n)))
                 .sum::<f64>()
                 + zonal(&g, dirs[i], &cq, n)
         })
@@ -148,9 +147,9 @@ pub(super) fn reference(
         None => (std::vec![0.0; k], 0.0),
         Some(p) => (
             (0..k)
-                .map(|i| (0..p.len()).map(|l| p[l] * gains[l] * legendre(l, dirs[i][2])).sum())
+                .map(|i| (0..p.len()).map(|l| p[l] * gains[l] * legendre_at(l, dirs[i][2])).sum())
                 .collect(),
-            (0..p.len()).map(|l| p[l] * c[l] * legendre(l, n[2])).sum(),
+            (0..p.len()).map(|l| p[l] * c[l] * legendre_at(l, n[2])).sum(),
         ),
     };
     let qy = solve(y);
