@@ -335,7 +335,7 @@ impl<'a> EquirectMap<'a> {
     /// [`MAX_PARAMETER`]; [`Error::InvalidDirection`] for a zero or non-finite
     /// `dir`.
     pub fn footprint_sample(&self, dir: Vec3, kind: Kind) -> Result<[f32; 3], Error> {
-        match Lobe::new(kind)? {
+        match lobe_of(kind)? {
             None => self.radiance(dir),
             Some(lobe) => {
                 let d = Dir::new(dir)?;
@@ -384,18 +384,19 @@ impl<'a> EquirectMap<'a> {
     }
 
     /// The exact form (see the module docs).
-    fn exact(&self, d: &Dir, lobe: Lobe) -> [f64; 3] {
+    fn exact(&self, d: &Dir, lobe: Kind) -> [f64; 3] {
         let dth = PI / self.height as f64;
         let dphi = TAU / self.width as f64;
         let rule = Rule::for_lobe(lobe.sharpness(), dth.max(dphi));
+        let nearest =
+            || to_f64(self.nearest(Vec3::new(d.v[0] as f32, d.v[1] as f32, d.v[2] as f32)));
         let sums = match lobe {
-            Lobe::Gaussian(s) => self.gaussian_sums(d, s, &rule),
-            Lobe::Power(p) => self.power_sums(d, p, &rule),
+            Kind::Gaussian { sharpness } => self.gaussian_sums(d, sharpness, &rule),
+            Kind::CosinePower { exponent } => self.power_sums(d, exponent, &rule),
+            Kind::Point => return nearest(),
         };
         // A lobe far narrower than the node spacing can fall between all nodes.
-        sums.mean().unwrap_or_else(|| {
-            to_f64(self.nearest(Vec3::new(d.v[0] as f32, d.v[1] as f32, d.v[2] as f32)))
-        })
+        sums.mean().unwrap_or_else(nearest)
     }
 
     /// Rows `[v_lo, v_hi]` whose centres are within the cap `t ≥ t_cut` widened by a row.
@@ -418,7 +419,8 @@ impl<'a> EquirectMap<'a> {
     /// where for `f = e^{S(t−1)}`: `f_φφ/f = κ²sin²δ − κ cos δ`, `f_θ/f = S·t_θ` and
     /// `f_θθ/f = S²t_θ² − S·t`. Both are quadratics in `c = cos δ` with per-row
     /// coefficients, so a pixel costs one `exp`.
-    fn gaussian_sums(&self, d: &Dir, s: f64, rule: &Rule) -> Sums {
+    fn gaussian_sums(&self, d: &Dir, sharpness: u32, rule: &Rule) -> Sums {
+        let s = f64::from(sharpness);
         let (w, h) = (self.width, self.height);
         let dth = PI / h as f64;
         let dphi = TAU / w as f64;
@@ -426,7 +428,7 @@ impl<'a> EquirectMap<'a> {
         let half_row = libm::sin(0.5 * dth);
         let corrected = rule.len == 1;
         let (k_theta, k_phi) = (dth * dth / 12.0, dphi * dphi / 24.0);
-        let (v_lo, v_hi) = self.row_range(d, Lobe::Gaussian(s).t_cut());
+        let (v_lo, v_hi) = self.row_range(d, Kind::Gaussian { sharpness }.t_cut());
         let mut sums = Sums::default();
         for v in 0..h.div_ceil(2) {
             let v2 = h - 1 - v;
@@ -505,7 +507,7 @@ impl<'a> EquirectMap<'a> {
         // With the corrected midpoint rule, pixels whose centre is within ρ below the
         // horizon still hold part of the lobe: the windows reach down to t = −ρ while the
         // horizon is above the cutoff.
-        let t_cut = Lobe::Power(p).t_cut();
+        let t_cut = Kind::CosinePower { exponent: p }.t_cut();
         let t_cut = if corrected && t_cut < rho { -rho } else { t_cut };
         let (v_lo, v_hi) = self.row_range(d, t_cut);
         let mut sums = Sums::default();
@@ -576,7 +578,7 @@ fn check_batch(dirs: &[Vec3], kind: Kind, out: &[[f32; 3]]) -> Result<(), Error>
     if dirs.len() != out.len() {
         return Err(Error::LengthMismatch);
     }
-    Lobe::new(kind)?;
+    lobe_of(kind)?;
     if dirs.iter().any(|d| d.try_normalize().is_none()) {
         return Err(Error::InvalidDirection);
     }

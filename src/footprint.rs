@@ -33,6 +33,7 @@
 //! ```
 
 use crate::error::Error;
+use crate::legendre;
 use core::f64::consts::PI;
 
 /// What one sample measures, as a run-time value (see the module docs).
@@ -94,8 +95,8 @@ impl Kind {
     /// (`1` for every `l` of a point sample).
     ///
     /// Gaussian: `i_l(S)/i₀(S)` by the backward continued fraction
-    /// `i_k/i_{k−1} = S/(2k + 1 + S·i_{k+1}/i_k)` started far enough above `max(l, 2S)` that
-    /// the start does not matter (accurate to a few ulp). Cosine power: the moments
+    /// `i_k/i_{k−1} = S/(2k + 1 + S·i_{k+1}/i_k)` started 32 steps above `max(l, S)`, where
+    /// the start no longer matters (accurate to a few ulp). Cosine power: the moments
     /// `(P + 1)∫₀¹ tᴾ P_l(t) dt` by the two-step recurrence of its closed
     /// form (a product of `l/2` rational factors).
     ///
@@ -109,47 +110,14 @@ impl Kind {
         match self {
             Kind::Point => Ok(1.0),
             Kind::Gaussian { sharpness: s } if (1..=MAX_PARAMETER).contains(&s) => {
-                Ok(gaussian_gain(f64::from(s), l))
+                Ok(legendre::gaussian_gain(f64::from(s), l))
             }
             Kind::CosinePower { exponent: p } if (1..=MAX_PARAMETER).contains(&p) => {
-                Ok(cosine_power_gain(p, l))
+                Ok(legendre::CosinePowerGains::at(f64::from(p), l))
             }
             _ => Err(Error::InvalidResponse),
         }
     }
-}
-
-/// `i_l(s)/i₀(s)` by the backward continued fraction for the ratios `r_k = i_k/i_{k−1}`.
-fn gaussian_gain(s: f64, l: usize) -> f64 {
-    if l == 0 {
-        return 1.0;
-    }
-    // Past k ≈ 2s the ratios are below ~1/3, so 60 further steps damp the start's error by
-    // 10⁻⁵⁰.
-    let start = l + 2 * (s as usize) + 60;
-    let mut r = 0.0;
-    let mut product_from_l = 1.0;
-    for k in (1..=start).rev() {
-        r = s / ((2 * k + 1) as f64 + s * r);
-        if k <= l {
-            product_from_l *= r;
-        }
-    }
-    product_from_l
-}
-
-/// `(p + 1)∫₀¹ tᵖ P_l(t) dt` from `m₀ = 1/(p + 1)`, `m₁ = 1/(p + 2)` and
-/// `m_{l+2} = m_l·(p − l)/(p + l + 3)` (the ratio of the closed form
-/// `√π·2^(−p−1)·Γ(1 + p)/(Γ(1 + (p − l)/2)·Γ((p + l + 3)/2))`, Gradshteyn–Ryzhik 7.126.2).
-fn cosine_power_gain(p: u32, l: usize) -> f64 {
-    let pf = f64::from(p);
-    let mut m = if l % 2 == 0 { 1.0 / (pf + 1.0) } else { 1.0 / (pf + 2.0) };
-    let mut k = l % 2;
-    while k < l {
-        m *= (pf - k as f64) / (pf + k as f64 + 3.0);
-        k += 2;
-    }
-    (pf + 1.0) * m
 }
 
 /// A footprint as a type, for [`crate::probe::Probe`]'s third parameter; sealed.

@@ -201,6 +201,8 @@ use linalg::LogProduct;
 use crate::change::{gaussian_log_bf, log_odds, logistic, soft_reset, Change, DEFAULT_HAZARD};
 use crate::error::Error;
 use crate::estimate::Estimate;
+use crate::harmonics;
+use crate::legendre;
 use crate::math;
 pub use crate::noise::{Noise, MAX_RELATIVE_NOISE};
 use crate::radiance::{from_channels, Radiance, MAX_CHANNELS};
@@ -695,68 +697,25 @@ const fn boxed(v: Vec3) -> Option<Vec3> {
 }
 
 /// The Legendre gains of the normalised `(P + 1)/(2π)·max(0, t)ᴾ`, `P ≥ 0` (any size),
-/// in f64 and rounded once: `I_l = ∫₀¹ tᴾ P_l(t) dt`, `(P + l + 1)·I_l = (P − l + 2)·I_{l−2}`.
+/// in f64 and rounded once.
 const fn cosine_power_gains(p: f64) -> [f32; DEGREES] {
-    let mut integral = [0.0f64; DEGREES];
-    integral[0] = 1.0 / (p + 1.0);
-    integral[1] = 1.0 / (p + 2.0);
-    let mut l = 2;
-    while l < DEGREES {
-        let lf = l as f64;
-        integral[l] = (p - lf + 2.0) / (p + lf + 1.0) * integral[l - 2];
-        l += 1;
-    }
+    let mut gains = legendre::CosinePowerGains::new(p);
     let mut g = [0.0f32; DEGREES];
     let mut l = 0;
     while l < DEGREES {
-        g[l] = ((p + 1.0) * integral[l]) as f32;
+        g[l] = gains.next_gain() as f32;
         l += 1;
     }
     g
 }
 
 /// The Legendre gains `g_l = i_l(S)/i₀(S)` of the normalised spherical Gaussian of sharpness
-/// `S > 0` (any size), in f64 and rounded once.
+/// `S > 0` (any size), in f64 and rounded once: by the continued fraction up to `S = 4096`
+/// (every sensor), and the forward recurrence above (glossy lobes, where its rounding is
+/// below 10⁻¹⁵ at these degrees).
 const fn gaussian_gains(s: f64) -> [f32; DEGREES] {
     let mut g = [0.0f64; DEGREES];
-    if s <= 4096.0 {
-        // Ratios r_l = i_l/i_{l−1} by the backward recurrence r_l = 1/((2l + 1)/S + r_{l+1}),
-        // started far enough above DEGREES.
-        let mut l = DEGREES + 40 + (2.0 * s) as usize;
-        let mut r = 0.0f64;
-        let mut ratios = [0.0f64; DEGREES];
-        while l >= 1 {
-            r = 1.0 / ((2 * l + 1) as f64 / s + r);
-            if l < DEGREES {
-                ratios[l] = r;
-            }
-            l -= 1;
-        }
-        g[0] = 1.0;
-        let mut l = 1;
-        while l < DEGREES {
-            g[l] = g[l - 1] * ratios[l];
-            l += 1;
-        }
-    } else {
-        // For S > 4096 the finite expansion i_l(S) = e^S/(2S)·Σ_k (−1)ᵏ(l + k)!/(k!(l − k)!)
-        // /(2S)ᵏ, up to a term e^{−S}: its sum has no cancellation there, and i₀ is the k = 0
-        // term up to e^{−2S}.
-        let mut l = 0;
-        while l < DEGREES {
-            let mut term = 1.0f64;
-            let mut sum = 1.0f64;
-            let mut k = 1;
-            while k <= l {
-                // (l + k)!/(k!(l − k)!) from k − 1: ×(l + k)(l − k + 1)/k.
-                term *= -(((l + k) * (l - k + 1)) as f64) / (k as f64 * 2.0 * s);
-                sum += term;
-                k += 1;
-            }
-            g[l] = sum;
-            l += 1;
-        }
-    }
+    legendre::gaussian_gains(s, &mut g, f64::from_bits(4096f64.to_bits() + 1));
     let mut out = [0.0f32; DEGREES];
     let mut l = 0;
     while l < DEGREES {
@@ -766,95 +725,11 @@ const fn gaussian_gains(s: f64) -> [f32; DEGREES] {
     out
 }
 
-/// Gains of the clamped cosine `max(0, t)`: `c_l = π·g_l(CosinePower(1))`.
-const fn cosine_factors() -> [f32; DEGREES] {
-    let mut c = [0.0f32; DEGREES];
-    if let Ok(g) = Response::CosinePower(1.0).gains() {
-        let mut l = 0;
-        while l < DEGREES {
-            c[l] = g[l] * core::f32::consts::PI;
-            l += 1;
-        }
-    }
-    c
-}
-
-/// `t` clamped to `[−1, 1]` (const).
-const fn clamp_unit(t: f32) -> f32 {
-    if t > 1.0 {
-        1.0
-    } else if t < -1.0 {
-        -1.0
-    } else {
-        t
-    }
-}
-
-/// `Σ_l coef_l·P_l(t)`, `l < D ≤ DEGREES`, by the three-term recurrence (f32).
-const fn legendre_sum<const D: usize>(coef: &[f32; D], t: f32) -> f32 {
-    let t = clamp_unit(t);
-    let (mut p0, mut p1) = (1.0f32, t);
-    let mut s = coef[0] + coef[1] * t;
-    let mut l = 2;
-    while l < D {
-        let p2 = RECURRENCE[l].0 * t * p1 - RECURRENCE[l].1 * p0;
-        s += coef[l] * p2;
-        p0 = p1;
-        p1 = p2;
-        l += 1;
-    }
-    s
-}
-
-/// Two series at the same `t` from one recurrence: `(Σ a_l·P_l(t), Σ b_l·P_l(t))`.
-const fn legendre_sums(a: &[f32; DEGREES], b: &[f32; DEGREES], t: f32) -> (f32, f32) {
-    let t = clamp_unit(t);
-    let (mut p0, mut p1) = (1.0f32, t);
-    let mut sa = a[0] + a[1] * t;
-    let mut sb = b[0] + b[1] * t;
-    let mut l = 2;
-    while l < DEGREES {
-        let p2 = RECURRENCE[l].0 * t * p1 - RECURRENCE[l].1 * p0;
-        sa += a[l] * p2;
-        sb += b[l] * p2;
-        p0 = p1;
-        p1 = p2;
-        l += 1;
-    }
-    (sa, sb)
-}
-
-/// The even- and odd-degree parts of `Σ_l coef_l·P_l(t)`, `t ∈ [0, 1]`: the series is
-/// their sum at `t` and their difference at `−t` (`P_l(−t) = (−1)ˡ·P_l(t)`).
-const fn legendre_parts(coef: &[f32; DEGREES], t: f32) -> (f32, f32) {
-    let t = clamp_unit(t);
-    let (mut p0, mut p1) = (1.0f32, t);
-    let (mut even, mut odd) = (coef[0], coef[1] * t);
-    let mut l = 2;
-    while l < DEGREES {
-        let p2 = RECURRENCE[l].0 * t * p1 - RECURRENCE[l].1 * p0;
-        if l % 2 == 0 {
-            even += coef[l] * p2;
-        } else {
-            odd += coef[l] * p2;
-        }
-        p0 = p1;
-        p1 = p2;
-        l += 1;
-    }
-    (even, odd)
-}
-
-/// The clamped cosine's factors, evaluated once.
-const COSINE_FACTORS: [f32; DEGREES] = cosine_factors();
+/// The clamped cosine's gains `c_l = π·g_l(CosinePower(1))`, evaluated once.
+const COSINE_FACTORS: [f32; DEGREES] = legendre::clamped_cosine_gains();
 
 fn cosine_factors_lookup() -> [f32; DEGREES] {
     COSINE_FACTORS
-}
-
-/// `Y_l0(z)` for `l = 0, 1, 2` (real orthonormal harmonics about `+z`).
-const fn zonal_harmonics(z: f32) -> [f32; 3] {
-    [0.282_094_8, 0.488_602_5 * z, 0.315_391_57 * (3.0 * z * z - 1.0)]
 }
 
 /// `R·u` for the 3×3 zonal covariances.
@@ -869,34 +744,6 @@ const fn times_r(r: &[[f32; 3]; 3], u: &[f32; 3]) -> [f32; 3] {
 /// Finite and at least 0 (const).
 const fn non_negative(v: f32) -> bool {
     v.is_finite() && v >= 0.0
-}
-
-/// The real orthonormal spherical harmonics of degrees ≤ 2 at a unit `d`, index `l² + l + m`
-/// (the zonal ones as [`zonal_harmonics`]).
-const fn harmonics(d: Vec3) -> [f32; 9] {
-    let (x, y, z) = (d.x, d.y, d.z);
-    [
-        0.282_094_8,
-        0.488_602_5 * y,
-        0.488_602_5 * z,
-        0.488_602_5 * x,
-        1.092_548_4 * x * y,
-        1.092_548_4 * y * z,
-        0.315_391_57 * (3.0 * z * z - 1.0),
-        1.092_548_4 * x * z,
-        0.546_274_2 * (x * x - y * y),
-    ]
-}
-
-/// The degree of harmonic `k = l² + l + m`, `k < 9`.
-const fn degree_of(k: usize) -> usize {
-    if k == 0 {
-        0
-    } else if k < 4 {
-        1
-    } else {
-        2
-    }
 }
 
 /// `e` with `2ᵉ ≤ x < 2ᵉ⁺¹` for a positive, finite `x` (subnormals too) (const); 0 otherwise.
@@ -937,16 +784,8 @@ const fn degree_weight(l: usize) -> f32 {
     (2 * l + 1) as f32 / FOUR_PI
 }
 
-/// The Legendre recurrence's factors `((2l − 1)/l, (l − 1)/l)`.
-const RECURRENCE: [(f32, f32); DEGREES] = {
-    let mut r = [(0.0f32, 0.0f32); DEGREES];
-    let mut l = 1;
-    while l < DEGREES {
-        r[l] = ((2 * l - 1) as f32 / l as f32, (l - 1) as f32 / l as f32);
-        l += 1;
-    }
-    r
-};
+/// The Legendre recurrence's factors for the degrees below [`DEGREES`].
+const RECURRENCE: [(f32, f32); DEGREES] = legendre::factor_table(DEGREES);
 
 /// Two responses are the same (their parameters bit for bit).
 const fn same_response(a: &Response, b: &Response) -> bool {

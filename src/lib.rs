@@ -222,10 +222,12 @@ mod estimate;
 #[cfg_attr(docsrs, doc(cfg(feature = "fixed")))]
 pub mod fixed_point;
 pub mod footprint;
+mod harmonics;
 #[cfg(feature = "mint")]
 #[cfg_attr(docsrs, doc(cfg(feature = "mint")))]
 pub mod interop;
 pub mod layout;
+mod legendre;
 #[doc(hidden)]
 pub mod math;
 pub mod metrics;

@@ -452,8 +452,16 @@ pub const fn sin_cos_turns(phase: u64) -> (f32, f32) {
 /// Clamps to `[−1, 1]`, keeping NaN.
 #[inline]
 #[must_use]
-pub(crate) fn clamp_unit(x: f32) -> f32 {
-    x.clamp(-1.0, 1.0)
+pub(crate) const fn clamp_unit(x: f32) -> f32 {
+    // `f32::clamp`'s order (not const before Rust 1.85).
+    let mut x = x;
+    if x < -1.0 {
+        x = -1.0;
+    }
+    if x > 1.0 {
+        x = 1.0;
+    }
+    x
 }
 
 /// `2^e`, exact for `e ∈ [−149, 127]` (subnormal below −126); `e` is clamped to that range.

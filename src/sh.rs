@@ -143,6 +143,7 @@
 //! Instructions per call and flash on a Cortex-M4F: [`costs`](crate::costs#spherical-harmonics).
 
 use crate::error::Error;
+use crate::harmonics;
 use crate::math;
 use crate::radiance::Radiance;
 use crate::rotation::Mat3;
@@ -162,16 +163,13 @@ use crate::vec3::Vec3;
 pub const Y_UP_FROM_Z_UP: Mat3 =
     Mat3::from_rows(Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, -1.0, 0.0));
 
-/// `Y₀₀ = ½·√(1/π)`.
-const Y00: f32 = 0.282_094_791_773_878_14_f64 as f32;
-/// `½·√(3/π)`, the degree-1 constant.
-const Y1: f32 = 0.488_602_511_902_919_9_f64 as f32;
-/// `½·√(15/π)`, the constant of `xy`, `yz`, `xz`.
-const Y2: f32 = 1.092_548_430_592_079_2_f64 as f32;
-/// `¼·√(5/π)`, the constant of `3z² − 1`.
-const Y20: f32 = 0.315_391_565_252_520_05_f64 as f32;
-/// `¼·√(15/π)`, the constant of `x² − y²`.
-const Y22: f32 = 0.546_274_215_296_039_6_f64 as f32;
+/// The degree-2 constants `Y₀₀ = ½·√(1/π)`, `½·√(3/π)` (degree 1), `½·√(15/π)` (`xy`, `yz`,
+/// `xz`), `¼·√(5/π)` (`3z² − 1`) and `¼·√(15/π)` (`x² − y²`).
+const Y00: f32 = harmonics::CONSTANTS[0];
+const Y1: f32 = harmonics::CONSTANTS[1];
+const Y2: f32 = harmonics::CONSTANTS[4];
+const Y20: f32 = harmonics::CONSTANTS[6];
+const Y22: f32 = harmonics::CONSTANTS[8];
 
 /// The factors of an evaluation, per term: `[0, 1, 2, 3, 4, 5]` multiply the constant, the
 /// degree-1 sum, the `xy, yz, xz` sum, `z²` and `−1` of `3z² − 1`, and `x² − y²`.
@@ -601,50 +599,5 @@ impl ShL2<[f32; 3]> {
 /// `Y_lm(u)` for a unit `u`.
 #[inline]
 fn basis_of_unit(u: &Unit) -> [f32; 9] {
-    let Unit { x, y, z, xx, yy, zz } = *u;
-    [
-        Y00,
-        Y1 * y,
-        Y1 * z,
-        Y1 * x,
-        Y2 * (x * y),
-        Y2 * (y * z),
-        Y20 * (3.0 * zz - 1.0),
-        Y2 * (x * z),
-        Y22 * (xx - yy),
-    ]
+    harmonics::degree2(Vec3::new(u.x, u.y, u.z))
 }
-
-/// The polynomials `(1, y, z, x, xy, yz, 3z² − 1, xz, x² − y²)` of `Y_lm` (without their
-/// constants) at a unit direction, and the constants: `Y_lm = CONSTANTS[k]·polynomials[k]`.
-#[inline]
-pub(crate) fn polynomials(u: Vec3) -> [f32; 9] {
-    let Vec3 { x, y, z } = u;
-    [1.0, y, z, x, x * y, y * z, 3.0 * z * z - 1.0, x * z, x * x - y * y]
-}
-
-/// The constants of [`polynomials`].
-pub(crate) const CONSTANTS: [f32; 9] = [Y00, Y1, Y1, Y1, Y2, Y2, Y20, Y2, Y22];
-
-/// [`CONSTANTS`] in f64.
-pub(crate) const CONSTANTS64: [f64; 9] = [
-    0.282_094_791_773_878_14,
-    0.488_602_511_902_919_9,
-    0.488_602_511_902_919_9,
-    0.488_602_511_902_919_9,
-    1.092_548_430_592_079_2,
-    1.092_548_430_592_079_2,
-    0.315_391_565_252_520_05,
-    1.092_548_430_592_079_2,
-    0.546_274_215_296_039_6,
-];
-
-/// [`polynomials`] in f64.
-#[inline]
-pub(crate) fn polynomials64(u: [f64; 3]) -> [f64; 9] {
-    let [x, y, z] = u;
-    [1.0, y, z, x, x * y, y * z, 3.0 * z * z - 1.0, x * z, x * x - y * y]
-}
-
-/// The degree of each index.
-pub(crate) const DEGREE: [usize; 9] = [0, 1, 1, 1, 2, 2, 2, 2, 2];

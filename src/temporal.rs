@@ -208,6 +208,7 @@
 use crate::error::Error;
 use crate::estimate::Estimate;
 use crate::footprint::{Footprint, Kind, Point, MAX_PARAMETER};
+use crate::harmonics::{self, Factors, Tables};
 use crate::math;
 use crate::radiance::Radiance;
 use crate::rotation::RotationSequence;
@@ -220,6 +221,7 @@ use core::marker::PhantomData;
 
 /// The highest spherical-harmonic degree a temporal probe holds.
 pub const MAX_DEGREE: usize = 8;
+const _: () = assert!(MAX_DEGREE <= harmonics::TABLE_DEGREE);
 
 /// The degrees of freedom of the Student t of the change test's innovation.
 const TAIL: f32 = 3.0;
@@ -240,8 +242,7 @@ const COEFFICIENTS: usize = (MAX_DEGREE + 1) * (MAX_DEGREE + 1);
 
 /// The clamped cosine's Funk–Hecke gains `A_l` for `l ≤ 8` (`π`, `2π/3`, `π/4`, 0, `−π/24`,
 /// 0, `π/64`, 0, `−π/128`).
-const IRRADIANCE_GAIN: [f32; MAX_DEGREE + 1] =
-    [PI, 2.0 * PI / 3.0, PI / 4.0, 0.0, -PI / 24.0, 0.0, PI / 64.0, 0.0, -PI / 128.0];
+const IRRADIANCE_GAIN: [f32; MAX_DEGREE + 1] = crate::legendre::clamped_cosine_gains();
 
 /// `T_L = Σ_{l > L} A_l²·(2l + 1)/(4π)` for `L ≤ 8`: the mean square over normals of the
 /// irradiance of the degrees above `L` of a radiance of unit power per coefficient (computed
@@ -259,81 +260,14 @@ const TRUNCATION: [f32; MAX_DEGREE + 1] = [
     0.00078296935,
 ];
 
-/// `Q_m^m = √((2m + 1)/(4π)·Π_{i ≤ m} (2i − 1)/(2i))`, times `√2` for `m > 0`: the
-/// normalised associated Legendre function over `sinᵐθ` at `l = m` (computed in f64, rounded
-/// once; the unit tests below recompute them).
-const SECTORAL: [f32; MAX_DEGREE + 1] = [
-    0.2820948, 0.48860252, 0.54627424, 0.5900436, 0.6258357, 0.6563821, 0.6831841, 0.70716274,
-    0.72892666,
-];
-
-/// The recurrence `Q_l^m = a·(z·Q_{l−1}^m − b·Q_{l−2}^m)` for `m < l ≤ 8`, by `m` then `l`:
-/// `a = √((4l² − 1)/(l² − m²))`, `b = √(((l − 1)² − m²)/(4(l − 1)² − 1))` (computed in f64,
-/// rounded once; the unit tests below recompute them).
-#[rustfmt::skip]
-const RECURRENCE: [(f32, f32); 36] = [
-    (1.7320508, 0.0), (1.9364917, 0.57735026),
-    (1.9720266, 0.5163978), (1.9843135, 0.50709254),
-    (1.9899749, 0.5039526), (1.9930434, 0.5025189),
-    (1.9948914, 0.5017452), (1.9960899, 0.5012804),
-    (2.236068, 0.0), (2.09165, 0.4472136),
-    (2.04939, 0.47809145), (2.0310097, 0.48795003),
-    (2.021315, 0.49236596), (2.0155644, 0.49472743),
-    (2.0118694, 0.49613893), (2.6457512, 0.0),
-    (2.291288, 0.37796447), (2.1712406, 0.4364358),
-    (2.113942, 0.4605662), (2.081666, 0.4730499),
-    (2.0615528, 0.48038447), (3.0, 0.0),
-    (2.4874685, 0.33333334), (2.3013682, 0.40201512),
-    (2.20794, 0.4345241), (2.1532216, 0.4529108),
-    (3.3166249, 0.0), (2.6739483, 0.30151135),
-    (2.4308622, 0.3739788), (2.304886, 0.41137668),
-    (3.6055512, 0.0), (2.8504386, 0.2773501),
-    (2.5570416, 0.3508232), (3.8729835, 0.0),
-    (3.0178044, 0.2581989), (4.1231055, 0.0),
-];
-
 /// Real spherical harmonics `Y_lm(u)` of degrees `l ≤ degree` at index `l(l + 1) + m`, for
-/// `u` of unit length: orthonormal, without the Condon–Shortley phase (the basis of
-/// [`crate::sh`]).
+/// `u` of unit length (the basis of [`crate::sh`]), in f32.
 fn basis(degree: usize, u: Vec3, out: &mut [f32; COEFFICIENTS]) {
-    let mut put = |i: usize, v: f32| {
+    harmonics::for_each(&Tables, [u.x, u.y, u.z], degree, |i, v| {
         if let Some(o) = out.get_mut(i) {
             *o = v;
         }
-    };
-    // C_m + i·S_m = (x + i·y)^m carries the azimuth and the sinᵐθ.
-    let (mut c, mut s) = (1.0f32, 0.0f32);
-    for (m, &sectoral) in SECTORAL.iter().enumerate().take(degree + 1) {
-        if m > 0 {
-            (c, s) = (c * u.x - s * u.y, s * u.x + c * u.y);
-        }
-        let (mut q2, mut q1) = (0.0f32, sectoral);
-        let mut i = m * (m + 1);
-        if m == 0 {
-            put(i, q1);
-        } else {
-            put(i + m, q1 * c);
-            put(i - m, q1 * s);
-        }
-        for (l, &(a, b)) in (m + 1..).zip(recurrence(m, degree)) {
-            let q = a * (u.z * q1 - b * q2);
-            (q2, q1) = (q1, q);
-            i += 2 * l;
-            if m == 0 {
-                put(i, q);
-            } else {
-                put(i + m, q * c);
-                put(i - m, q * s);
-            }
-        }
-    }
-}
-
-/// The [`RECURRENCE`] pairs of order `m` for the degrees `m < l ≤ degree`.
-fn recurrence(m: usize, degree: usize) -> &'static [(f32, f32)] {
-    // Order m starts after the orders below it, each with MAX_DEGREE − k pairs.
-    let start = m * MAX_DEGREE - m * m.saturating_sub(1) / 2;
-    RECURRENCE.get(start..start + degree.saturating_sub(m)).unwrap_or(&[])
+    });
 }
 
 /// The degree capped below the first degree whose irradiance gain after deconvolution,
@@ -1339,7 +1273,7 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
                 (z[j], x[j], y[j]) = (d.z, d.x, d.y);
                 wc[j] = v.add(mean.scale(-1.0));
             }
-            for (m, &sectoral) in SECTORAL.iter().enumerate().take(degree + 1) {
+            for (m, sectoral) in Tables.sectorals(degree).enumerate() {
                 if m > 0 {
                     let terms = wc.iter_mut().zip(&mut ws).zip(x.iter().zip(&y)).take(n);
                     for ((c, s), (&xj, &yj)) in terms {
@@ -1354,12 +1288,12 @@ impl<const N: usize, T: Radiance, F: Footprint, const S: usize> TemporalProbe<N,
                     add_at(&mut p, i - m, sum(&ws).scale(sectoral));
                 }
                 let (mut q1, mut q2) = ([sectoral; CHUNK], [0.0f32; CHUNK]);
-                for (l, &(a, b)) in (m + 1..).zip(recurrence(m, degree)) {
+                for (l, &pair) in (m + 1..).zip(Tables::slice(m, degree)) {
                     i += 2 * l;
                     let (mut c, mut s) = (T::ZERO, T::ZERO);
                     let per_sample = q1.iter_mut().zip(&mut q2).zip(&z).zip(wc.iter().zip(&ws));
                     for (((q1j, q2j), &zj), (&cj, &sj)) in per_sample.take(n) {
-                        let q = a * (zj * *q1j - b * *q2j);
+                        let q = harmonics::step(pair, zj, *q1j, *q2j);
                         (*q2j, *q1j) = (*q1j, q);
                         c = c.mul_add(cj, q);
                         if m > 0 {

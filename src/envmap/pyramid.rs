@@ -289,7 +289,7 @@ impl<'a> MipPyramid<'a> {
     /// # Errors
     /// As [`EquirectMap::footprint_sample`].
     pub fn footprint_sample(&self, dir: Vec3, kind: Kind) -> Result<[f32; 3], Error> {
-        let Some(lobe) = Lobe::new(kind)? else {
+        let Some(lobe) = lobe_of(kind)? else {
             return self.map.radiance(dir);
         };
         let d = Dir::new(dir)?;
@@ -324,7 +324,7 @@ impl<'a> MipPyramid<'a> {
     /// meets the cap where the lobe exceeds 10⁻¹³ of its peak are visited. For a cosine
     /// power, texels within their diameter of the horizon take the box average of the lobe
     /// by a 4×4 Gauss–Legendre rule instead (the kink of `max(0, t)`).
-    pub(super) fn coarse(&self, d: &Dir, lobe: Lobe, level: usize) -> [f64; 3] {
+    pub(super) fn coarse(&self, d: &Dir, lobe: Kind, level: usize) -> [f64; 3] {
         let fallback =
             || to_f64(self.map.nearest(Vec3::new(d.v[0] as f32, d.v[1] as f32, d.v[2] as f32)));
         let Some(texels) = self.level_slice(level) else {
@@ -347,8 +347,8 @@ impl<'a> MipPyramid<'a> {
         let hull = libm::cos(0.5 * dphi.min(PI)).max(0.0);
         let kink = match lobe {
             // Half the texel's diagonal bounds the angle from its centroid to any point.
-            Lobe::Power(_) => 0.51 * libm::sqrt(dth * dth + dphi * dphi),
-            Lobe::Gaussian(_) => -1.0,
+            Kind::CosinePower { .. } => 0.51 * libm::sqrt(dth * dth + dphi * dphi),
+            Kind::Gaussian { .. } | Kind::Point => -1.0,
         };
         let step = libm::sincos(dphi);
         let (mut n0, mut n1, mut n2, mut den) = (0.0, 0.0, 0.0, 0.0);
@@ -430,7 +430,7 @@ fn azimuth_reach(d: &Dir, th: f64, cos_alpha: f64) -> f64 {
 /// channel's.
 fn moment_terms(
     d: &Dir,
-    lobe: Lobe,
+    lobe: Kind,
     (t, s2): (f64, f64),
     m_geo: [f64; 3],
     cell: &[[f32; 3]; TEXEL_ENTRIES],
@@ -459,7 +459,7 @@ fn moment_terms(
 #[inline(never)]
 pub(super) fn kink_terms(
     d: &Dir,
-    lobe: Lobe,
+    lobe: Kind,
     bx: ((f64, f64), (f64, f64)),
     m_geo: [f64; 3],
     cell: &[[f32; 3]; TEXEL_ENTRIES],
@@ -482,7 +482,7 @@ pub(super) fn kink_terms(
 /// `t_c + k·(t − t_geo)`, `t_geo` the box centroid's.
 pub(super) fn box_average(
     d: &Dir,
-    lobe: Lobe,
+    lobe: Kind,
     bx: ((f64, f64), (f64, f64)),
     (t_geo, t_c, k): (f64, f64, f64),
 ) -> f64 {

@@ -97,61 +97,71 @@ impl Rule {
     }
 }
 
-/// A lobe with a validated parameter.
-#[derive(Clone, Copy, Debug)]
-pub(super) enum Lobe {
-    /// `exp(S(t − 1))`.
-    Gaussian(f64),
-    /// `max(0, t)ᴾ`.
-    Power(u32),
+/// `kind` checked: `None` for [`Kind::Point`] (a lookup answers it from the map's radiance),
+/// the Gaussian or cosine-power kind itself otherwise; [`Error::InvalidResponse`] for a
+/// parameter of 0 or above [`MAX_PARAMETER`].
+pub(super) fn lobe_of(kind: Kind) -> Result<Option<Kind>, Error> {
+    match kind {
+        Kind::Point => Ok(None),
+        Kind::Gaussian { sharpness: q } | Kind::CosinePower { exponent: q }
+            if (1..=MAX_PARAMETER).contains(&q) =>
+        {
+            Ok(Some(kind))
+        }
+        _ => Err(Error::InvalidResponse),
+    }
 }
 
-impl Lobe {
-    /// `None` for [`Kind::Point`].
-    pub(super) fn new(kind: Kind) -> Result<Option<Self>, Error> {
-        match kind {
-            Kind::Point => Ok(None),
-            Kind::Gaussian { sharpness: s } if (1..=MAX_PARAMETER).contains(&s) => {
-                Ok(Some(Lobe::Gaussian(f64::from(s))))
-            }
-            Kind::CosinePower { exponent: p } if (1..=MAX_PARAMETER).contains(&p) => {
-                Ok(Some(Lobe::Power(p)))
-            }
-            _ => Err(Error::InvalidResponse),
-        }
-    }
-
+/// The shape of a footprint's lobe, unnormalised (peak 1 at `t = 1`), for the lookups: the
+/// Gaussian `exp(S(t − 1))` and the cosine power `max(0, t)ᴾ`. A point (never passed: see
+/// [`lobe_of`]) is the limit of infinite sharpness, `1` at `t = 1` and `0` below.
+pub(super) trait Lobe: Copy {
     /// The sharpness `q` (`S` or `P`): the lobe's angular width is about `1/√q`.
-    pub(super) fn sharpness(self) -> f64 {
-        match self {
-            Lobe::Gaussian(s) => s,
-            Lobe::Power(p) => f64::from(p),
-        }
-    }
+    fn sharpness(self) -> f64;
+
+    /// The `t` below which the lobe is under `e^ln_fraction` of its peak (may be below −1).
+    fn t_below(self, ln_fraction: f64) -> f64;
 
     /// The `t` below which the lobe is under `10⁻¹³` of its peak (may be below −1).
-    pub(super) fn t_cut(self) -> f64 {
+    fn t_cut(self) -> f64 {
         self.t_below(LN_CUTOFF)
-    }
-
-    /// The `t` below which the lobe is under `e^ln_fraction` of its peak.
-    pub(super) fn t_below(self, ln_fraction: f64) -> f64 {
-        match self {
-            Lobe::Gaussian(s) => 1.0 + ln_fraction / s,
-            Lobe::Power(p) => libm::exp(ln_fraction / f64::from(p)),
-        }
     }
 
     /// `g(t) + (s²/4)·Δg(t)`, clamped at 0: the mean of the lobe `g` over a small
     /// isotropic spread of directions about a direction at `t`, with
     /// `s² = E|x − E x|²` and the surface Laplacian `Δg = (1 − t²)·g″(t) − 2t·g′(t)`.
+    fn value_with_spread(self, t: f64, spread: f64) -> f64;
+
+    /// The lobe at `t`.
+    fn value(self, t: f64) -> f64;
+}
+
+impl Lobe for Kind {
+    fn sharpness(self) -> f64 {
+        match self {
+            Kind::Gaussian { sharpness: q } | Kind::CosinePower { exponent: q } => f64::from(q),
+            Kind::Point => f64::INFINITY,
+        }
+    }
+
+    fn t_below(self, ln_fraction: f64) -> f64 {
+        match self {
+            Kind::Gaussian { sharpness: s } => 1.0 + ln_fraction / f64::from(s),
+            Kind::CosinePower { exponent: p } => libm::exp(ln_fraction / f64::from(p)),
+            Kind::Point => 1.0,
+        }
+    }
+
     #[inline]
-    pub(super) fn value_with_spread(self, t: f64, spread: f64) -> f64 {
+    fn value_with_spread(self, t: f64, spread: f64) -> f64 {
         let t = t.clamp(-1.0, 1.0);
         let q = 0.25 * spread;
         let v = match self {
-            Lobe::Gaussian(s) => exp(s * (t - 1.0)) * (1.0 + q * s * (s * (1.0 - t * t) - 2.0 * t)),
-            Lobe::Power(p) => {
+            Kind::Gaussian { sharpness } => {
+                let s = f64::from(sharpness);
+                exp(s * (t - 1.0)) * (1.0 + q * s * (s * (1.0 - t * t) - 2.0 * t))
+            }
+            Kind::CosinePower { exponent: p } => {
                 if t <= 0.0 {
                     return 0.0;
                 }
@@ -159,16 +169,23 @@ impl Lobe {
                 let low = if p >= 2 { powi(t, p - 2) } else { 1.0 / t };
                 low * (t * t + q * pf * ((pf - 1.0) * (1.0 - t * t) - 2.0 * t * t))
             }
+            Kind::Point => self.value(t),
         };
         v.max(0.0)
     }
 
-    /// The lobe, unnormalised (peak 1 at `t = 1`).
     #[inline]
-    pub(super) fn value(self, t: f64) -> f64 {
+    fn value(self, t: f64) -> f64 {
         match self {
-            Lobe::Gaussian(s) => exp(s * (t - 1.0)),
-            Lobe::Power(p) => powi(t.max(0.0), p),
+            Kind::Gaussian { sharpness: s } => exp(f64::from(s) * (t - 1.0)),
+            Kind::CosinePower { exponent: p } => powi(t.max(0.0), p),
+            Kind::Point => {
+                if t >= 1.0 {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
         }
     }
 }

@@ -433,7 +433,7 @@ fn lobe_limits_are_those_of_probe() {
     assert_eq!(probe.phong(Vec3::Z, over).err(), Some(Error::InvalidExponent));
     let lobe = SphericalGaussian { axis: Vec3::Z, sharpness: over, amplitude: 1.0 };
     assert_eq!(probe.glossy(&lobe).err(), Some(Error::InvalidSharpness));
-    // Continuity at 4096: the backward recurrence just below, the finite expansion above.
+    // Continuity at 4096: the continued fraction at it, the forward recurrence above.
     let (a, b) = (gaussian_gains(4096.0), gaussian_gains(4096.001));
     for l in 0..DEGREES {
         assert!((a[l] - b[l]).abs() < 1e-6, "degree {l}: {} {}", a[l], b[l]);

@@ -447,7 +447,7 @@ impl<const K: usize> Seen<K> {
         let mut ru = [[0.0f32; 3]; K];
         let mut i = 0;
         while i < K {
-            let y = zonal_harmonics(directions[i].z);
+            let y = harmonics::zonal(directions[i].z);
             let g = &gains[class[i] as usize % MAX_RESPONSES];
             let mut l = 0;
             while l < 3 {
@@ -512,7 +512,7 @@ const fn query_tables<const K: usize>(
         let mut k = NODES / 2;
         while k < NODES {
             let x = -1.0 + 2.0 * k as f32 / (NODES - 1) as f32;
-            let (even, odd) = legendre_parts(&coef, x);
+            let (even, odd) = legendre::parts(&coef, &RECURRENCE, x);
             tables[q][k] = even + odd;
             tables[q][NODES - 1 - k] = even - odd;
             k += 1;
@@ -572,7 +572,7 @@ const fn whitened_covariances<const K: usize>(
                 zonal += seen.zonal_u[i][l] * seen.ru[j][l];
                 l += 1;
             }
-            let (sa, sb) = legendre_sums(a, b, t);
+            let (sa, sb) = legendre::sums(a, b, &RECURRENCE, t);
             cov[i][j] = w * (sa + zonal);
             cov[j][i] = cov[i][j];
             zz[i][j] = w * sb;
@@ -654,10 +654,10 @@ const fn average_products<const K: usize>(
     let mut i = 0;
     while i < K {
         let g = seen.gains_of(i);
-        let y = harmonics(seen.directions[i]);
+        let y = harmonics::degree2(seen.directions[i]);
         let mut k = 0;
         while k < 9 {
-            let l = degree_of(k);
+            let l = harmonics::DEGREE[k];
             coefficient[k][i] = seen.whitening[i] * spectrum[l] * g[l] * y[k];
             k += 1;
         }
@@ -672,7 +672,7 @@ const fn average_products<const K: usize>(
     let mut k = 0;
     while k < 9 {
         let b = project(vectors, &coefficient[k]);
-        let f = c[degree_of(k)] * c[degree_of(k)] / FOUR_PI;
+        let f = c[harmonics::DEGREE[k]] * c[harmonics::DEGREE[k]] / FOUR_PI;
         let mut j = 0;
         while j < K {
             let fb = f * b[j];
@@ -809,7 +809,7 @@ const fn sensor_basis<const K: usize>(
             b[l] = profile[l] * c[l] * spectrum[l] * g[l] * c[l] / FOUR_PI;
             l += 1;
         }
-        let v = legendre_sum(&a, seen.directions[i].z);
+        let v = legendre::sum(&a, &RECURRENCE, seen.directions[i].z);
         if super::absolute(v) > seen_most {
             seen_most = super::absolute(v);
         }
@@ -825,7 +825,7 @@ const fn sensor_basis<const K: usize>(
             zonal += seen.ru[i][l] * c[l] * profile[l] * c[l] * norm / FOUR_PI;
             l += 1;
         }
-        hz[i] = seen.whitening[i] * (legendre_sum(&b, seen.directions[i].z) + zonal);
+        hz[i] = seen.whitening[i] * (legendre::sum(&b, &RECURRENCE, seen.directions[i].z) + zonal);
         i += 1;
     }
     (h, hz, seen_most, top)

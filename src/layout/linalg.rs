@@ -377,7 +377,7 @@ const fn reflect_column<const K: usize>(a: &mut [[f32; K]; K], v: &mut [[f32; K]
 
 /// Implicit QL on the tridiagonal matrix of diagonal `d` and off-diagonal `e`, rotating the
 /// columns of `v`: `d` becomes the eigenvalues. Deflates from the top: for each l, chases the
-/// bulge of a shifted QL step through rows m − 1 … l by Givens rotations until e[l] is
+/// bulge of a shifted QL step through rows m − 1 … l by Givens rotations until `e[l]` is
 /// negligible: against its neighbours on the diagonal, or against the matrix (a cluster of
 /// eigenvalues at zero, from duplicate sensors, has neighbours of the order of rounding and
 /// would never deflate on the relative test alone). At most 40 steps per eigenvalue.

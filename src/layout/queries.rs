@@ -35,13 +35,13 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
 
     /// `R·v(n)` for a lobe of zonal factors `q₀, q₁, q₂`: `v_l = q_l·Y_l0(n)`.
     fn zonal_query(&self, n: Vec3, q: &[f32; 3]) -> [f32; 3] {
-        let y = zonal_harmonics(n.z);
+        let y = harmonics::zonal(n.z);
         times_r(&self.zonal_r, &[q[0] * y[0], q[1] * y[1], q[2] * y[2]])
     }
 
     /// The zonal part of a lobe's prior variance, `v(n)ᵀR·v(n)`.
     fn zonal_prior(&self, n: Vec3, q: &[f32; 3]) -> f32 {
-        let y = zonal_harmonics(n.z);
+        let y = harmonics::zonal(n.z);
         let rv = self.zonal_query(n, q);
         q[0] * y[0] * rv[0] + q[1] * y[1] * rv[1] + q[2] * y[2] * rv[2]
     }
@@ -51,7 +51,7 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         if self.mean_terms == 0 {
             return 0.0;
         }
-        legendre_sum(&self.basis_query[0], n.z)
+        legendre::sum(&self.basis_query[0], &RECURRENCE, n.z)
     }
 
     /// Irradiance `E(n) = ∫ L(x)·max(0, n·x) dx` with the direction-averaged posterior
@@ -181,15 +181,16 @@ impl<const K: usize, T: Radiance> LayoutProbe<K, T> {
         let rv = self.zonal_query(axis, &[q[0], q[1], q[2]]);
         let z: [f32; K] = core::array::from_fn(|i| {
             let u = &self.zonal_u[i];
-            legendre_sum(
+            legendre::sum(
                 &series[self.class[i] as usize % MAX_RESPONSES],
+                &RECURRENCE,
                 self.directions[i].dot(axis),
             ) + u[0] * rv[0]
                 + u[1] * rv[1]
                 + u[2] * rv[2]
         });
         let mean: [f32; 9] = core::array::from_fn(|l| self.profile[l] * q[l]);
-        let h = if self.mean_terms == 1 { legendre_sum(&mean, axis.z) } else { 0.0 };
+        let h = if self.mean_terms == 1 { legendre::sum(&mean, &RECURRENCE, axis.z) } else { 0.0 };
         let prior = (0..DEGREES).map(|l| self.spectrum[l] * q[l] * q[l] * weight(l)).sum::<f32>()
             + self.zonal_prior(axis, &[q[0], q[1], q[2]]);
         let mut value = self.beta[0].scale(h);

@@ -636,9 +636,11 @@ fn zonal_covariances_agree_with_the_f64_reference() {
             let (v, var, ll) = reference(&dirs, &gains, &prior, zonal_mean, &y64, r, None, None);
             let est = probe.irradiance(n).unwrap();
             worst[0] = worst[0].max((f64::from(est.value) - v).abs() / 2.0);
-            // (At +z the zenith sensor reads the irradiance itself: no variance.)
+            // At +z the zenith sensor reads the irradiance itself: the exact variance is 0,
+            // and the f32 one is the rounding of the prior (2.4 here) less the part explained,
+            // measured 1.7·10⁻⁶ (6 ε of the prior); relative to 10⁻² there.
             worst[1] = worst[1].max(
-                (f64::from(probe.irradiance_variance(n).unwrap()) - var).abs() / var.max(1e-3),
+                (f64::from(probe.irradiance_variance(n).unwrap()) - var).abs() / var.max(1e-2),
             );
             worst[2] = worst[2].max((f64::from(probe.log_likelihood()) - ll).abs());
             let (v, var, _) =

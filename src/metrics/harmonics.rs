@@ -1,10 +1,11 @@
 //! The spherical-harmonic view of a point set: spectrum by the addition theorem, real
 //! spherical harmonics, the spectral worst-case error and spherical designs.
 
-use core::f64::consts::{PI, SQRT_2};
+use core::f64::consts::PI;
 
 use super::{for_each_pair, unit64, validate};
 use crate::error::Error;
+use crate::legendre::Polynomials64;
 use crate::math;
 use crate::vec3::Vec3;
 
@@ -30,19 +31,9 @@ pub fn spectrum(points: &[Vec3], out: &mut [f64]) -> Result<(), Error> {
     out.fill(0.0);
     for_each_pair(points, |d2| {
         // x·y = 1 − |x − y|²/2, accurate for close pairs.
-        let t = (1.0 - 0.5 * d2).clamp(-1.0, 1.0);
-        let (mut p_prev, mut p) = (1.0, t);
-        let mut l = 0.0;
-        let mut slots = out.iter_mut();
-        if let Some(c) = slots.next() {
-            *c += 2.0;
-        }
-        for c in slots {
-            *c += 2.0 * p;
-            l += 1.0;
-            let next = ((2.0 * l + 1.0) * t * p - l * p_prev) / (l + 1.0);
-            p_prev = p;
-            p = next;
+        let mut p = Polynomials64::at(1.0 - 0.5 * d2);
+        for c in out.iter_mut() {
+            *c += 2.0 * p.next_value();
         }
     });
     // The diagonal: N terms P_l(1) = 1.
@@ -74,56 +65,6 @@ pub const fn sh_index(l: usize, m: isize) -> Option<usize> {
     block.checked_add_signed(m)
 }
 
-/// Calls `emit(index, Y_{l,m}(u))` for every `l ≤ l_max`, `|m| ≤ l`, for a unit f64 vector.
-///
-/// Real harmonics orthonormal over dΩ, without the Condon–Shortley phase:
-/// `Y_{l,0} = P̄_l^0(z)`, `Y_{l,m} = √2 P̄_l^m(z) cos mφ`, `Y_{l,−m} = √2 P̄_l^m(z) sin mφ`
-/// (m > 0), with `P̄_l^m = ((2l+1)/(4π)·(l−m)!/(l+m)!)^½ P_l^m`. The factor `sinᵐθ` of
-/// `P_l^m` is carried by `(x + iy)ᵐ = sinᵐθ·e^{imφ}`, so no trigonometric function is called
-/// and the poles need no special case; the remaining polynomial part follows the fully
-/// normalised recurrences `Q̄_m^m = Q̄_{m−1}^{m−1}·((2m+1)/(2m))^½`,
-/// `Q̄_{m+1}^m = z (2m+3)^½ Q̄_m^m`, `Q̄_l^m = a (z Q̄_{l−1}^m − b Q̄_{l−2}^m)` with
-/// `a = ((4l²−1)/(l²−m²))^½`, `b = (((l−1)²−m²)/(4(l−1)²−1))^½`.
-fn for_each_sh(u: [f64; 3], l_max: usize, mut emit: impl FnMut(usize, f64)) {
-    let [x, y, z] = u;
-    let mut qmm = 0.5 / math::sqrt64(PI);
-    let (mut cr, mut ci) = (1.0, 0.0);
-    for m in 0..=l_max {
-        let mf = m as f64;
-        if m > 0 {
-            qmm *= math::sqrt64((2.0 * mf + 1.0) / (2.0 * mf));
-            (cr, ci) = (cr * x - ci * y, cr * y + ci * x);
-        }
-        let mut put = |l: usize, q: f64| {
-            let centre = l * (l + 1);
-            if m == 0 {
-                emit(centre, q);
-            } else {
-                emit(centre + m, SQRT_2 * q * cr);
-                emit(centre - m, SQRT_2 * q * ci);
-            }
-        };
-        put(m, qmm);
-        if m == l_max {
-            break;
-        }
-        let mut q_prev = qmm;
-        let mut q = z * math::sqrt64(2.0 * mf + 3.0) * qmm;
-        put(m + 1, q);
-        for l in m + 2..=l_max {
-            let lf = l as f64;
-            let a = math::sqrt64((4.0 * lf * lf - 1.0) / (lf * lf - mf * mf));
-            let b = math::sqrt64(
-                ((lf - 1.0) * (lf - 1.0) - mf * mf) / (4.0 * (lf - 1.0) * (lf - 1.0) - 1.0),
-            );
-            let next = a * (z * q - b * q_prev);
-            q_prev = q;
-            q = next;
-            put(l, q);
-        }
-    }
-}
-
 /// Number of real spherical harmonics of degree `≤ l_max`: `(l_max + 1)²` (saturating).
 const fn sh_count(l_max: usize) -> usize {
     let k = l_max.saturating_add(1);
@@ -147,7 +88,7 @@ pub fn real_sh(dir: Vec3, l_max: usize, out: &mut [f64]) -> Result<(), Error> {
     let u = unit64(dir).ok_or(Error::InvalidDirection)?;
     // Every index is below `(l_max + 1)² ≤ out.len()`; `get_mut` (always `Some`) spares a
     // bounds-check panic path the optimiser cannot remove.
-    for_each_sh(u, l_max, |i, v| {
+    crate::harmonics::for_each(&crate::harmonics::Computed, u, l_max, |i, v| {
         if let Some(slot) = out.get_mut(i) {
             *slot = v;
         }
@@ -174,7 +115,7 @@ pub fn sh_coefficients(points: &[Vec3], l_max: usize, out: &mut [f64]) -> Result
     for &p in points {
         if let Some(u) = unit64(p) {
             // As in `real_sh`: `i < count`, so `get_mut` is always `Some`.
-            for_each_sh(u, l_max, |i, v| {
+            crate::harmonics::for_each(&crate::harmonics::Computed, u, l_max, |i, v| {
                 if let Some(slot) = out.get_mut(i) {
                     *slot += v;
                 }

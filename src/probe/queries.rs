@@ -1,6 +1,7 @@
 //! Queries: irradiance, glossy and Phong radiance, with their variances.
 
 use super::*;
+use crate::legendre;
 
 impl<const N: usize, T: Radiance, F: Footprint, const M: usize> Probe<N, T, F, M>
 where
@@ -250,7 +251,7 @@ where
                 *h *= integral * p;
             }
             let zeta: [f64; N] = core::array::from_fn(|i| match self.directions.get(i) {
-                Some(x) => legendre_sum(&h[..len], f64::from(x.dot(r))),
+                Some(x) => legendre::sum_f64(&h[..len], f64::from(x.dot(r))),
                 None => 0.0,
             });
             let vbar = glossy_vbar(lambda, mu);
@@ -329,10 +330,10 @@ where
         };
         let Some(h) = h.get_mut(..len) else { return Err(Error::Internal) };
         apply_cosine_power_gains(exponent, h);
-        let rec = legendre_recurrence(len);
+        let rec = legendre::factor_table::<MAX_SERIES>(len);
         let mut acc = T::ZERO;
         for (x, &a) in self.directions.iter().zip(&self.alpha) {
-            acc = acc.mul_add(a, legendre_sum_f32(h, &rec, x.dot(r)));
+            acc = acc.mul_add(a, legendre::sum(h, &rec, x.dot(r)));
         }
         let mu = exponent + 2.0;
         let unit = glossy_grid_lookup(&f.glossy_variance, mu) * calibration(f, mu);
@@ -392,7 +393,7 @@ where
         let Some(h) = h.get_mut(..cross) else { return Err(Error::Internal) };
         apply_cosine_power_gains(e, h);
         let zeta: [f64; N] = core::array::from_fn(|i| match self.directions.get(i) {
-            Some(x) => legendre_sum(h, f64::from(x.dot(r))),
+            Some(x) => legendre::sum_f64(h, f64::from(x.dot(r))),
             None => 0.0,
         });
         // Applied twice: K_l·Φ_l²·(2l + 1)/(4π).
@@ -425,10 +426,10 @@ where
         for (h, &p) in h.iter_mut().zip(rho.iter()) {
             *h *= full * p;
         }
-        let rec = legendre_recurrence(len);
+        let rec = legendre::factor_table::<MAX_SERIES>(len);
         let mut acc = T::ZERO;
         for (x, &a) in self.directions.iter().zip(&self.alpha) {
-            acc = acc.mul_add(a, legendre_sum_f32(&h[..len], &rec, x.dot(r)));
+            acc = acc.mul_add(a, legendre::sum(&h[..len], &rec, x.dot(r)));
         }
         let unit = full * full * glossy_grid_lookup(&f.glossy_variance, mu) * calibration(f, mu);
         Estimate {

@@ -14,9 +14,10 @@
 
 use super::{apply_cosine_power_gains, bessel_ratios, glossy_full_integral, Probe, ProbeTables};
 use crate::footprint::{Footprint, Kind};
+use crate::harmonics;
 use crate::radiance::Radiance;
 use crate::sg::full_integral_unchecked;
-use crate::sh::{self, ShL2};
+use crate::sh::ShL2;
 use crate::size::Size;
 
 /// `√(4π)`: `∫ Y₀₀ = √(4π)`, and a constant `β` has `c₀₀ = β·√(4π)`.
@@ -60,14 +61,17 @@ where
         let gains = cross_gains(F::KIND, f.lambda);
         let mut sums = [T::ZERO; 9];
         for (x, &a) in self.directions.iter().zip(&self.alpha) {
-            let p = sh::polynomials(*x);
+            let p = harmonics::polynomials(*x);
             for (s, &pk) in sums.iter_mut().zip(&p) {
                 *s = s.mul_add(a, pk);
             }
         }
         let mut c = [T::ZERO; 9];
-        for (k, ((ck, &sum), (&constant, &l))) in
-            c.iter_mut().zip(&sums).zip(sh::CONSTANTS.iter().zip(&sh::DEGREE)).enumerate()
+        for (k, ((ck, &sum), (&constant, &l))) in c
+            .iter_mut()
+            .zip(&sums)
+            .zip(harmonics::CONSTANTS.iter().zip(&harmonics::DEGREE))
+            .enumerate()
         {
             let g = gains.get(l).copied().unwrap_or(0.0);
             let normalised = sum.scale(constant * g);
@@ -121,12 +125,12 @@ where
         let calibration = f64::from(f.calibration[0]);
         let mut out = [T::ZERO; 9];
         for (k, (slot, (&constant, &l))) in
-            out.iter_mut().zip(sh::CONSTANTS64.iter().zip(&sh::DEGREE)).enumerate()
+            out.iter_mut().zip(harmonics::CONSTANTS64.iter().zip(&harmonics::DEGREE)).enumerate()
         {
             let gain = cross.get(l).copied().unwrap_or(0.0) * constant;
             let zeta: [f64; N] = core::array::from_fn(|i| match self.directions.get(i) {
                 Some(x) => {
-                    let p = sh::polynomials64([x.x, x.y, x.z].map(f64::from));
+                    let p = harmonics::polynomials64([x.x, x.y, x.z].map(f64::from));
                     gain * p.get(k).copied().unwrap_or(0.0)
                 }
                 None => 0.0,

@@ -49,33 +49,6 @@ fn the_truncation_table_is_its_f64_value_rounded_once() {
     assert!((direct / f64::from(TRUNCATION[8]) - 1.0).abs() < 1e-6, "{direct}");
 }
 
-#[test]
-fn the_recurrence_tables_are_their_f64_values_rounded_once() {
-    let mut acc = 1.0 / (4.0 * core::f64::consts::PI);
-    for (m, &q) in SECTORAL.iter().enumerate() {
-        if m > 0 {
-            acc *= (2 * m - 1) as f64 / (2 * m) as f64;
-        }
-        let want = (acc * (2 * m + 1) as f64).sqrt() * if m > 0 { 2f64.sqrt() } else { 1.0 };
-        assert_eq!(q, want as f32, "m = {m}");
-    }
-    let mut i = 0;
-    for m in 0..=MAX_DEGREE {
-        for l in m + 1..=MAX_DEGREE {
-            let (lf, mf) = (l as f64, m as f64);
-            let a = ((4.0 * lf * lf - 1.0) / (lf * lf - mf * mf)).sqrt();
-            let b = if l == m + 1 {
-                0.0
-            } else {
-                (((lf - 1.0).powi(2) - mf * mf) / (4.0 * (lf - 1.0).powi(2) - 1.0)).sqrt()
-            };
-            assert_eq!(RECURRENCE[i], (a as f32, b as f32), "l = {l}, m = {m}");
-            i += 1;
-        }
-    }
-    assert_eq!(i, RECURRENCE.len());
-}
-
 /// The textbook real harmonic in f64: the associated Legendre function by the classical
 /// recurrence in `l` from `P_m^m = (2m − 1)!!·sinᵐθ`, normalised by factorials, and the
 /// azimuth through `atan2` (no Condon–Shortley phase).
