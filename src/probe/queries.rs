@@ -1,7 +1,7 @@
 //! Queries: irradiance, glossy and Phong radiance, with their variances.
 
 use super::*;
-use crate::legendre;
+use crate::legendre::{self, apply_cosine_power_gains, bessel_ratios};
 
 impl<const N: usize, T: Radiance, F: Footprint, const M: usize> Probe<N, T, F, M>
 where

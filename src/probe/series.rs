@@ -1,7 +1,8 @@
-//! Legendre series of footprints and lobes: Bessel ratios, cosine-power gains, sums.
+//! The probe's Legendre series: the coefficients of its kernel, footprints and lobes (the
+//! recurrences and gains they are built from are [`crate::legendre`]'s).
 
 use super::*;
-pub(super) use crate::legendre::{apply_cosine_power_gains, bessel_ratios};
+use crate::legendre::{apply_cosine_power_gains, bessel_ratios};
 
 /// The most Legendre terms a baked series may have (`gen/probe.rs` refuses longer ones).
 pub(super) const MAX_SERIES: usize = 256;

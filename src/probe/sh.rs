@@ -12,9 +12,10 @@
 //! Gaussian of sharpness `ν`), and `F(λ)·ρ_l(λ)·g_l` for a cosine-power footprint. The
 //! expansion is of the *unfiltered* radiance in every case.
 
-use super::{apply_cosine_power_gains, bessel_ratios, glossy_full_integral, Probe, ProbeTables};
+use super::{glossy_full_integral, Probe, ProbeTables};
 use crate::footprint::{Footprint, Kind};
 use crate::harmonics;
+use crate::legendre::{apply_cosine_power_gains, bessel_ratios};
 use crate::radiance::Radiance;
 use crate::sg::full_integral_unchecked;
 use crate::sh::ShL2;

@@ -68,7 +68,7 @@ const GENERATORS: &[Generator] = &[
     },
     Generator {
         name: "sensor-priors",
-        outputs: &["src/layout/learned.rs"],
+        outputs: &["tables/sensor_priors.rs"],
         command: &["cargo", "writer", "sensor_priors", "--", "--write"],
         env: &[],
         after: "the maps",

@@ -1,4 +1,4 @@
-//! The learned priors of the crate's sensor layouts (`src/layout/learned.rs`).
+//! The learned priors of the crate's sensor layouts (`tables/sensor_priors.rs`, included by `src/layout/learned.rs`).
 //!
 //! ```text
 //! cargo writer sensor_priors             # check the committed file
@@ -22,11 +22,11 @@ use sphere_quadrature_eval::cli;
 use sphere_quadrature_eval::sensors::{learned_priors, LEARNED};
 
 /// sensor_priors: the learned priors of the sensor layouts, checked against (or, with
-/// --write, written to) src/layout/learned.rs
+/// --write, written to) tables/sensor_priors.rs
 #[derive(Parser)]
 #[command(bin_name = "cargo writer sensor_priors --", verbatim_doc_comment)]
 struct Args {
-    /// Regenerate src/layout/learned.rs instead of checking that it is current
+    /// Regenerate tables/sensor_priors.rs instead of checking that it is current
     #[arg(long)]
     write: bool,
     #[command(flatten)]
