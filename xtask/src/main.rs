@@ -16,11 +16,17 @@
 //! of it. `--check` keeps the
 //! committed bytes of every output in memory, runs the generators, compares, puts the committed
 //! bytes back (whatever happened), and fails with one line naming the files that differ.
+//!
+//! A file that a generator rewrites with the bytes it already held keeps its modification
+//! time (and `--check` leaves every file with the time it had): cargo reruns the library's
+//! build script when a file of `tables/` is newer than its last run, so a regeneration that
+//! reproduces the tables costs no rebuild of everything that depends on them.
 
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
+use std::time::SystemTime;
 
 /// One generator: what it writes, and the command that writes it.
 struct Generator {
@@ -130,8 +136,11 @@ fn files(path: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// The bytes of every output file of `gens`, by path (a snapshot).
-fn snapshot(root: &Path, gens: &[&Generator]) -> BTreeMap<PathBuf, Vec<u8>> {
+/// A file's bytes and modification time.
+type Snapshot = BTreeMap<PathBuf, (Vec<u8>, Option<SystemTime>)>;
+
+/// The bytes and modification time of every output file of `gens`, by path.
+fn snapshot(root: &Path, gens: &[&Generator]) -> Snapshot {
     let mut map = BTreeMap::new();
     for g in gens {
         for o in g.outputs {
@@ -139,12 +148,37 @@ fn snapshot(root: &Path, gens: &[&Generator]) -> BTreeMap<PathBuf, Vec<u8>> {
             files(&root.join(o), &mut fs_);
             for f in fs_ {
                 if let Ok(bytes) = fs::read(&f) {
-                    map.insert(f, bytes);
+                    let time = fs::metadata(&f).and_then(|m| m.modified()).ok();
+                    map.insert(f, (bytes, time));
                 }
             }
         }
     }
     map
+}
+
+/// Gives back its modification time in `before` to every file whose bytes are those of
+/// `before` (a generator that rewrote a file with the same bytes leaves it as it was).
+fn keep_times(before: &Snapshot) {
+    for (path, (bytes, time)) in before {
+        let Some(time) = time else { continue };
+        if fs::read(path).ok().as_ref() == Some(bytes) {
+            if let Ok(f) = fs::File::options().write(true).open(path) {
+                let _ = f.set_modified(*time);
+            }
+        }
+    }
+}
+
+/// Runs the generators in order; after each, the files it reproduced keep their times.
+fn run_all(root: &Path, gens: &[&Generator]) -> Result<(), String> {
+    for g in gens {
+        let before = snapshot(root, &[g]);
+        let result = run(root, g);
+        keep_times(&before);
+        result?;
+    }
+    Ok(())
 }
 
 /// Runs one generator; `Err` with a one-line reason if it fails.
@@ -232,28 +266,27 @@ fn regen(args: &[String]) -> Result<(), String> {
         .collect();
     let root = root();
     if !check {
-        for g in &gens {
-            run(&root, g)?;
-        }
-        return Ok(());
+        return run_all(&root, &gens);
     }
     let before = snapshot(&root, &gens);
-    let result = gens.iter().try_for_each(|g| run(&root, g));
+    let result = run_all(&root, &gens);
     let after = snapshot(&root, &gens);
-    // Put the committed bytes back whatever happened, and remove files the run added.
-    for (path, bytes) in &before {
-        if after.get(path) != Some(bytes) {
+    // Put the committed bytes (and times) back whatever happened, and remove files the run
+    // added.
+    for (path, (bytes, _)) in &before {
+        if after.get(path).map(|a| &a.0) != Some(bytes) {
             fs::write(path, bytes)
                 .map_err(|e| format!("cannot restore {}: {e}", path.display()))?;
         }
     }
+    keep_times(&before);
     for path in after.keys().filter(|p| !before.contains_key(*p)) {
         let _ = fs::remove_file(path);
     }
     result?;
     let mut differ = Vec::new();
     for path in before.keys().chain(after.keys().filter(|p| !before.contains_key(*p))) {
-        let (a, b) = (before.get(path), after.get(path));
+        let (a, b) = (before.get(path).map(|x| &x.0), after.get(path).map(|x| &x.0));
         let same = match (a, b) {
             // A report states how long its run took: compared without those times, as
             // `.ci/docs-current.sh` compares the benchmarks' reports.
