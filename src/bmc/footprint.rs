@@ -33,12 +33,12 @@
 //! nuggets, not a factorisation. A factor learned on training maps scales the result.
 //!
 //! # Accuracy
-//! On six held-out real environment maps (luminance clamped at 30× the mean, 64 queries each;
+//! On six held-out real environment maps (luminance clamped at 30× the mean, 32 queries each;
 //! `cargo eval renderer`, `docs/renderer.md`), with `MipPyramid` lookups, the relative RMSE at
-//! N = 32–128 is 0.08–0.13 of filtered importance sampling's on the same set for irradiance
-//! and 0.001–0.016 for Phong 10, 50 and 200 (means of per-map ratios), and 0.002–0.035 of
-//! split-sum's for Phong. The error bar holds 88–96 % of those queries inside 2σ, except
-//! Phong 200 at N ≥ 32 (99–100 %); on smooth light at N ≥ 64 it is conservative (up to 100 %).
+//! N = 32–128 is 0.07–0.08 of filtered importance sampling's on the same set for irradiance
+//! and 0.001–0.016 for Phong 10, 50 and 200 (means of per-map ratios), and 0.002–0.041 of
+//! split-sum's for Phong. The error bar holds 87–97 % of those queries inside 2σ, except
+//! Phong 200 at N ≥ 32 (99–99.5 %); on smooth light at N ≥ 64 it is conservative (up to 100 %).
 //!
 //! # Sizes
 //! Baked: [`Diffuse`], [`Phong<10>`], [`Phong<50>`] and [`Phong<200>`] at N = 16, 32 and 64,

@@ -59,7 +59,7 @@
 //!   32, 64, 128; the lobe-morphed SF set, each sample read through a normalised spherical
 //!   Gaussian footprint matched to the sample density, baked f32 weights interpolated in θₙ)
 //!   on `MipPyramid::footprint_sample` lookups, and its error bar's 2σ coverage, on the first
-//!   `--footprint-queries` queries (default 64) of each held-out map and mixture (its lookups
+//!   `--footprint-queries` queries (default 32) of each held-out map and mixture (its lookups
 //!   are most of the run's time; its ratios to other estimators are on the same queries);
 //! - `bmc-fp`: the same on exact lookups (`EquirectMap::footprint_sample`, every pixel of the
 //!   map), on the first `--exact-queries` of those queries (default 4);
@@ -154,7 +154,7 @@ struct Cli {
     #[arg(long, value_name = "Q")]
     sobol_queries: Option<usize>,
     /// bmc-fp-pyramid (the footprint renderer on MipPyramid lookups, about 0.2 ms
-    /// each) on the first Q queries of each held-out map and mixture (default 64)
+    /// each) on the first Q queries of each held-out map and mixture (default 32)
     #[arg(long, value_name = "Q", verbatim_doc_comment)]
     footprint_queries: Option<usize>,
     /// bmc-fp (the footprint renderer with exact lookups) on the first Q of the
@@ -194,7 +194,7 @@ fn parse_args() -> Options {
         queries: c.queries.unwrap_or(if c.quick { 32 } else { 256 }),
         mixtures: if c.quick { 2 } else { 10 },
         sobol_queries: c.sobol_queries.unwrap_or(usize::MAX),
-        footprint_queries: c.footprint_queries.unwrap_or(64),
+        footprint_queries: c.footprint_queries.unwrap_or(32),
         exact_queries: c.exact_queries.unwrap_or(4),
         paths,
         args,
