@@ -291,7 +291,7 @@ where
     /// with the integral is `zᵢ = Σ_l C_l·Φ_l·P_l(xᵢ·r)`, where `C_l` are the Legendre
     /// coefficients of the sample's covariance with the radiance: the kernel's spherical
     /// Gaussian (point samples; of sharpness `ν` for a Gaussian footprint) or that times the
-    /// footprint's gains (cosine power). The sum runs over `L = 16 + ⌈9.1√λ⌉` degrees (past
+    /// footprint's gains (cosine power). The sum runs over `L = 16 + ⌊9.1√λ⌋` degrees (past
     /// them the kernel's coefficients are below `e^{−41}` of the first), once per sample: about
     /// `L` multiply-adds more per sample than [`Probe::glossy`] (the crate's Cortex-M4 cost tables).
     ///

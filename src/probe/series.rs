@@ -9,7 +9,7 @@ pub(super) const MAX_SERIES: usize = 256;
 
 /// `cₗ = S_l(λ)·(2l + 1)/(4π)`, the Legendre coefficients of the unit spherical Gaussian of
 /// sharpness `λ` (`S_l = F(λ)·ρ_l(λ)`), in f32, into `out`; returns the number of terms kept:
-/// `16 + ⌈9.1√λ⌉` (capped at [`MAX_SERIES`]), past which `S_l/S₀ < e^{−41}`.
+/// `16 + ⌊9.1√λ⌋` (capped at [`MAX_SERIES`]), past which `S_l/S₀ < e^{−41}`.
 pub(super) fn sg_series_f32(lambda: f32, out: &mut [f32; MAX_SERIES]) -> usize {
     let len = (16 + (9.1 * crate::math::sqrt(lambda)) as usize).min(MAX_SERIES);
     let Some(out) = out.get_mut(..len) else { return 0 };
@@ -32,7 +32,7 @@ pub(super) fn cosine_series_f32(lambda: f32, exponent: u32, out: &mut [f32; MAX_
 
 /// `bₗ = K_l·g_l·(2l + 1)/(4π)` of a cosine-power footprint `max(0, t)ᵖ` under the
 /// squared-exponential kernel of sharpness `λ` (`K_l = F(λ)·ρₗ(λ)`, `g_l` the footprint's
-/// gains), into `out`; returns the number of terms kept: `16 + ⌈9.1√λ⌉` (capped at
+/// gains), into `out`; returns the number of terms kept: `16 + ⌊9.1√λ⌋` (capped at
 /// [`MAX_SERIES`]), past which `K_l/K₀ < e^{−41}`.
 pub(super) fn cosine_series(lambda: f64, exponent: u32, out: &mut [f64; MAX_SERIES]) -> usize {
     let len = (16 + (9.1 * crate::math::sqrt64(lambda)) as usize).min(MAX_SERIES);
@@ -48,7 +48,7 @@ pub(super) fn cosine_series(lambda: f64, exponent: u32, out: &mut [f64; MAX_SERI
 
 /// `K_l·(2l + 1)/(4π)`, the kernel's Legendre coefficients, in f64, into `out`; returns the
 /// number of terms. Point and cosine-power footprints: the squared exponential,
-/// `K_l = F(λ)·ρₗ(λ)`, `16 + ⌈9.1√λ⌉` terms. Gaussian footprint of sharpness `S`: the
+/// `K_l = F(λ)·ρₗ(λ)`, `16 + ⌊9.1√λ⌋` terms. Gaussian footprint of sharpness `S`: the
 /// deconvolved kernel `K_l = F(ν)·ρₗ(ν)/ρₗ(S)` (`λ = ν`), which falls like `(ν/S)^l`:
 /// [`MAX_SERIES`] terms (`gen/probe.rs` refuses members whose series has not converged by
 /// then).
