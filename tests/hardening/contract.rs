@@ -896,9 +896,14 @@ fn probe_bad_input<E: Estimator>() {
                 "{} sample {bad} at {at}",
                 E::NAME
             );
-            assert_eq!(p.state(), before, "{}: a refused update changed the state", E::NAME);
+            // Miri formats the whole state slowly (about 0.7 s for a probe, 2.5 s for a
+            // stream): it compares it once after the refused updates; the native run after each.
+            if !cfg!(miri) {
+                assert_eq!(p.state(), before, "{}: a refused update changed the state", E::NAME);
+            }
         }
     }
+    assert_eq!(p.state(), before, "{}: a refused update changed the state", E::NAME);
     let bad_directions = [
         Vec3::ZERO,
         Vec3::new(f32::NAN, 0.0, 1.0),
